@@ -1,0 +1,25 @@
+#pragma once
+// Scalar ray/box slab test, conservative (Ize 2013). Plain C++, no SIMD: the
+// reference that every SIMD box kernel reproduces bit for bit.
+#include "simdbvh/kernels/aabb.h"
+#include "simdbvh/kernels/ray.h"
+
+namespace simdbvh {
+
+// Returns true when the ray's [tmin, tmax] interval overlaps the box; *entry
+// receives the entry distance (>= tmin). Zero direction components give
+// +-inf or NaN slab distances; NaN is discarded by the min_ps/max_ps order.
+inline bool intersect_box(const PreparedRay& r, const Aabb& b, float tmax, float* entry) {
+    const float nx = r.near_x ? b.hi.x : b.lo.x, fx = r.near_x ? b.lo.x : b.hi.x;
+    const float ny = r.near_y ? b.hi.y : b.lo.y, fy = r.near_y ? b.lo.y : b.hi.y;
+    const float nz = r.near_z ? b.hi.z : b.lo.z, fz = r.near_z ? b.lo.z : b.hi.z;
+    const float t0x = (nx - r.org.x) * r.rdir.x, t1x = (fx - r.org.x) * r.rdir.x;
+    const float t0y = (ny - r.org.y) * r.rdir.y, t1y = (fy - r.org.y) * r.rdir.y;
+    const float t0z = (nz - r.org.z) * r.rdir.z, t1z = (fz - r.org.z) * r.rdir.z;
+    const float tn = max_ps(t0x, max_ps(t0y, max_ps(t0z, r.tmin)));
+    const float tf = min_ps(t1x, min_ps(t1y, min_ps(t1z, tmax))) * kFarWiden;
+    *entry = tn;
+    return tn <= tf;
+}
+
+}  // namespace simdbvh
