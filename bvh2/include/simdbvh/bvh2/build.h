@@ -34,17 +34,17 @@ struct BuildOptions {
 };
 inline constexpr int kMaxDepth = 64;
 
-// Topology: nodes (root at 0, children adjacent) and the leaf permutation.
-struct Topology {
+// The tree: nodes (root at 0, children adjacent) and the leaf permutation.
+struct Bvh2Topology {
     std::vector<Node2> nodes;
     std::vector<std::uint32_t> prim_ids;
 };
 
 // Builds a BVH2 over primitives given by their boxes and centroids. Primitives
 // with an empty box are left out of the tree (they can never be hit).
-Topology build_topology(std::span<const Aabb> boxes, std::span<const Vec3> centroids, const BuildOptions& opts = {});
+Bvh2Topology build_topology(std::span<const Aabb> boxes, std::span<const Vec3> centroids, const BuildOptions& opts = {});
 
 // SAH cost of a topology: C = sum over inner nodes of Ct * A(n)/A(root) + sum over leaves of Ci * N * A(n)/A(root).
-double sah_cost(const Topology& topo, float traversal_cost = 1.0f, float intersection_cost = 1.0f);
+double sah_cost(const Bvh2Topology& topo, float traversal_cost = 1.0f, float intersection_cost = 1.0f);
 
 }  // namespace simdbvh

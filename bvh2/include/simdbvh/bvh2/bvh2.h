@@ -31,7 +31,8 @@ struct TraceStats {  // per-ray counters, summed over a batch
 
 struct TraceOptions {
     TriangleTest test = TriangleTest::watertight;
-    TraceStats* stats = nullptr;  // non-null: count (slower path)
+    TraceStats* stats = nullptr;  // non-null: count (slower path; forces one thread)
+    int threads = 1;              // batched calls: split the rays over this many threads
 };
 
 class Bvh2 {

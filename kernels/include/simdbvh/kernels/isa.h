@@ -3,7 +3,9 @@
 // SIMDBVH_ISA=scalar|avx2|avx512 or set_active_isa().
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string_view>
+#include <vector>
 
 namespace simdbvh {
 
@@ -23,5 +25,17 @@ Isa active_isa();
 void set_active_isa(Isa isa);
 // Throws simdbvh::Error with a clear message when the CPU lacks the ISA.
 void require(Isa isa);
+
+// The best ISA this CPU and OS support (ignores SIMDBVH_ISA and set_active_isa()).
+Isa detected_isa();
+// Every supported ISA, in kAllIsas order.
+std::vector<Isa> supported_isas();
+// The ISA a SIMDBVH_ISA value asks for: empty -> detected_isa(); throws
+// simdbvh::Error for an unknown name or an ISA this CPU lacks.
+Isa isa_from_request(std::string_view request);
+// The same against a given set of available ISAs (best = the last one listed).
+Isa isa_from_request(std::string_view request, std::span<const Isa> available);
+// The CPU brand string (CPUID 0x80000002..4), trimmed; "unknown" if absent.
+std::string_view cpu_name();
 
 }  // namespace simdbvh

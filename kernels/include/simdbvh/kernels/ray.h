@@ -36,6 +36,12 @@ struct PreparedRay {
 // Ize 2013 ("Robust BVH Ray Traversal"): widen the far distance by 1 + 2*gamma(3),
 // gamma(n) = n*u / (1 - n*u), u = 2^-24.
 inline constexpr float kFarWiden = 1.0f + 2.0f * (3.0f * 0x1p-24f / (1.0f - 3.0f * 0x1p-24f));
+// Traversals cull boxes against the closest hit so far widened by this factor:
+// a triangle lying on its leaf box's entry face has a t computed with several
+// more roundings than the box's entry distance (about 8 ulps worst case), and
+// an equal-t hit with a lower id in that leaf must still be found. Culling only
+// affects speed, never results, so the margin is generous (64 ulps).
+inline constexpr float kCullWiden = 1.0f + 0x1p-18f;
 
 inline PreparedRay prepare(const Ray& r) {
     PreparedRay p;

@@ -1,0 +1,113 @@
+#include <chrono>
+#include <string>
+
+#include "build_common.h"
+#include "simdbvh/bvh2/bvh2.h"
+#include "simdbvh/kernels/error.h"
+
+namespace simdbvh {
+
+std::string_view name(Builder b) {
+    switch (b) {
+    case Builder::sah_binned: return "sah-binned";
+    case Builder::sah_sweep: return "sah-sweep";
+    case Builder::midpoint: return "midpoint";
+    case Builder::median: return "median";
+    case Builder::variance: return "variance";
+    }
+    return "?";
+}
+
+std::optional<Builder> parse_builder(std::string_view s) {
+    for (Builder b : {Builder::sah_binned, Builder::sah_sweep, Builder::midpoint, Builder::median, Builder::variance})
+        if (s == name(b)) return b;
+    if (s == "sah") return Builder::sah_binned;
+    return std::nullopt;
+}
+
+Bvh2Topology build_topology(std::span<const Aabb> boxes, std::span<const Vec3> centroids, const BuildOptions& opts) {
+    if (boxes.size() != centroids.size()) throw Error("build_topology: boxes and centroids differ in size");
+    if (opts.max_depth < 1 || opts.max_depth > kMaxDepth)
+        throw Error("max_depth " + std::to_string(opts.max_depth) + " outside 1.." + std::to_string(kMaxDepth));
+    if (opts.max_leaf_size < 1) throw Error("max_leaf_size must be at least 1");
+    detail::BuildContext ctx;
+    ctx.boxes = boxes;
+    ctx.centroids = centroids;
+    ctx.opts = opts;
+    ctx.ids.reserve(boxes.size());
+    for (std::size_t i = 0; i < boxes.size(); ++i)
+        if (!boxes[i].is_empty()) ctx.ids.push_back(std::uint32_t(i));
+    switch (opts.builder) {
+    case Builder::sah_binned:
+        return detail::build_top_down(ctx, detail::split_binned_sah, std::uint32_t(opts.max_leaf_size));
+    case Builder::sah_sweep:
+        return detail::build_top_down(ctx, detail::split_sweep_sah, std::uint32_t(opts.max_leaf_size));
+    case Builder::midpoint: return detail::build_top_down(ctx, detail::split_midpoint, 4);
+    case Builder::median: return detail::build_top_down(ctx, detail::split_median, 1);
+    case Builder::variance:
+        return detail::build_top_down(ctx, detail::split_variance, std::uint32_t(opts.max_leaf_size));
+    }
+    throw Error("unknown builder");
+}
+
+double sah_cost(const Bvh2Topology& topo, float ct, float ci) {
+    if (topo.nodes.empty()) return 0.0;
+    const double root = topo.nodes[0].box.half_area();
+    if (!(root > 0)) return ci * double(topo.prim_ids.size());
+    double cost = 0;
+    for (const Node2& n : topo.nodes)
+        cost += (n.is_leaf() ? ci * double(n.count) : ct) * double(n.box.half_area()) / root;
+    return cost;
+}
+
+Bvh2 Bvh2::build(const Mesh& mesh, const BuildOptions& opts) {
+    const auto t0 = std::chrono::steady_clock::now();
+    validate(mesh);
+    const std::size_t n = mesh.triangles.size();
+    std::vector<Aabb> boxes(n);
+    std::vector<Vec3> centroids(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        Aabb b;
+        for (int k = 0; k < 3; ++k) b.grow(mesh.vertex(i, k));
+        boxes[i] = b;
+        centroids[i] = b.center();
+    }
+    Bvh2Topology topo = build_topology(boxes, centroids, opts);
+    Bvh2 bvh;
+    bvh.opts_ = opts;
+    bvh.tris_.resize(topo.prim_ids.size());
+    for (std::size_t i = 0; i < topo.prim_ids.size(); ++i) {
+        const std::uint32_t p = topo.prim_ids[i];
+        bvh.tris_[i] = {mesh.vertex(p, 0), mesh.vertex(p, 1), mesh.vertex(p, 2)};
+    }
+    const auto t1 = std::chrono::steady_clock::now();
+    BuildStats& s = bvh.stats_;
+    s.build_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
+    s.nodes = topo.nodes.size();
+    s.triangles = n;
+    s.sah_cost = sah_cost(topo, opts.traversal_cost, opts.intersection_cost);
+    // Depth and leaf count by an explicit walk.
+    if (!topo.nodes.empty()) {
+        std::vector<std::pair<std::uint32_t, int>> stack{{0u, 1}};
+        while (!stack.empty()) {
+            auto [i, d] = stack.back();
+            stack.pop_back();
+            s.depth = std::max(s.depth, d);
+            const Node2& nd = topo.nodes[i];
+            if (nd.is_leaf()) ++s.leaves;
+            else {
+                stack.push_back({nd.first, d + 1});
+                stack.push_back({nd.first + 1, d + 1});
+            }
+        }
+    }
+    s.bytes_per_triangle =
+        n ? double(topo.nodes.size() * sizeof(Node2) + topo.prim_ids.size() * (sizeof(std::uint32_t) + sizeof(TriangleVerts))) /
+                double(n)
+          : 0.0;
+    bvh.nodes_ = std::move(topo.nodes);
+    bvh.prim_ids_ = std::move(topo.prim_ids);
+    return bvh;
+}
+
+}  // namespace simdbvh

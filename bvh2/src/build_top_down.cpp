@@ -1,0 +1,89 @@
+#include <algorithm>
+#include <future>
+#include <thread>
+
+#include "build_common.h"
+
+namespace simdbvh::detail {
+
+namespace {
+
+// Subtrees this large may be built by another thread. The layout does not
+// depend on it: a subtree built apart is spliced exactly where the
+// sequential recursion would have put it, so any thread count gives the same
+// tree bit for bit.
+constexpr std::uint32_t kTaskMin = 32 * 1024;
+
+struct Builder {
+    BuildContext& ctx;
+    SplitFn split;
+    std::uint32_t leaf_size;
+
+    // Builds the subtree of ids[begin, end) with its root at nodes[0] (already
+    // allocated). Children of a node are allocated as a pair at the end of
+    // `nodes`, after the parent's whole left subtree is complete.
+    void build(std::vector<Node2>& nodes, std::uint32_t at, std::uint32_t begin, std::uint32_t end, int depth) {
+        Aabb box, cbox;
+        for (std::uint32_t i = begin; i < end; ++i) {
+            const std::uint32_t p = ctx.ids[i];
+            box.grow(ctx.boxes[p]);
+            cbox.grow(ctx.centroids[p]);
+        }
+        nodes[at].box = box;
+        const std::uint32_t n = end - begin;
+        auto make_leaf = [&] { nodes[at].first = begin; nodes[at].count = n; };
+        if (n <= std::uint32_t(std::max(1, ctx.opts.min_leaf_size)) || depth + 1 >= ctx.opts.max_depth)
+            return make_leaf();
+        SplitResult r = split(ctx, begin, end, box, cbox, depth);
+        if (r.make_leaf) return make_leaf();
+        if (!r.found || r.mid <= begin || r.mid >= end) {
+            if (n <= leaf_size) return make_leaf();
+            r.mid = begin + n / 2;  // object median: keeps order, always progresses
+        }
+        const std::uint32_t left = std::uint32_t(nodes.size());
+        nodes[at].first = left;
+        nodes[at].count = 0;
+        nodes.resize(nodes.size() + 2);
+        const std::uint32_t mid = r.mid;
+        if (n >= kTaskMin && ctx.spare_threads.fetch_sub(1) > 0) {
+            std::vector<Node2> right_nodes(1);
+            auto fut = std::async(std::launch::async,
+                                  [&] { build(right_nodes, 0, mid, end, depth + 1); });
+            build(nodes, left, begin, mid, depth + 1);
+            fut.get();
+            ctx.spare_threads.fetch_add(1);
+            splice(nodes, left + 1, right_nodes);
+        } else {
+            if (n >= kTaskMin) ctx.spare_threads.fetch_add(1);
+            build(nodes, left, begin, mid, depth + 1);
+            build(nodes, left + 1, mid, end, depth + 1);
+        }
+    }
+
+    // Puts sub[0] at nodes[at] and sub[1..] at the end of nodes.
+    static void splice(std::vector<Node2>& nodes, std::uint32_t at, const std::vector<Node2>& sub) {
+        const std::uint32_t offset = std::uint32_t(nodes.size()) - 1;
+        auto fix = [&](Node2 n) {
+            if (!n.is_leaf()) n.first += offset;
+            return n;
+        };
+        nodes[at] = fix(sub[0]);
+        for (std::size_t i = 1; i < sub.size(); ++i) nodes.push_back(fix(sub[i]));
+    }
+};
+
+}  // namespace
+
+Bvh2Topology build_top_down(BuildContext& ctx, SplitFn split, std::uint32_t leaf_size) {
+    Bvh2Topology topo;
+    if (ctx.ids.empty()) return topo;
+    ctx.spare_threads = std::max(0, ctx.opts.threads - 1);
+    topo.nodes.reserve(2 * ctx.ids.size());
+    topo.nodes.resize(1);
+    Builder b{ctx, split, std::max<std::uint32_t>(1, leaf_size)};
+    b.build(topo.nodes, 0, 0, std::uint32_t(ctx.ids.size()), 0);
+    topo.prim_ids = std::move(ctx.ids);
+    return topo;
+}
+
+}  // namespace simdbvh::detail

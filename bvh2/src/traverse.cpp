@@ -1,0 +1,125 @@
+// BVH2 stack traversal: reciprocal direction once per ray (prepare), near
+// child first, the closest hit so far culls boxes and stack entries.
+#include <cmath>
+
+#include "simdbvh/bvh2/bvh2.h"
+#include "simdbvh/kernels/box.h"
+#include "simdbvh/kernels/error.h"
+#include "simdbvh/kernels/parallel.h"
+
+namespace simdbvh {
+
+namespace {
+
+struct StackEntry {
+    std::uint32_t node;
+    float entry;
+};
+// Children are pushed one at a time, so the stack never holds more entries
+// than the tree is deep.
+constexpr int kStackSize = kMaxDepth + 1;
+
+template <TriangleTest kTest, bool kAnyHit, bool kStats>
+Hit traverse(const Bvh2& bvh, const Ray& ray, TraceStats* stats) {
+    Hit best;
+    const PreparedRay r = prepare(ray);
+    if (kStats) stats->rays++;
+    const auto& nodes = bvh.nodes();
+    if (!r.valid || nodes.empty()) return best;
+    const TriangleVerts* tris = bvh.triangles().data();
+    const std::uint32_t* ids = bvh.prim_ids().data();
+    best.t = r.tmax;
+    StackEntry stack[kStackSize];
+    int sp = 0;
+    float entry;
+    if (kStats) stats->box_tests++;
+    if (!intersect_box(r, nodes[0].box, best.t, &entry)) return Hit{};
+    std::uint32_t idx = 0;
+    for (;;) {
+        const Node2& n = nodes[idx];
+        if (kStats) stats->nodes_visited++;
+        if (!n.is_leaf()) {
+            const Node2& a = nodes[n.first];
+            const Node2& b = nodes[n.first + 1];
+            float ea, eb;
+            const float cull = best.t * kCullWiden;
+            const bool ha = intersect_box(r, a.box, cull, &ea);
+            const bool hb = intersect_box(r, b.box, cull, &eb);
+            if (kStats) stats->box_tests += 2;
+            if (ha && hb) {
+                const bool a_first = ea <= eb;
+                stack[sp++] = {a_first ? n.first + 1 : n.first, a_first ? eb : ea};
+                idx = a_first ? n.first : n.first + 1;
+                continue;
+            }
+            if (ha || hb) {
+                idx = ha ? n.first : n.first + 1;
+                continue;
+            }
+        } else {
+            for (std::uint32_t i = n.first, e = n.first + n.count; i < e; ++i) {
+                const TriangleVerts& tv = tris[i];
+                float t, u, v;
+                if (kStats) stats->triangle_tests++;
+                if (intersect_triangle<kTest>(r, tv.v0, tv.v1, tv.v2, best.t, &t, &u, &v)) {
+                    const std::uint32_t prim = ids[i];
+                    if (kAnyHit) return Hit{t, u, v, prim};
+                    if (closer(t, prim, best)) best = {t, u, v, prim};
+                }
+            }
+        }
+        // Pop the nearest pending node still in front of the closest hit.
+        for (;;) {
+            if (sp == 0) return best.hit() ? best : Hit{};
+            const StackEntry& s = stack[--sp];
+            if (s.entry <= best.t * kCullWiden) {
+                idx = s.node;
+                break;
+            }
+        }
+    }
+}
+
+template <bool kAnyHit>
+Hit dispatch(const Bvh2& bvh, const Ray& ray, const TraceOptions& o) {
+    if (o.stats) {
+        return o.test == TriangleTest::watertight ? traverse<TriangleTest::watertight, kAnyHit, true>(bvh, ray, o.stats)
+                                                  : traverse<TriangleTest::moller, kAnyHit, true>(bvh, ray, o.stats);
+    }
+    return o.test == TriangleTest::watertight ? traverse<TriangleTest::watertight, kAnyHit, false>(bvh, ray, nullptr)
+                                              : traverse<TriangleTest::moller, kAnyHit, false>(bvh, ray, nullptr);
+}
+
+template <TriangleTest kTest, bool kAnyHit, bool kStats>
+void traverse_span(const Bvh2& bvh, std::span<const Ray> rays, std::span<Hit> hits, TraceStats* stats) {
+    for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = traverse<kTest, kAnyHit, kStats>(bvh, rays[i], stats);
+}
+
+template <bool kAnyHit>
+void dispatch_span(const Bvh2& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o) {
+    if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
+    if (o.stats) {
+        if (o.test == TriangleTest::watertight) traverse_span<TriangleTest::watertight, kAnyHit, true>(bvh, rays, hits, o.stats);
+        else traverse_span<TriangleTest::moller, kAnyHit, true>(bvh, rays, hits, o.stats);
+    } else {
+        parallel_for(rays.size(), o.threads, [&](std::size_t b, std::size_t e) {
+            auto r = rays.subspan(b, e - b);
+            auto h = hits.subspan(b, e - b);
+            if (o.test == TriangleTest::watertight) traverse_span<TriangleTest::watertight, kAnyHit, false>(bvh, r, h, nullptr);
+            else traverse_span<TriangleTest::moller, kAnyHit, false>(bvh, r, h, nullptr);
+        });
+    }
+}
+
+}  // namespace
+
+Hit intersect(const Bvh2& bvh, const Ray& ray, const TraceOptions& o) { return dispatch<false>(bvh, ray, o); }
+Hit occluded(const Bvh2& bvh, const Ray& ray, const TraceOptions& o) { return dispatch<true>(bvh, ray, o); }
+void intersect(const Bvh2& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o) {
+    dispatch_span<false>(bvh, rays, hits, o);
+}
+void occluded(const Bvh2& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o) {
+    dispatch_span<true>(bvh, rays, hits, o);
+}
+
+}  // namespace simdbvh

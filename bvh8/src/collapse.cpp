@@ -1,0 +1,272 @@
+// Step 1 of the BVH8 build: collapse the BVH2 into a tree of up to 8 children
+// per node.
+//
+// SAH (Ylitie, Karras, Laine 2017, "Efficient Incoherent Ray Traversal on
+// GPUs Through Compressed Wide BVHs", section 4): a bottom-up dynamic program
+// over the BVH2 computes, per node n and slot budget i = 1..8, the cheapest way
+// C(n, i) to represent n's subtree as at most i children of a wide node:
+//   C(n, 1) = min(C_leaf(n), C_internal(n)),  C_internal(n) = C_dist(n, 8) + Ct * A(n)
+//   C(n, i) = min(C_dist(n, i), C(n, i - 1))
+//   C_dist(n, j) = min_k C(left, k) + C(right, j - k)
+// Leaf cost adapted to our leaf format: a leaf is tested one whole Tri8 block
+// at a time, so n triangles cost Cb * ceil(n / 8) * A(n) (block_cost Cb), and
+// C_leaf = inf above max_leaf_size (a BVH2 leaf that is already larger is kept).
+//
+// Greedy: start from the two children of a BVH2 node and repeatedly replace the
+// one with the largest surface area by its two children until there are 8 or
+// none can be opened. A subtree that fits one Tri8 block (<= min(8,
+// max_leaf_size) triangles) becomes a leaf. Every greedy tree is a candidate of
+// the dynamic program, so the SAH collapse never costs more under this model.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "collapse.h"
+#include "simdbvh/kernels/error.h"
+
+namespace simdbvh::bvh8 {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+double blocks_of(std::uint32_t n) { return double((n + 7u) / 8u); }
+
+struct Collapser {
+    const Bvh2& bvh2;
+    const Bvh8Options& opts;
+    const std::vector<Node2>& n2;
+    std::vector<std::uint32_t> prim_count;  // triangles under each BVH2 node
+    // SAH tables (index i - 1 for i = 1..8).
+    std::vector<std::array<double, 8>> cost;
+    std::vector<std::array<std::uint8_t, 8>> from;   // i >= 2: 0 = same as i - 1, k = C_dist split (k left slots)
+    std::vector<std::uint8_t> dist8;                 // split of C_dist(n, 8) (the children of an inner node)
+    std::vector<std::uint8_t> leaf1;                 // C(n, 1) is a leaf
+    WideTopology topo;
+
+    Collapser(const Bvh2& b, const Bvh8Options& o) : bvh2(b), opts(o), n2(b.nodes()) {}
+
+    std::uint32_t left(std::uint32_t n) const { return n2[n].first; }
+    std::uint32_t right(std::uint32_t n) const { return n2[n].first + 1; }
+
+    // Parents before children.
+    std::vector<std::uint32_t> preorder() const {
+        std::vector<std::uint32_t> order, stack{0u};
+        order.reserve(n2.size());
+        while (!stack.empty()) {
+            const std::uint32_t n = stack.back();
+            stack.pop_back();
+            order.push_back(n);
+            if (!n2[n].is_leaf()) {
+                stack.push_back(right(n));
+                stack.push_back(left(n));
+            }
+        }
+        return order;
+    }
+
+    bool leafable(std::uint32_t n) const { return prim_count[n] <= std::uint32_t(opts.max_leaf_size); }
+
+    double leaf_cost(std::uint32_t n) const {
+        return double(opts.block_cost) * blocks_of(prim_count[n]) * double(n2[n].box.half_area());
+    }
+
+    void count_prims(const std::vector<std::uint32_t>& order) {
+        prim_count.assign(n2.size(), 0);
+        for (auto it = order.rbegin(); it != order.rend(); ++it) {
+            const Node2& nd = n2[*it];
+            prim_count[*it] = nd.is_leaf() ? nd.count : prim_count[nd.first] + prim_count[nd.first + 1];
+        }
+    }
+
+    void solve_sah(const std::vector<std::uint32_t>& order) {
+        cost.assign(n2.size(), {});
+        from.assign(n2.size(), {});
+        dist8.assign(n2.size(), 0);
+        leaf1.assign(n2.size(), 0);
+        for (auto it = order.rbegin(); it != order.rend(); ++it) {
+            const std::uint32_t n = *it;
+            if (n2[n].is_leaf()) {
+                cost[n].fill(leaf_cost(n));
+                leaf1[n] = 1;
+                continue;
+            }
+            const auto& cl = cost[left(n)];
+            const auto& cr = cost[right(n)];
+            double dist[9];
+            std::uint8_t split[9] = {};
+            for (int j = 2; j <= 8; ++j) {
+                dist[j] = kInf;
+                for (int k = 1; k < j; ++k) {
+                    const double c = cl[k - 1] + cr[j - k - 1];
+                    if (c < dist[j]) { dist[j] = c; split[j] = std::uint8_t(k); }
+                }
+            }
+            const double c_leaf = leafable(n) ? leaf_cost(n) : kInf;
+            const double c_inner = dist[8] + double(opts.node_cost) * double(n2[n].box.half_area());
+            leaf1[n] = c_leaf <= c_inner;
+            cost[n][0] = std::min(c_leaf, c_inner);
+            dist8[n] = split[8];
+            for (int i = 2; i <= 8; ++i) {
+                if (dist[i] < cost[n][i - 2]) { cost[n][i - 1] = dist[i]; from[n][i - 1] = split[i]; }
+                else { cost[n][i - 1] = cost[n][i - 2]; from[n][i - 1] = 0; }
+            }
+        }
+    }
+
+    // The BVH2 nodes that fill at most i slots for n's subtree (SAH tables).
+    void resolve(std::uint32_t n, int i, std::vector<std::uint32_t>& out) const {
+        while (i > 1 && from[n][i - 1] == 0) --i;
+        if (i == 1) { out.push_back(n); return; }
+        const int k = from[n][i - 1];
+        resolve(left(n), k, out);
+        resolve(right(n), i - k, out);
+    }
+
+    // Greedy: open the largest-area child until 8 children or none can be opened.
+    bool greedy_leaf(std::uint32_t n) const {
+        return n2[n].is_leaf() || prim_count[n] <= std::uint32_t(std::min(8, opts.max_leaf_size));
+    }
+    void greedy_slots(std::uint32_t n, std::vector<std::uint32_t>& out) const {
+        out = {left(n), right(n)};
+        while (out.size() < 8) {
+            int best = -1;
+            float best_area = -1.0f;
+            for (int c = 0; c < int(out.size()); ++c) {
+                if (greedy_leaf(out[c])) continue;
+                const float a = n2[out[c]].box.half_area();
+                if (a > best_area) { best_area = a; best = c; }
+            }
+            if (best < 0) break;
+            const std::uint32_t m = out[best];
+            out[best] = left(m);
+            out.insert(out.begin() + best + 1, right(m));
+        }
+    }
+
+    bool slot_is_leaf(std::uint32_t n) const {
+        return opts.collapse == Collapse::sah ? leaf1[n] != 0 : greedy_leaf(n);
+    }
+    void inner_slots(std::uint32_t n, std::vector<std::uint32_t>& out) const {
+        out.clear();
+        if (opts.collapse == Collapse::sah) {
+            const int k = dist8[n];
+            resolve(left(n), k, out);
+            resolve(right(n), 8 - k, out);
+        } else {
+            greedy_slots(n, out);
+        }
+    }
+
+    WideChild make_leaf(std::uint32_t n) {
+        WideChild c;
+        c.box = n2[n].box;
+        c.index = std::uint32_t(topo.prims.size());
+        std::vector<std::uint32_t> stack{n};
+        while (!stack.empty()) {
+            const std::uint32_t m = stack.back();
+            stack.pop_back();
+            const Node2& nd = n2[m];
+            if (nd.is_leaf()) {
+                for (std::uint32_t k = nd.first; k < nd.first + nd.count; ++k) topo.prims.push_back(k);
+            } else {
+                stack.push_back(right(m));
+                stack.push_back(left(m));
+            }
+        }
+        c.count = std::uint32_t(topo.prims.size()) - c.index;
+        return c;
+    }
+
+    void build() {
+        const std::vector<std::uint32_t> order = preorder();
+        count_prims(order);
+        if (opts.collapse == Collapse::sah) solve_sah(order);
+        topo.nodes.reserve(n2.size() / 4 + 1);
+        topo.prims.reserve(bvh2.prim_ids().size());
+        topo.nodes.emplace_back();
+        topo.nodes[0].box = n2[0].box;
+        // The root is always a Node8; over a single leaf when that is cheaper (or the BVH2 is one leaf).
+        bool root_leaf = n2[0].is_leaf();
+        if (!root_leaf) {
+            if (opts.collapse == Collapse::sah) {
+                root_leaf = leafable(0) && leaf_cost(0) <= cost[left(0)][dist8[0] - 1] + cost[right(0)][8 - dist8[0] - 1];
+            } else {
+                root_leaf = greedy_leaf(0);
+            }
+        }
+        if (root_leaf) {
+            topo.nodes[0].child_count = 1;
+            topo.nodes[0].children[0] = make_leaf(0);
+            topo.depth = 1;
+            return;
+        }
+        struct Work {
+            std::uint32_t wide, bvh2;
+            int depth;
+        };
+        std::vector<Work> work{{0u, 0u, 1}};
+        std::vector<std::uint32_t> slots;
+        std::vector<Work> next;
+        while (!work.empty()) {
+            const Work w = work.back();
+            work.pop_back();
+            topo.depth = std::max(topo.depth, w.depth);
+            if (w.depth > kMaxDepth)
+                throw Error("BVH8 depth exceeds the cap " + std::to_string(kMaxDepth));
+            inner_slots(w.bvh2, slots);
+            next.clear();
+            WideNode node;
+            node.box = n2[w.bvh2].box;
+            node.child_count = int(slots.size());
+            for (std::size_t c = 0; c < slots.size(); ++c) {
+                const std::uint32_t s = slots[c];
+                if (slot_is_leaf(s)) {
+                    node.children[c] = make_leaf(s);
+                } else {
+                    WideChild& ch = node.children[c];
+                    ch.box = n2[s].box;
+                    ch.index = std::uint32_t(topo.nodes.size() + next.size());
+                    ch.count = 0;
+                    next.push_back({ch.index, s, w.depth + 1});
+                }
+            }
+            topo.nodes[w.wide] = node;
+            topo.nodes.resize(topo.nodes.size() + next.size());
+            for (auto it = next.rbegin(); it != next.rend(); ++it) work.push_back(*it);
+        }
+    }
+};
+
+}  // namespace
+
+WideTopology collapse(const Bvh2& bvh2, const Bvh8Options& opts) {
+    if (opts.max_leaf_size < 1) throw Error("BVH8 max_leaf_size must be at least 1");
+    if (!(opts.node_cost >= 0.0f) || !(opts.block_cost >= 0.0f) || !std::isfinite(opts.node_cost) ||
+        !std::isfinite(opts.block_cost))
+        throw Error("BVH8 node_cost and block_cost must be finite and >= 0");
+    if (bvh2.nodes().empty()) return {};
+    Collapser c(bvh2, opts);
+    c.build();
+    return std::move(c.topo);
+}
+
+double sah_cost(const WideTopology& topo, const Bvh8Options& opts) {
+    if (topo.nodes.empty()) return 0.0;
+    double root = topo.nodes[0].box.half_area();
+    const bool flat = !(root > 0);  // all areas zero: count tests instead
+    if (flat) root = 1.0;
+    double c = 0;
+    for (const WideNode& n : topo.nodes) {
+        c += double(opts.node_cost) * (flat ? 1.0 : double(n.box.half_area())) / root;
+        for (int k = 0; k < n.child_count; ++k) {
+            const WideChild& ch = n.children[k];
+            if (ch.is_leaf())
+                c += double(opts.block_cost) * blocks_of(ch.count) * (flat ? 1.0 : double(ch.box.half_area())) / root;
+        }
+    }
+    return c;
+}
+
+}  // namespace simdbvh::bvh8

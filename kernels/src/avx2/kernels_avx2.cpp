@@ -1,0 +1,37 @@
+// avx2 kernels: simd/*-inl.h instantiated for simd::Avx2. AVX2 + FMA, 8 x float in ymm.
+#if !defined(__AVX2__) || !defined(__FMA__) || defined(__AVX512F__)
+#error "src/avx2/ must be compiled with the AVX2 flags (and without AVX-512)"
+#endif
+#include "simd/batch-inl.h"
+
+namespace simdbvh::kernels::avx2 {
+
+using Loops = simd::BatchLoops<simd::Avx2>;
+
+Isa compiled_isa() { return Isa::avx2; }
+
+SIMDBVH_FLATTEN void intersect_box8(std::span<const Ray> rays, const Box8& boxes, std::uint8_t* masks, float* entries) {
+    detail::note_isa_used(Isa::avx2);
+    Loops::box8(rays, boxes, masks, entries);
+}
+
+SIMDBVH_FLATTEN std::uint64_t count_box8_hits(std::span<const Ray> rays, std::span<const Box8> blocks) {
+    detail::note_isa_used(Isa::avx2);
+    return Loops::count_box8(rays, blocks);
+}
+
+SIMDBVH_FLATTEN void intersect_tri8(std::span<const Ray> rays, std::span<const Tri8> blocks, TriangleTest test,
+                                    Hit* hits) {
+    detail::note_isa_used(Isa::avx2);
+    if (test == TriangleTest::watertight) Loops::closest<TriangleTest::watertight>(rays, blocks, hits);
+    else Loops::closest<TriangleTest::moller>(rays, blocks, hits);
+}
+
+SIMDBVH_FLATTEN void occluded_tri8(std::span<const Ray> rays, std::span<const Tri8> blocks, TriangleTest test,
+                                   std::uint8_t* occluded, Hit* first_hits) {
+    detail::note_isa_used(Isa::avx2);
+    if (test == TriangleTest::watertight) Loops::any<TriangleTest::watertight>(rays, blocks, occluded, first_hits);
+    else Loops::any<TriangleTest::moller>(rays, blocks, occluded, first_hits);
+}
+
+}  // namespace simdbvh::kernels::avx2

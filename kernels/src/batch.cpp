@@ -1,0 +1,90 @@
+// The public batched entry points: validate the spans, then the one switch on
+// the ISA; the per-ISA translation units do the work (simd/dispatch.h).
+#include "simdbvh/kernels/batch.h"
+
+#include <string>
+
+#include "simd/dispatch.h"
+#include "simdbvh/kernels/error.h"
+
+namespace simdbvh::kernels {
+
+namespace {
+thread_local int t_last_isa = -1;
+
+void check_size(std::size_t got, std::size_t want, const char* what) {
+    if (got < want)
+        throw Error(std::string("simdbvh: ") + what + " holds " + std::to_string(got) + " elements, needs " +
+                    std::to_string(want));
+}
+}  // namespace
+
+namespace detail {
+void note_isa_used(Isa isa) { t_last_isa = static_cast<int>(isa); }
+}  // namespace detail
+
+std::optional<Isa> last_isa_used() {
+    if (t_last_isa < 0) return std::nullopt;
+    return static_cast<Isa>(t_last_isa);
+}
+
+Isa compiled_isa(Isa isa) {
+    require(isa);
+    switch (isa) {
+    case Isa::avx512: return avx512::compiled_isa();
+    case Isa::avx2: return avx2::compiled_isa();
+    case Isa::scalar: break;
+    }
+    return scalar::compiled_isa();
+}
+
+void intersect_box8(std::span<const Ray> rays, const Box8& boxes, std::span<std::uint8_t> masks,
+                    std::span<float> entries, Isa isa) {
+    require(isa);
+    check_size(masks.size(), rays.size(), "masks");
+    check_size(entries.size(), 8 * rays.size(), "entries");
+    switch (isa) {
+    case Isa::avx512: return avx512::intersect_box8(rays, boxes, masks.data(), entries.data());
+    case Isa::avx2: return avx2::intersect_box8(rays, boxes, masks.data(), entries.data());
+    case Isa::scalar: break;
+    }
+    return scalar::intersect_box8(rays, boxes, masks.data(), entries.data());
+}
+
+std::uint64_t count_box8_hits(std::span<const Ray> rays, std::span<const Box8> blocks, Isa isa) {
+    require(isa);
+    switch (isa) {
+    case Isa::avx512: return avx512::count_box8_hits(rays, blocks);
+    case Isa::avx2: return avx2::count_box8_hits(rays, blocks);
+    case Isa::scalar: break;
+    }
+    return scalar::count_box8_hits(rays, blocks);
+}
+
+void intersect_tri8(std::span<const Ray> rays, std::span<const Tri8> blocks, TriangleTest test, std::span<Hit> hits,
+                    Isa isa) {
+    require(isa);
+    check_size(hits.size(), rays.size(), "hits");
+    switch (isa) {
+    case Isa::avx512: return avx512::intersect_tri8(rays, blocks, test, hits.data());
+    case Isa::avx2: return avx2::intersect_tri8(rays, blocks, test, hits.data());
+    case Isa::scalar: break;
+    }
+    return scalar::intersect_tri8(rays, blocks, test, hits.data());
+}
+
+void occluded_tri8(std::span<const Ray> rays, std::span<const Tri8> blocks, TriangleTest test,
+                   std::span<std::uint8_t> occluded, std::span<Hit> first_hits, Isa isa) {
+    require(isa);
+    check_size(occluded.size(), rays.size(), "occluded");
+    if (!first_hits.empty()) check_size(first_hits.size(), rays.size(), "first_hits");
+    Hit* fh = first_hits.empty() ? nullptr : first_hits.data();
+    switch (isa) {
+    case Isa::avx512: return avx512::occluded_tri8(rays, blocks, test, occluded.data(), fh);
+    case Isa::avx2: return avx2::occluded_tri8(rays, blocks, test, occluded.data(), fh);
+    case Isa::scalar: break;
+    }
+    return scalar::occluded_tri8(rays, blocks, test, occluded.data(), fh);
+}
+
+}  // namespace simdbvh::kernels

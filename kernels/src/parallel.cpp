@@ -1,0 +1,54 @@
+#include "simdbvh/kernels/parallel.h"
+
+#include <algorithm>
+#include <atomic>
+#include <exception>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#if __has_include("simdbvh/kernels/topology.h")
+#include "simdbvh/kernels/topology.h"
+#define SIMDBVH_CAN_PIN 1
+#endif
+
+namespace simdbvh {
+
+void parallel_for(std::size_t n, int threads, const std::function<void(std::size_t, std::size_t)>& body,
+                  const ParallelOptions& opts) {
+    const std::size_t grain = std::max<std::size_t>(1, opts.grain);
+    if (threads <= 1 || n <= grain) {
+        if (n) body(0, n);
+        return;
+    }
+    const std::size_t chunks = (n + grain - 1) / grain;
+    const int workers = int(std::min<std::size_t>(std::size_t(threads), chunks));
+    std::atomic<std::size_t> next{0};
+    std::exception_ptr error;
+    std::mutex error_mutex;
+    auto work = [&](int k) {
+#ifdef SIMDBVH_CAN_PIN
+        if (opts.pin) pin_current_thread_to_core(k);
+#else
+        (void)k;
+#endif
+        try {
+            for (;;) {
+                const std::size_t c = next.fetch_add(1, std::memory_order_relaxed);
+                if (c >= chunks) break;
+                body(c * grain, std::min(n, (c + 1) * grain));
+            }
+        } catch (...) {
+            std::lock_guard<std::mutex> lock(error_mutex);
+            if (!error) error = std::current_exception();
+        }
+    };
+    std::vector<std::thread> pool;
+    pool.reserve(std::size_t(workers - 1));
+    for (int k = 1; k < workers; ++k) pool.emplace_back(work, k);
+    work(0);
+    for (std::thread& t : pool) t.join();
+    if (error) std::rethrow_exception(error);
+}
+
+}  // namespace simdbvh

@@ -1,0 +1,154 @@
+// Scalar kernels: plain loops over the reference functions of box.h and
+// triangle.h, compiled for baseline x86-64 (no AVX; checked by a ctest).
+#if defined(__AVX__)
+#error "src/scalar/ must be compiled without AVX flags"
+#endif
+#include <limits>
+
+#include "simd/dispatch.h"
+#include "simdbvh/kernels/box.h"
+
+namespace simdbvh {
+
+namespace simd::detail {
+// Declared in simd/tri8-inl.h: the exact path for SIMD lanes with a zero edge function.
+bool watertight_exact(const PreparedRay& r, const Tri8& b, int lane, float tmax, float* t, float* u, float* v) {
+    return intersect_watertight(r, b.v0(lane), b.v1(lane), b.v2(lane), tmax, t, u, v);
+}
+}  // namespace simd::detail
+
+namespace kernels {
+
+// Single-primitive forms (scalar only), declared in batch.h.
+void intersect_box1(std::span<const Ray> rays, std::span<const Aabb> boxes, std::span<std::uint8_t> hits,
+                    std::span<float> entries) {
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        const PreparedRay r = prepare(rays[i]);
+        float e = std::numeric_limits<float>::infinity();
+        const bool h = r.valid && intersect_box(r, boxes[i], r.tmax, &e);
+        hits[i] = h ? 1 : 0;
+        entries[i] = r.valid ? e : std::numeric_limits<float>::infinity();
+    }
+}
+
+void intersect_tri1(std::span<const Ray> rays, std::span<const Tri1> tris, TriangleTest test, std::span<Hit> hits) {
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        const PreparedRay r = prepare(rays[i]);
+        const Tri1& tri = tris[i];
+        Hit h;
+        float t, u, v;
+        if (r.valid && (test == TriangleTest::watertight ? intersect_watertight(r, tri.v0, tri.v1, tri.v2, r.tmax, &t, &u, &v)
+                                                        : intersect_moller(r, tri.v0, tri.v1, tri.v2, r.tmax, &t, &u, &v)))
+            h = Hit{t, u, v, tri.prim};
+        hits[i] = h;
+    }
+}
+
+namespace scalar {
+
+namespace {
+
+// The scalar reference of one ray vs one Tri8, closest hit: lanes in order,
+// tmax shrinking to best.t. The SIMD kernels reproduce this exactly.
+template <TriangleTest kTest>
+bool tri8_closest(const PreparedRay& r, const Tri8& b, Hit& best) {
+    bool changed = false;
+    for (int i = 0; i < 8; ++i) {
+        float t, u, v;
+        if (intersect_triangle<kTest>(r, b.v0(i), b.v1(i), b.v2(i), best.t, &t, &u, &v) && closer(t, b.prim[i], best)) {
+            best = Hit{t, u, v, b.prim[i]};
+            changed = true;
+        }
+    }
+    return changed;
+}
+
+template <TriangleTest kTest>
+bool tri8_any(const PreparedRay& r, const Tri8& b, float tmax, Hit& hit) {
+    for (int i = 0; i < 8; ++i) {
+        float t, u, v;
+        if (intersect_triangle<kTest>(r, b.v0(i), b.v1(i), b.v2(i), tmax, &t, &u, &v)) {
+            hit = Hit{t, u, v, b.prim[i]};
+            return true;
+        }
+    }
+    return false;
+}
+
+template <TriangleTest kTest>
+void closest(std::span<const Ray> rays, std::span<const Tri8> blocks, Hit* hits) {
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        const PreparedRay r = prepare(rays[i]);
+        Hit best;
+        if (r.valid) {
+            best.t = r.tmax;
+            for (const Tri8& b : blocks) tri8_closest<kTest>(r, b, best);
+            if (!best.hit()) best = Hit{};
+        }
+        hits[i] = best;
+    }
+}
+
+template <TriangleTest kTest>
+void any(std::span<const Ray> rays, std::span<const Tri8> blocks, std::uint8_t* occluded, Hit* first_hits) {
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        const PreparedRay r = prepare(rays[i]);
+        Hit h;
+        bool found = false;
+        if (r.valid)
+            for (const Tri8& b : blocks)
+                if ((found = tri8_any<kTest>(r, b, r.tmax, h))) break;
+        occluded[i] = found ? 1 : 0;
+        if (first_hits) first_hits[i] = found ? h : Hit{};
+    }
+}
+
+}  // namespace
+
+Isa compiled_isa() { return Isa::scalar; }
+
+void intersect_box8(std::span<const Ray> rays, const Box8& boxes, std::uint8_t* masks, float* entries) {
+    detail::note_isa_used(Isa::scalar);
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        const PreparedRay r = prepare(rays[i]);
+        std::uint32_t m = 0;
+        for (int j = 0; j < 8; ++j) {
+            float e = std::numeric_limits<float>::infinity();
+            if (r.valid && intersect_box(r, boxes.get(j), r.tmax, &e)) m |= 1u << j;
+            entries[8 * i + j] = e;
+        }
+        masks[i] = static_cast<std::uint8_t>(m);
+    }
+}
+
+std::uint64_t count_box8_hits(std::span<const Ray> rays, std::span<const Box8> blocks) {
+    detail::note_isa_used(Isa::scalar);
+    std::uint64_t n = 0;
+    for (const Ray& ray : rays) {
+        const PreparedRay r = prepare(ray);
+        if (!r.valid) continue;
+        for (const Box8& b : blocks)
+            for (int j = 0; j < 8; ++j) {
+                float e;
+                n += intersect_box(r, b.get(j), r.tmax, &e) ? 1 : 0;
+            }
+    }
+    return n;
+}
+
+void intersect_tri8(std::span<const Ray> rays, std::span<const Tri8> blocks, TriangleTest test, Hit* hits) {
+    detail::note_isa_used(Isa::scalar);
+    if (test == TriangleTest::watertight) closest<TriangleTest::watertight>(rays, blocks, hits);
+    else closest<TriangleTest::moller>(rays, blocks, hits);
+}
+
+void occluded_tri8(std::span<const Ray> rays, std::span<const Tri8> blocks, TriangleTest test, std::uint8_t* occluded,
+                   Hit* first_hits) {
+    detail::note_isa_used(Isa::scalar);
+    if (test == TriangleTest::watertight) any<TriangleTest::watertight>(rays, blocks, occluded, first_hits);
+    else any<TriangleTest::moller>(rays, blocks, occluded, first_hits);
+}
+
+}  // namespace scalar
+}  // namespace kernels
+}  // namespace simdbvh

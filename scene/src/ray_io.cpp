@@ -1,0 +1,125 @@
+// Ray and hit files (raw little-endian records) and atomic writes.
+#include <unistd.h>
+
+#include <atomic>
+#include <bit>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+
+#include "simdbvh/kernels/error.h"
+#include "simdbvh/scene/rays.h"
+
+namespace simdbvh::scene {
+namespace {
+
+void put_u32(unsigned char* p, std::uint32_t v) {
+    p[0] = static_cast<unsigned char>(v);
+    p[1] = static_cast<unsigned char>(v >> 8);
+    p[2] = static_cast<unsigned char>(v >> 16);
+    p[3] = static_cast<unsigned char>(v >> 24);
+}
+std::uint32_t get_u32(const unsigned char* p) {
+    return std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16 | std::uint32_t(p[3]) << 24;
+}
+void put_f32(unsigned char* p, float f) { put_u32(p, std::bit_cast<std::uint32_t>(f)); }
+float get_f32(const unsigned char* p) { return std::bit_cast<float>(get_u32(p)); }
+
+std::vector<unsigned char> read_records(const std::filesystem::path& file, std::size_t record, const char* what) {
+    const std::string name = file.string();
+    std::error_code ec;
+    if (std::filesystem::is_directory(file, ec)) throw Error(name + ": is a directory");
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw Error(name + ": cannot open: " + std::strerror(errno));
+    in.seekg(0, std::ios::end);
+    const std::streamoff size = in.tellg();
+    if (size < 0) throw Error(name + ": cannot determine the size");
+    if (std::uint64_t(size) % record != 0)
+        throw Error(name + ": size " + std::to_string(size) + " is not a multiple of " + std::to_string(record) +
+                    " bytes (" + what + " records)");
+    in.seekg(0, std::ios::beg);
+    std::vector<unsigned char> bytes(static_cast<std::size_t>(size));
+    if (size && !in.read(reinterpret_cast<char*>(bytes.data()), size)) throw Error(name + ": read error");
+    return bytes;
+}
+
+}  // namespace
+
+void write_file_atomic(const std::filesystem::path& file, std::span<const unsigned char> bytes) {
+    static std::atomic<unsigned> counter{0};
+    const std::string name = file.string();
+    std::filesystem::path dir = file.parent_path();
+    if (dir.empty()) dir = ".";
+    const std::filesystem::path tmp =
+        dir / ("." + file.filename().string() + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++));
+    std::FILE* f = std::fopen(tmp.c_str(), "wbx");
+    if (!f) throw Error(name + ": cannot create temporary file " + tmp.string() + ": " + std::strerror(errno));
+    bool ok = bytes.empty() || std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+    int err = ok ? 0 : errno;
+    if (ok && std::fflush(f) != 0) { ok = false; err = errno; }
+    if (ok && ::fsync(::fileno(f)) != 0) { ok = false; err = errno; }
+    if (std::fclose(f) != 0 && ok) { ok = false; err = errno; }
+    std::error_code ec;
+    if (!ok) {
+        std::filesystem::remove(tmp, ec);
+        throw Error(name + ": write failed: " + std::strerror(err));
+    }
+    std::filesystem::rename(tmp, file, ec);
+    if (ec) {
+        std::error_code ec2;
+        std::filesystem::remove(tmp, ec2);
+        throw Error(name + ": cannot rename the temporary file into place: " + ec.message());
+    }
+}
+
+std::vector<Ray> read_rays(const std::filesystem::path& file) {
+    const auto bytes = read_records(file, sizeof(Ray), "32-byte ray");
+    std::vector<Ray> rays(bytes.size() / 32);
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        const unsigned char* p = bytes.data() + 32 * i;
+        rays[i].org = Vec3{get_f32(p), get_f32(p + 4), get_f32(p + 8)};
+        rays[i].tmin = get_f32(p + 12);
+        rays[i].dir = Vec3{get_f32(p + 16), get_f32(p + 20), get_f32(p + 24)};
+        rays[i].tmax = get_f32(p + 28);
+    }
+    return rays;
+}
+
+void write_rays(const std::filesystem::path& file, std::span<const Ray> rays) {
+    std::vector<unsigned char> bytes(rays.size() * 32);
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        unsigned char* p = bytes.data() + 32 * i;
+        const Ray& r = rays[i];
+        const float v[8] = {r.org.x, r.org.y, r.org.z, r.tmin, r.dir.x, r.dir.y, r.dir.z, r.tmax};
+        for (int k = 0; k < 8; ++k) put_f32(p + 4 * k, v[k]);
+    }
+    write_file_atomic(file, bytes);
+}
+
+std::vector<Hit> read_hits(const std::filesystem::path& file) {
+    const auto bytes = read_records(file, sizeof(Hit), "16-byte hit");
+    std::vector<Hit> hits(bytes.size() / 16);
+    for (std::size_t i = 0; i < hits.size(); ++i) {
+        const unsigned char* p = bytes.data() + 16 * i;
+        hits[i].t = get_f32(p);
+        hits[i].u = get_f32(p + 4);
+        hits[i].v = get_f32(p + 8);
+        hits[i].prim = get_u32(p + 12);
+    }
+    return hits;
+}
+
+void write_hits(const std::filesystem::path& file, std::span<const Hit> hits) {
+    std::vector<unsigned char> bytes(hits.size() * 16);
+    for (std::size_t i = 0; i < hits.size(); ++i) {
+        unsigned char* p = bytes.data() + 16 * i;
+        put_f32(p, hits[i].t);
+        put_f32(p + 4, hits[i].u);
+        put_f32(p + 8, hits[i].v);
+        put_u32(p + 12, hits[i].prim);
+    }
+    write_file_atomic(file, bytes);
+}
+
+}  // namespace simdbvh::scene

@@ -1,0 +1,176 @@
+// Deterministic ray generation: pinhole camera, incoherent rays, diffuse
+// bounces. Float math with + - * /, sqrt, sin and cos only; own PRNG.
+#include "simdbvh/scene/rays.h"
+
+#include <bit>
+#include <cmath>
+
+#include "rng.h"
+#include "simdbvh/kernels/error.h"
+
+namespace simdbvh::scene {
+namespace {
+
+constexpr float kTwoPi = 6.28318530717958648f;
+constexpr float kTanHalfFov = 0.414213562f;  // tan(22.5 deg): 45 deg vertical field of view
+constexpr float kSinHalfFov = 0.382683432f;  // sin(22.5 deg)
+
+// Empty or non-finite bounds fall back to the cube [-1, 1]^3.
+Aabb usable(const Aabb& b) {
+    if (b.is_empty() || !is_finite(b.lo) || !is_finite(b.hi)) return Aabb{{-1, -1, -1}, {1, 1, 1}};
+    return b;
+}
+
+float half_diagonal(const Aabb& b) {
+    const float r = 0.5f * length(b.extent());
+    return r > 0.0f && std::isfinite(r) ? r : 1.0f;
+}
+
+// Duff et al. 2017, "Building an Orthonormal Basis, Revisited".
+void onb(Vec3 n, Vec3& t, Vec3& b) {
+    const float s = std::copysign(1.0f, n.z);
+    const float a = -1.0f / (s + n.z);
+    const float c = n.x * n.y * a;
+    t = Vec3{1.0f + s * n.x * n.x * a, s * c, -s * n.x};
+    b = Vec3{c, s + n.y * n.y * a, -n.y};
+}
+
+// Wachter and Binder, Ray Tracing Gems ch. 6 ("A Fast and Robust Method for
+// Avoiding Self-Intersection"): move p along n by a few hundred ulps; near
+// the origin, by a small absolute amount. We scale that absolute part by the
+// scene size `scale` so that scaling a scene by 2^k scales every offset exactly.
+Vec3 offset_ray(Vec3 p, Vec3 n, float scale) {
+    constexpr float kOrigin = 1.0f / 32.0f, kFloatScale = 1.0f / 65536.0f, kIntScale = 256.0f;
+    Vec3 out;
+    for (int k = 0; k < 3; ++k) {
+        const auto of = std::int32_t(kIntScale * n[k]);
+        const auto bits = std::bit_cast<std::int32_t>(p[k]);
+        const float pi = std::bit_cast<float>(bits + (p[k] < 0.0f ? -of : of));
+        out[k] = std::fabs(p[k]) < kOrigin * scale ? p[k] + kFloatScale * scale * n[k] : pi;
+    }
+    return out;
+}
+
+}  // namespace
+
+std::string_view name(RayKind k) {
+    switch (k) {
+    case RayKind::primary: return "primary";
+    case RayKind::incoherent: return "incoherent";
+    case RayKind::diffuse: return "diffuse";
+    }
+    return "?";
+}
+
+std::optional<RayKind> parse_ray_kind(std::string_view s) {
+    for (RayKind k : {RayKind::primary, RayKind::incoherent, RayKind::diffuse})
+        if (s == name(k)) return k;
+    return std::nullopt;
+}
+
+Camera default_camera(const Aabb& bounds_in, int width, int height) {
+    if (width <= 0 || height <= 0) throw Error("camera size must be positive");
+    const Aabb b = usable(bounds_in);
+    const Vec3 c = b.center();
+    const float r = half_diagonal(b);
+    // 3/4 view from the +x, +y, +z side, somewhat above; far enough that the
+    // bounding sphere fits the vertical field of view.
+    const Vec3 view = normalize(Vec3{1.0f, 0.6f, 1.2f});
+    Camera cam;
+    cam.eye = c + view * (r / kSinHalfFov);
+    cam.forward = normalize(c - cam.eye);
+    const Vec3 right = normalize(cross(cam.forward, Vec3{0.0f, 1.0f, 0.0f}));
+    const Vec3 up = cross(right, cam.forward);
+    cam.right = right * (kTanHalfFov * float(width) / float(height));
+    cam.up = up * kTanHalfFov;
+    cam.width = width;
+    cam.height = height;
+    return cam;
+}
+
+std::vector<Ray> primary_rays(const Camera& cam) {
+    std::vector<Ray> rays;
+    rays.reserve(std::size_t(cam.width) * std::size_t(cam.height));
+    for (int y = 0; y < cam.height; ++y) {
+        const float py = 1.0f - (float(y) + 0.5f) / float(cam.height) * 2.0f;
+        for (int x = 0; x < cam.width; ++x) {
+            const float px = (float(x) + 0.5f) / float(cam.width) * 2.0f - 1.0f;
+            Ray r;
+            r.org = cam.eye;
+            r.dir = normalize(cam.forward + cam.right * px + cam.up * py);
+            rays.push_back(r);
+        }
+    }
+    return rays;
+}
+
+std::vector<Ray> incoherent_rays(const Aabb& bounds_in, std::size_t count, std::uint64_t seed) {
+    const Aabb b = usable(bounds_in);
+    const Vec3 c = b.center(), e = b.extent();
+    const float radius = 1.5f * half_diagonal(b);
+    detail::Rng rng(seed);
+    std::vector<Ray> rays;
+    rays.reserve(count);
+    while (rays.size() < count) {
+        // Uniform direction on the sphere (z uniform in [-1, 1], angle uniform).
+        const float z = 1.0f - 2.0f * rng.uniform();
+        const float phi = kTwoPi * rng.uniform();
+        const float s = std::sqrt(std::fmax(0.0f, 1.0f - z * z));
+        const Vec3 o = c + Vec3{s * std::cos(phi), s * std::sin(phi), z} * radius;
+        const Vec3 target = b.lo + Vec3{e.x * rng.uniform(), e.y * rng.uniform(), e.z * rng.uniform()};
+        const Vec3 d = target - o;
+        if (dot(d, d) == 0.0f) continue;
+        Ray r;
+        r.org = o;
+        r.dir = normalize(d);
+        rays.push_back(r);
+    }
+    return rays;
+}
+
+std::vector<Ray> diffuse_rays(const Mesh& mesh, std::span<const Ray> primary, std::span<const Hit> hits,
+                              std::size_t count, std::uint64_t seed) {
+    if (primary.size() != hits.size())
+        throw Error("diffuse_rays: " + std::to_string(primary.size()) + " rays but " + std::to_string(hits.size()) +
+                    " hits");
+    std::vector<std::size_t> hit_ids;
+    for (std::size_t i = 0; i < hits.size(); ++i) {
+        if (!hits[i].hit()) continue;
+        if (hits[i].prim >= mesh.triangles.size())
+            throw Error("diffuse_rays: hit " + std::to_string(i) + " names triangle " + std::to_string(hits[i].prim) +
+                        " of " + std::to_string(mesh.triangles.size()));
+        hit_ids.push_back(i);
+    }
+    std::vector<Ray> rays;
+    if (hit_ids.empty()) return rays;  // nothing was hit: no bounces
+    // Scene scale for the offset near the origin: the largest |coordinate| of the bounds.
+    const Aabb b = usable(mesh.bounds());
+    float scale = 0.0f;
+    for (int k = 0; k < 3; ++k) scale = std::fmax(scale, std::fmax(std::fabs(b.lo[k]), std::fabs(b.hi[k])));
+    if (!(scale > 0.0f)) scale = 1.0f;
+    detail::Rng rng(seed);
+    rays.reserve(count);
+    for (std::size_t n = 0; n < count; ++n) {
+        const std::size_t i = hit_ids[n % hit_ids.size()];
+        const Hit& h = hits[i];
+        const Vec3 v0 = mesh.vertex(h.prim, 0), v1 = mesh.vertex(h.prim, 1), v2 = mesh.vertex(h.prim, 2);
+        const Vec3 p = v0 * (1.0f - h.u - h.v) + v1 * h.u + v2 * h.v;
+        Vec3 ng = cross(v1 - v0, v2 - v0);
+        const float len = length(ng);
+        ng = len > 0.0f && std::isfinite(len) ? ng * (1.0f / len) : normalize(primary[i].dir * -1.0f);
+        if (dot(ng, primary[i].dir) > 0.0f) ng = ng * -1.0f;  // face the incoming ray
+        Vec3 t, bt;
+        onb(ng, t, bt);
+        // Cosine-weighted hemisphere (Malley's method).
+        const float u1 = rng.uniform(), u2 = rng.uniform();
+        const float r = std::sqrt(u1), phi = kTwoPi * u2;
+        const float lz = std::sqrt(std::fmax(0.0f, 1.0f - u1));
+        Ray ray;
+        ray.org = offset_ray(p, ng, scale);
+        ray.dir = normalize(t * (r * std::cos(phi)) + bt * (r * std::sin(phi)) + ng * lz);
+        rays.push_back(ray);
+    }
+    return rays;
+}
+
+}  // namespace simdbvh::scene

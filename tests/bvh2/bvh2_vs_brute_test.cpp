@@ -1,0 +1,79 @@
+// BVH2 against brute force: bit-identical closest hits (ties to the lower id)
+// and any-hit agreement on hit/miss, on real and procedural scenes.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cctype>
+#include <string>
+
+#include "simdbvh/bvh2/bvh2.h"
+#include "simdbvh/scene/rays.h"
+#include "simdbvh/scene/scenes.h"
+
+namespace simdbvh {
+namespace {
+
+using scene::RayKind;
+
+struct Case {
+    std::string scene;
+    RayKind kind;
+    Builder builder;
+};
+
+std::string case_name(const testing::TestParamInfo<Case>& info) {
+    std::string s = info.param.scene + "_" + std::string(scene::name(info.param.kind)) + "_" +
+                    std::string(name(info.param.builder));
+    for (char& c : s)
+        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+    return s;
+}
+
+class Bvh2VsBrute : public testing::TestWithParam<Case> {};
+
+TEST_P(Bvh2VsBrute, ClosestAndAnyHitMatchBruteForce) {
+    const Case& c = GetParam();
+    const bool npm_scene = c.scene == "bunny" || c.scene == "teapot" || c.scene.rfind("dragon", 0) == 0;
+    if (npm_scene && !scene::is_cached(c.scene))
+        GTEST_SKIP() << "scene '" << c.scene << "' is not cached: run scripts/fetch_scenes.sh";
+    const Mesh mesh = scene::load_scene(c.scene);
+    BuildOptions opts;
+    opts.builder = c.builder;
+    const Bvh2 bvh = Bvh2::build(mesh, opts);
+    // Brute force is O(rays x triangles): keep the product near 1e8.
+    const std::size_t count = std::clamp<std::size_t>(100'000'000 / std::max<std::size_t>(mesh.size(), 1), 500, 20000);
+    const auto rays = scene::generate_rays(mesh, c.kind, count, /*seed=*/7);
+    ASSERT_EQ(rays.size(), count);
+    std::vector<Hit> got(rays.size()), any(rays.size());
+    intersect(bvh, rays, got);
+    occluded(bvh, rays, any);
+    std::size_t hits = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        const Hit want = brute_force_intersect(mesh, rays[i]);
+        ASSERT_EQ(got[i], want) << "ray " << i << ": bvh2 prim " << got[i].prim << " t " << got[i].t
+                                << ", brute prim " << want.prim << " t " << want.t;
+        ASSERT_EQ(any[i].hit(), want.hit()) << "any-hit disagrees on ray " << i;
+        if (any[i].hit()) {  // the reported triangle really is hit within the ray's interval
+            EXPECT_LE(rays[i].tmin, any[i].t);
+            EXPECT_LE(any[i].t, rays[i].tmax);
+            EXPECT_LT(any[i].prim, mesh.size());
+        }
+        hits += want.hit();
+    }
+    // The ray generators aim at the scene: a test where nothing is hit proves nothing.
+    EXPECT_GT(hits, rays.size() / 20) << "too few hits for a meaningful comparison";
+}
+
+std::vector<Case> cases() {
+    std::vector<Case> out;
+    for (const char* s : {"bunny", "teapot", "dragon-res4", "icosphere-4", "soup-3000"})
+        for (RayKind k : {RayKind::primary, RayKind::incoherent, RayKind::diffuse}) out.push_back({s, k, Builder::sah_binned});
+    for (Builder b : {Builder::sah_sweep, Builder::midpoint, Builder::median, Builder::variance})
+        for (RayKind k : {RayKind::primary, RayKind::incoherent}) out.push_back({"soup-3000", k, b});
+    return out;
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, Bvh2VsBrute, testing::ValuesIn(cases()), case_name);
+
+}  // namespace
+}  // namespace simdbvh

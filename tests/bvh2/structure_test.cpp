@@ -1,0 +1,119 @@
+// Structural invariants of every builder: children inside parents, every
+// triangle in exactly one leaf, leaf boxes bound their triangles, depth cap.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "simdbvh/bvh2/bvh2.h"
+#include "simdbvh/scene/scenes.h"
+
+namespace simdbvh {
+namespace {
+
+void check_structure(const Mesh& mesh, const Bvh2& bvh, int max_depth) {
+    const auto& nodes = bvh.nodes();
+    const auto& ids = bvh.prim_ids();
+    ASSERT_EQ(ids.size(), mesh.size());
+    std::vector<int> seen(mesh.size(), 0);
+    std::vector<std::pair<std::uint32_t, int>> stack{{0u, 1}};
+    std::size_t reached = 0;
+    int depth = 0;
+    while (!stack.empty()) {
+        auto [i, d] = stack.back();
+        stack.pop_back();
+        ASSERT_LT(i, nodes.size());
+        ++reached;
+        depth = std::max(depth, d);
+        const Node2& n = nodes[i];
+        if (n.is_leaf()) {
+            ASSERT_LE(std::size_t(n.first) + n.count, ids.size());
+            for (std::uint32_t k = n.first; k < n.first + n.count; ++k) {
+                seen[ids[k]]++;
+                Aabb tb;
+                for (int v = 0; v < 3; ++v) tb.grow(mesh.vertex(ids[k], v));
+                EXPECT_TRUE(n.box.contains(tb)) << "leaf " << i << " does not bound triangle " << ids[k];
+                const TriangleVerts& tv = bvh.triangles()[k];
+                EXPECT_EQ(tv.v0, mesh.vertex(ids[k], 0));
+                EXPECT_EQ(tv.v2, mesh.vertex(ids[k], 2));
+            }
+        } else {
+            ASSERT_LT(n.first + 1, nodes.size());
+            EXPECT_TRUE(n.box.contains(nodes[n.first].box)) << "node " << i;
+            EXPECT_TRUE(n.box.contains(nodes[n.first + 1].box)) << "node " << i;
+            stack.push_back({n.first, d + 1});
+            stack.push_back({n.first + 1, d + 1});
+        }
+    }
+    EXPECT_EQ(reached, nodes.size()) << "unreachable nodes";
+    for (std::size_t t = 0; t < seen.size(); ++t) ASSERT_EQ(seen[t], 1) << "triangle " << t;
+    EXPECT_LE(depth, max_depth);
+    EXPECT_EQ(depth, bvh.stats().depth);
+}
+
+class Structure : public testing::TestWithParam<Builder> {};
+
+TEST_P(Structure, InvariantsHoldOnSoupAndSphere) {
+    BuildOptions opts;
+    opts.builder = GetParam();
+    for (const Mesh& m : {scene::random_soup(5000, 3), scene::icosphere(4)}) {
+        const Bvh2 bvh = Bvh2::build(m, opts);
+        check_structure(m, bvh, opts.max_depth);
+        EXPECT_GT(bvh.stats().leaves, 1u);
+    }
+}
+
+TEST_P(Structure, DepthCapHoldsOnDegenerateInput) {
+    // 1,000 identical triangles, and all centroids equal: must terminate under the cap.
+    Mesh same;
+    same.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    same.triangles.assign(1000, Triangle{0, 1, 2});
+    for (int cap : {8, 64}) {
+        BuildOptions opts;
+        opts.builder = GetParam();
+        opts.max_depth = cap;
+        const Bvh2 bvh = Bvh2::build(same, opts);
+        check_structure(same, bvh, cap);
+    }
+}
+
+TEST_P(Structure, SameTreeForAnyThreadCount) {
+    const Mesh m = scene::random_soup(200'000, 11);
+    BuildOptions one, many;
+    one.builder = many.builder = GetParam();
+    many.threads = 4;
+    const Bvh2 a = Bvh2::build(m, one), b = Bvh2::build(m, many);
+    ASSERT_EQ(a.nodes().size(), b.nodes().size());
+    ASSERT_EQ(0, std::memcmp(a.nodes().data(), b.nodes().data(), a.nodes().size() * sizeof(Node2)));
+    ASSERT_EQ(a.prim_ids(), b.prim_ids());
+}
+
+INSTANTIATE_TEST_SUITE_P(Builders, Structure,
+                         testing::Values(Builder::sah_binned, Builder::sah_sweep, Builder::midpoint, Builder::median,
+                                         Builder::variance),
+                         [](const auto& info) {
+                             std::string s(name(info.param));
+                             for (char& c : s)
+                                 if (c == '-') c = '_';
+                             return s;
+                         });
+
+TEST(Structure, BinnedSahBeatsMidpointOnSahCost) {
+    const Mesh m = scene::random_soup(20000, 5);
+    BuildOptions sah, mid;
+    mid.builder = Builder::midpoint;
+    EXPECT_LT(Bvh2::build(m, sah).stats().sah_cost, Bvh2::build(m, mid).stats().sah_cost);
+}
+
+TEST(Structure, LeavesRespectMaxLeafSize) {
+    const Mesh m = scene::random_soup(20000, 9);
+    for (int leaf : {1, 4, 8}) {
+        BuildOptions o;
+        o.max_leaf_size = leaf;
+        const Bvh2 bvh = Bvh2::build(m, o);
+        for (const Node2& n : bvh.nodes())
+            if (n.is_leaf()) ASSERT_LE(n.count, std::uint32_t(leaf));
+    }
+}
+
+}  // namespace
+}  // namespace simdbvh

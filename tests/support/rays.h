@@ -1,0 +1,14 @@
+#pragma once
+// Ray helpers for tests (these need the BVH2 for diffuse rays).
+#include <cstdint>
+#include <vector>
+
+#include "simdbvh/mesh.h"
+#include "simdbvh/scene/rays.h"
+
+namespace test {
+
+std::vector<simdbvh::Ray> rays(const simdbvh::Mesh& mesh, simdbvh::scene::RayKind kind, std::size_t count,
+                               std::uint64_t seed);
+
+}  // namespace test

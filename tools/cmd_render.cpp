@@ -1,0 +1,44 @@
+// simdbvh render: eye-light picture or node heat map through any method.
+#include <iostream>
+
+#include "common.h"
+#include "image.h"
+#include "methods.h"
+#include "simdbvh/scene/rays.h"
+
+namespace simdbvh::cli {
+
+int cmd_render(const std::vector<std::string>& args) {
+    std::set<std::string> valued{"scene", "out", "width", "height"}, flags{"heatmap"};
+    add_method_options(valued, flags);
+    const Options o("render", args, valued, flags);
+    const std::string scene_name = o.require("scene");
+    const std::string out = o.require("out");
+    MethodSpec spec = parse_method(o);
+    if (!o.has("method")) spec.method = "bvh8";
+    const int w = int(o.get_int("width", 640, 1, 16384)), h = int(o.get_int("height", 480, 1, 16384));
+    const bool heat = o.has("heatmap");
+    if (heat && spec.method != "bvh2" && spec.method != "bvh8")
+        throw UsageError("--heatmap needs --method bvh2 or bvh8 (nodes visited are counted by our traversals)");
+    const Mesh mesh = load_scene_with_progress(scene_name);
+    auto tracer = make_tracer(mesh, spec);
+    const auto rays = scene::primary_rays(scene::default_camera(mesh.bounds(), w, h));
+    std::vector<Hit> hits(rays.size());
+    if (heat) {
+        std::vector<std::uint32_t> counts(rays.size());
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            TraceStats st;
+            tracer->trace(std::span(&rays[i], 1), std::span(&hits[i], 1), false, &st);
+            counts[i] = std::uint32_t(st.nodes_visited);
+        }
+        write_png(out, heat_map(counts, w, h));
+    } else {
+        tracer->trace(rays, hits, false, nullptr);
+        write_png(out, shade_eye_light(mesh, rays, hits, w, h));
+    }
+    std::cout << "method " << spec.label() << "  isa " << spec.isa_name() << "  wrote " << w << "x" << h << " "
+              << (heat ? "heat map" : "render") << " to " << out << "\n";
+    return 0;
+}
+
+}  // namespace simdbvh::cli

@@ -1,0 +1,37 @@
+#include "common.h"
+
+#include <unistd.h>
+
+#include <iostream>
+
+#include "simdbvh/scene/scenes.h"
+
+namespace simdbvh::cli {
+
+void progress(const std::string& msg, bool force) {
+    if (force || isatty(STDERR_FILENO)) std::cerr << "[simdbvh] " << msg << "\n" << std::flush;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+Mesh load_scene_with_progress(const std::string& name) {
+    const auto t0 = std::chrono::steady_clock::now();
+    progress("loading " + name + " ...");
+    Mesh m = scene::load_scene(name);
+    progress("loaded " + name + ": " + std::to_string(m.size()) + " triangles in " +
+             std::to_string(seconds_since(t0)) + " s");
+    return m;
+}
+
+std::string default_scene(std::string* why) {
+    if (scene::is_cached("dragon")) {
+        if (why) *why = "the Stanford Dragon (cached)";
+        return "dragon";
+    }
+    if (why) *why = "the procedural terrain (the dragon is not cached: run scripts/fetch_scenes.sh)";
+    return "terrain";
+}
+
+}  // namespace simdbvh::cli

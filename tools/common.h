@@ -1,0 +1,24 @@
+#pragma once
+// Shared CLI plumbing: progress on stderr, timing, scene loading.
+#include <chrono>
+#include <string>
+
+#include "simdbvh/mesh.h"
+
+namespace simdbvh::cli {
+
+// Progress on stderr for long phases, only when stderr is a terminal (or
+// always with force, used by the bench).
+void progress(const std::string& msg, bool force = false);
+double seconds_since(std::chrono::steady_clock::time_point t0);
+Mesh load_scene_with_progress(const std::string& name_or_path);
+// The default scene: the dragon when cached, else the large procedural terrain.
+std::string default_scene(std::string* why = nullptr);
+
+int cmd_info(const std::vector<std::string>& args);
+int cmd_gen_rays(const std::vector<std::string>& args);
+int cmd_trace(const std::vector<std::string>& args);
+int cmd_bench(const std::vector<std::string>& args);
+int cmd_render(const std::vector<std::string>& args);
+
+}  // namespace simdbvh::cli

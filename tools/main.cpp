@@ -1,0 +1,56 @@
+// simdbvh: build, trace and benchmark BVHs on real meshes. Thin: parses
+// options and calls the library; errors become messages and exit status 2.
+#include <cstdio>
+#include <exception>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "common.h"
+#include "options.h"
+#include "simdbvh/kernels/error.h"
+
+namespace {
+
+constexpr const char* kUsage = R"(usage: simdbvh <command> [options]
+commands:
+  info     --scene S [--builder B] [--collapse C]       triangles, bounds, build time, tree statistics
+  gen-rays --scene S --kind K --count N [--seed K] --out RAYS.bin
+           K: primary | incoherent | diffuse
+  trace    --scene S --rays RAYS.bin --out HITS.bin [--method M] [--any-hit] [--isa I] [--builder B] [--threads N]
+           M: brute | bvh2 | bvh8 | embree (--quality medium|high, --robust)
+  bench    [--scene S] [--quick] [--threads N] [--json FILE] [--report DIR]
+  render   --scene S --out IMG.png [--method M] [--heatmap] [--width W] [--height H]
+S is a scene name (dragon, dragon-res2..4, bunny, teapot, icosphere[-N], soup[-N], terrain) or a mesh file
+(.ply .obj .stl .off, optionally .gz). SIMDBVH_ISA=scalar|avx2|avx512 or --isa forces the ISA.
+)";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    using namespace simdbvh::cli;
+    if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "help") {
+        std::fputs(kUsage, argc < 2 ? stderr : stdout);
+        return argc < 2 ? 2 : 0;
+    }
+    const std::string cmd = argv[1];
+    const std::vector<std::string> args(argv + 2, argv + argc);
+    try {
+        if (cmd == "info") return cmd_info(args);
+        if (cmd == "gen-rays") return cmd_gen_rays(args);
+        if (cmd == "trace") return cmd_trace(args);
+        if (cmd == "bench") return cmd_bench(args);
+        if (cmd == "render") return cmd_render(args);
+        std::cerr << "simdbvh: unknown command '" << cmd << "'\n" << kUsage;
+        return 2;
+    } catch (const UsageError& e) {
+        std::cerr << "simdbvh: " << e.what() << "\n";
+        return 2;
+    } catch (const simdbvh::Error& e) {
+        std::cerr << "simdbvh: " << e.what() << "\n";
+        return 2;
+    } catch (const std::exception& e) {
+        std::cerr << "simdbvh: error: " << e.what() << "\n";
+        return 2;
+    }
+}

@@ -1,0 +1,175 @@
+#include "methods.h"
+
+#include <chrono>
+
+#include "simdbvh/compare/embree.h"
+#include "simdbvh/kernels/error.h"
+#include "simdbvh/kernels/parallel.h"
+
+namespace simdbvh::cli {
+
+std::string MethodSpec::label() const {
+    if (method == "bvh8") return "bvh8/" + std::string(name(isa));
+    if (method == "embree") return "embree/" + quality + (robust ? "/robust" : "/default");
+    return method;
+}
+std::string MethodSpec::isa_name() const {
+    if (method == "bvh8") return std::string(name(isa));
+    if (method == "embree") return "embree-internal";
+    return "scalar";
+}
+std::string MethodSpec::builder_name() const {
+    if (method == "bvh2") return std::string(name(build.builder));
+    if (method == "bvh8") return std::string(name(build.builder)) + "+" + std::string(name(bvh8.collapse));
+    if (method == "embree") return "embree-" + quality;
+    return "-";
+}
+
+void add_method_options(std::set<std::string>& valued, std::set<std::string>& flags) {
+    for (const char* k : {"method", "isa", "builder", "bins", "collapse", "test", "quality", "threads"}) valued.insert(k);
+    flags.insert("robust");
+}
+
+MethodSpec parse_method(const Options& o) {
+    MethodSpec s;
+    s.method = o.get("method", "bvh2");
+    if (s.method != "brute" && s.method != "bvh2" && s.method != "bvh8" && s.method != "embree")
+        throw UsageError("unknown --method '" + s.method + "' (brute, bvh2, bvh8, embree)");
+    if (o.has("isa")) {
+        auto isa = parse_isa(o.get("isa"));
+        if (!isa) throw UsageError("unknown --isa '" + o.get("isa") + "' (scalar, avx2, avx512)");
+        require(*isa);
+        set_active_isa(*isa);
+        s.isa = *isa;
+    } else {
+        s.isa = active_isa();
+    }
+    if (o.has("builder")) {
+        auto b = parse_builder(o.get("builder"));
+        if (!b) throw UsageError("unknown --builder '" + o.get("builder") + "' (sah-binned, sah-sweep, midpoint, median, variance)");
+        s.build.builder = *b;
+    }
+    s.build.bins = int(o.get_int("bins", 16, 2, 256));
+    if (o.has("collapse")) {
+        auto c = parse_collapse(o.get("collapse"));
+        if (!c) throw UsageError("unknown --collapse '" + o.get("collapse") + "' (sah, greedy)");
+        s.bvh8.collapse = *c;
+    }
+    const std::string test = o.get("test", "watertight");
+    if (test == "watertight") s.test = TriangleTest::watertight;
+    else if (test == "moller") s.test = TriangleTest::moller;
+    else throw UsageError("unknown --test '" + test + "' (watertight, moller)");
+    s.quality = o.get("quality", "medium");
+    if (s.quality != "medium" && s.quality != "high") throw UsageError("unknown --quality '" + s.quality + "' (medium, high)");
+    s.robust = o.has("robust");
+    s.threads = int(o.get_int("threads", 1, 1, 1024));
+    s.build.threads = s.threads;
+    return s;
+}
+
+namespace {
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+class BruteTracer final : public Tracer {
+public:
+    BruteTracer(const Mesh& m, const MethodSpec& s) : mesh_(m), spec_(s) {}
+    void trace(std::span<const Ray> rays, std::span<Hit> hits, bool any, TraceStats*) override {
+        parallel_for(rays.size(), spec_.threads, [&](std::size_t b, std::size_t e) {
+            for (std::size_t i = b; i < e; ++i)
+                hits[i] = any ? brute_force_occluded(mesh_, rays[i], spec_.test) : brute_force_intersect(mesh_, rays[i], spec_.test);
+        });
+    }
+
+private:
+    const Mesh& mesh_;
+    MethodSpec spec_;
+};
+
+class Bvh2Tracer final : public Tracer {
+public:
+    Bvh2Tracer(const Mesh& m, const MethodSpec& s) : spec_(s), bvh_(Bvh2::build(m, s.build)) {
+        const BuildStats& st = bvh_.stats();
+        build_ms = st.build_ms;
+        bytes_per_triangle = st.bytes_per_triangle;
+        sah_cost = st.sah_cost;
+        depth = st.depth;
+        nodes = st.nodes;
+    }
+    void trace(std::span<const Ray> rays, std::span<Hit> hits, bool any, TraceStats* stats) override {
+        TraceOptions o;
+        o.test = spec_.test;
+        o.stats = stats;
+        o.threads = stats ? 1 : spec_.threads;
+        any ? occluded(bvh_, rays, hits, o) : intersect(bvh_, rays, hits, o);
+    }
+    const Bvh2& bvh() const { return bvh_; }
+
+private:
+    MethodSpec spec_;
+    Bvh2 bvh_;
+};
+
+class Bvh8Tracer final : public Tracer {
+public:
+    Bvh8Tracer(const Mesh& m, const MethodSpec& s) : spec_(s) {
+        const auto t0 = std::chrono::steady_clock::now();
+        Bvh2 b2 = Bvh2::build(m, s.build);
+        bvh_ = Bvh8::build(b2, s.bvh8);
+        build_ms = ms_since(t0);
+        const Bvh8Stats& st = bvh_.stats();
+        bytes_per_triangle = st.bytes_per_triangle;
+        sah_cost = st.sah_cost;
+        depth = st.depth;
+        nodes = st.nodes;
+    }
+    void trace(std::span<const Ray> rays, std::span<Hit> hits, bool any, TraceStats* stats) override {
+        TraceOptions o;
+        o.test = spec_.test;
+        o.stats = stats;
+        o.threads = stats ? 1 : spec_.threads;
+        any ? occluded(bvh_, rays, hits, o, spec_.isa) : intersect(bvh_, rays, hits, o, spec_.isa);
+    }
+
+private:
+    MethodSpec spec_;
+    Bvh8 bvh_;
+};
+
+class EmbreeTracer final : public Tracer {
+public:
+    EmbreeTracer(const Mesh& m, const MethodSpec& s) : spec_(s) {
+        compare::EmbreeOptions eo;
+        eo.quality = s.quality == "high" ? compare::EmbreeQuality::high : compare::EmbreeQuality::medium;
+        eo.robust = s.robust;
+        eo.threads = s.threads;
+        scene_ = std::make_unique<compare::EmbreeScene>(m, eo);
+        build_ms = scene_->build_ms();
+        bytes_per_triangle = m.size() ? double(scene_->memory_bytes()) / double(m.size()) : 0.0;
+    }
+    void trace(std::span<const Ray> rays, std::span<Hit> hits, bool any, TraceStats*) override {
+        parallel_for(rays.size(), spec_.threads, [&](std::size_t b, std::size_t e) {
+            auto r = rays.subspan(b, e - b);
+            auto h = hits.subspan(b, e - b);
+            any ? scene_->occluded(r, h) : scene_->intersect(r, h);
+        });
+    }
+
+private:
+    MethodSpec spec_;
+    std::unique_ptr<compare::EmbreeScene> scene_;
+};
+
+}  // namespace
+
+std::unique_ptr<Tracer> make_tracer(const Mesh& mesh, const MethodSpec& spec) {
+    if (spec.method == "brute") return std::make_unique<BruteTracer>(mesh, spec);
+    if (spec.method == "bvh2") return std::make_unique<Bvh2Tracer>(mesh, spec);
+    if (spec.method == "bvh8") return std::make_unique<Bvh8Tracer>(mesh, spec);
+    if (spec.method == "embree") return std::make_unique<EmbreeTracer>(mesh, spec);
+    throw Error("unknown method " + spec.method);
+}
+
+}  // namespace simdbvh::cli

@@ -1,0 +1,44 @@
+#pragma once
+// The methods the CLI can run, behind one interface: brute, bvh2, bvh8, embree.
+#include <memory>
+#include <span>
+#include <string>
+
+#include "options.h"
+#include "simdbvh/bvh8/bvh8.h"
+
+namespace simdbvh::cli {
+
+struct MethodSpec {
+    std::string method = "bvh2";  // brute | bvh2 | bvh8 | embree
+    Isa isa = Isa::scalar;        // bvh8 only (bvh2 and brute are scalar)
+    BuildOptions build;
+    Bvh8Options bvh8;
+    TriangleTest test = TriangleTest::watertight;
+    std::string quality = "medium";  // embree: medium | high
+    bool robust = false;             // embree: RTC_SCENE_FLAG_ROBUST
+    int threads = 1;                 // trace (and build) threads
+
+    std::string label() const;       // e.g. "bvh8/avx2", "embree/medium/robust"
+    std::string isa_name() const;    // the ISA that runs the trace
+    std::string builder_name() const;
+};
+
+class Tracer {
+public:
+    virtual ~Tracer() = default;
+    virtual void trace(std::span<const Ray> rays, std::span<Hit> hits, bool any_hit, TraceStats* stats) = 0;
+    double build_ms = 0;
+    double bytes_per_triangle = 0;
+    double sah_cost = 0;
+    int depth = 0;
+    std::size_t nodes = 0;
+};
+
+// Options every tracing command accepts: --method --isa --builder --bins
+// --collapse --test --quality --robust --threads.
+void add_method_options(std::set<std::string>& valued, std::set<std::string>& flags);
+MethodSpec parse_method(const Options& o);
+std::unique_ptr<Tracer> make_tracer(const Mesh& mesh, const MethodSpec& spec);
+
+}  // namespace simdbvh::cli
