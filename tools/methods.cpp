@@ -146,14 +146,20 @@ public:
         eo.robust = s.robust;
         eo.threads = s.threads;
         scene_ = std::make_unique<compare::EmbreeScene>(m, eo);
-        build_ms = scene_->build_ms();
-        bytes_per_triangle = m.size() ? double(scene_->memory_bytes()) / double(m.size()) : 0.0;
+        const compare::EmbreeStats& st = scene_->stats();
+        build_ms = st.setup_ms + st.build_ms;
+        bytes_per_triangle = st.bytes_per_triangle;
     }
+    // Embree's rtcOccluded1 tells hit or miss only: an any-hit "hit" is
+    // reported as prim 0, t 0 (only hit() is meaningful).
     void trace(std::span<const Ray> rays, std::span<Hit> hits, bool any, TraceStats*) override {
         parallel_for(rays.size(), spec_.threads, [&](std::size_t b, std::size_t e) {
             auto r = rays.subspan(b, e - b);
             auto h = hits.subspan(b, e - b);
-            any ? scene_->occluded(r, h) : scene_->intersect(r, h);
+            if (!any) return scene_->intersect(r, h);
+            std::vector<std::uint8_t> occ(r.size());
+            scene_->occluded(r, occ);
+            for (std::size_t i = 0; i < r.size(); ++i) h[i] = occ[i] ? Hit{0.0f, 0.0f, 0.0f, 0u} : Hit{};
         });
     }
 

@@ -31,7 +31,7 @@ bool bit(std::uint32_t reg, int i) { return (reg >> i) & 1u; }
 
 CpuInfo detect() {
     CpuInfo info;
-    unsigned a, b, c, d;
+    unsigned a = 0, b = 0, c = 0, d = 0;
     const unsigned max_leaf = __get_cpuid_max(0, nullptr);
     const unsigned max_ext = __get_cpuid_max(0x80000000u, nullptr);
     if (max_ext >= 0x80000004u) {

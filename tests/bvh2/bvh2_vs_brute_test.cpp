@@ -60,8 +60,10 @@ TEST_P(Bvh2VsBrute, ClosestAndAnyHitMatchBruteForce) {
         }
         hits += want.hit();
     }
-    // The ray generators aim at the scene: a test where nothing is hit proves nothing.
-    EXPECT_GT(hits, rays.size() / 20) << "too few hits for a meaningful comparison";
+    // Primary and incoherent rays aim at the scene: a test where nothing is hit
+    // proves nothing. Diffuse rays mostly escape (all of them on a convex icosphere).
+    if (c.kind != RayKind::diffuse) EXPECT_GT(hits, rays.size() / 20) << "too few hits for a meaningful comparison";
+    else if (c.scene.rfind("icosphere", 0) != 0) EXPECT_GT(hits, 0u) << "no diffuse ray hits";
 }
 
 std::vector<Case> cases() {

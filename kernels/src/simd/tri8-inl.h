@@ -59,7 +59,7 @@ SIMDBVH_FORCE_INLINE Tri8Lanes<Arch> watertight_lanes(const RayPack<Arch>& r, co
     const B det = eu + ev + ew;
     const B az = r.sz * akz, bz = r.sz * bkz, cz = r.sz * ckz;
     const B tt = (eu * az + ev * bz + ew * cz) / det;
-    cand &= bits<Arch>(!(det == zero) & (tt >= r.tmin) & (tt <= tmax));
+    cand &= bits<Arch>((!(det == zero)) & (tt >= r.tmin) & (tt <= tmax));
     out.hits = cand;
     out.t = tt;
     out.u_num = ev;
@@ -81,7 +81,7 @@ SIMDBVH_FORCE_INLINE Tri8Lanes<Arch> moller_lanes(const RayPack<Arch>& r, const 
     const B sx = r.ox - v0x, sy = r.oy - v0y, sz = r.oz - v0z;
     const B uu = (sx * px + sy * py + sz * pz) * inv;
     const B zero(0.0f), one(1.0f);
-    const Mask<Arch> ok_u = !(det == zero) & (uu >= zero) & (uu <= one);
+    const Mask<Arch> ok_u = (!(det == zero)) & (uu >= zero) & (uu <= one);
     if (bits<Arch>(ok_u) == 0) {
         out.t = out.u_num = out.v_num = out.den = zero;
         return out;

@@ -1,0 +1,68 @@
+// The traversal benchmarks' scene and main(): context lines name the scene,
+// its size, the active ISA and the BVH statistics.
+#include "traversal_fixture.h"
+
+#include <benchmark/benchmark.h>
+
+#include <cstdlib>
+#include <string>
+
+#include "simdbvh/scene/scenes.h"
+
+namespace bench {
+
+const TraversalScene& traversal_scene() {
+    static const TraversalScene s = [] {
+        using namespace simdbvh;
+        TraversalScene t;
+        const char* env = std::getenv("SIMDBVH_BENCH_SCENE");
+        t.name = env && *env ? env : (scene::is_cached("dragon") ? "dragon" : "terrain");
+        t.mesh = scene::load_scene(t.name);
+        t.bvh2 = Bvh2::build(t.mesh);
+        t.bvh8 = Bvh8::build(t.bvh2);
+        Bvh8Options g;
+        g.collapse = Collapse::greedy;
+        t.bvh8_greedy = Bvh8::build(t.bvh2, g);
+        const char* n = std::getenv("SIMDBVH_BENCH_RAYS");
+        const std::size_t count = n && *n ? std::strtoull(n, nullptr, 10) : 100000;
+        for (scene::RayKind k : {scene::RayKind::primary, scene::RayKind::incoherent, scene::RayKind::diffuse})
+            t.rays[static_cast<int>(k)] = scene::generate_rays(t.mesh, k, count, /*seed=*/1);
+        return t;
+    }();
+    return s;
+}
+
+}  // namespace bench
+
+int main(int argc, char** argv) {
+    benchmark::Initialize(&argc, argv);
+    if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+    const bench::TraversalScene& s = bench::traversal_scene();
+    using simdbvh::name;
+    benchmark::AddCustomContext("scene", s.name);
+    benchmark::AddCustomContext("triangles", std::to_string(s.mesh.size()));
+    benchmark::AddCustomContext("rays_per_kind", std::to_string(s.rays[0].size()));
+    benchmark::AddCustomContext("active_isa", std::string(name(simdbvh::active_isa())));
+    std::string supported;
+    for (simdbvh::Isa isa : simdbvh::kAllIsas)
+        if (simdbvh::supported(isa)) supported += (supported.empty() ? "" : ",") + std::string(name(isa));
+    benchmark::AddCustomContext("supported_isas", supported);
+    const auto& b2 = s.bvh2.stats();
+    benchmark::AddCustomContext("bvh2", "nodes=" + std::to_string(b2.nodes) + " depth=" + std::to_string(b2.depth) +
+                                            " sah=" + std::to_string(b2.sah_cost) +
+                                            " build_ms=" + std::to_string(b2.build_ms));
+    for (const auto* b : {&s.bvh8, &s.bvh8_greedy}) {
+        const auto& st = b->stats();
+        benchmark::AddCustomContext(b == &s.bvh8 ? "bvh8_sah" : "bvh8_greedy",
+                                    "nodes=" + std::to_string(st.nodes) + " leaves=" + std::to_string(st.leaves) +
+                                        " blocks=" + std::to_string(st.blocks) + " depth=" + std::to_string(st.depth) +
+                                        " sah=" + std::to_string(st.sah_cost) +
+                                        " fill=" + std::to_string(st.fill_rate) +
+                                        " block_fill=" + std::to_string(st.block_fill) +
+                                        " bytes/tri=" + std::to_string(st.bytes_per_triangle) +
+                                        " build_ms=" + std::to_string(st.build_ms));
+    }
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+    return 0;
+}

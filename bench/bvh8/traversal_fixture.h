@@ -1,0 +1,30 @@
+#pragma once
+// Shared by bench/bvh2 and bench/bvh8 traversal benchmarks: one scene, its
+// BVH2 and BVH8, and the rays of each kind, built once per run (untimed).
+// Scene: $SIMDBVH_BENCH_SCENE, default dragon when cached, else terrain.
+// Rays per kind: $SIMDBVH_BENCH_RAYS (default 100000).
+#include <string>
+#include <vector>
+
+#include "simdbvh/bvh2/bvh2.h"
+#include "simdbvh/bvh8/bvh8.h"
+#include "simdbvh/scene/rays.h"
+
+namespace bench {
+
+struct TraversalScene {
+    std::string name;
+    simdbvh::Mesh mesh;
+    simdbvh::Bvh2 bvh2;
+    simdbvh::Bvh8 bvh8;         // SAH collapse (default options)
+    simdbvh::Bvh8 bvh8_greedy;  // greedy collapse
+    std::vector<simdbvh::Ray> rays[3];  // indexed by RayKind
+};
+
+const TraversalScene& traversal_scene();
+
+inline const std::vector<simdbvh::Ray>& rays_of(simdbvh::scene::RayKind k) {
+    return traversal_scene().rays[static_cast<int>(k)];
+}
+
+}  // namespace bench

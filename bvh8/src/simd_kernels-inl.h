@@ -1,0 +1,29 @@
+#pragma once
+// The xsimd 8-wide kernels (kernels/src/simd) behind traverse-inl.h's K
+// interface. Include only from src/avx2 and src/avx512 translation units.
+#include "simd/box8-inl.h"
+#include "simd/tri8-inl.h"
+
+namespace simdbvh::bvh8 {
+
+template <class Arch>
+struct SimdKernels {
+    using RayData = simd::RayPack<Arch>;
+    static SIMDBVH_FORCE_INLINE RayData pack(const PreparedRay& r) { return simd::pack_ray<Arch>(r); }
+    static SIMDBVH_FORCE_INLINE std::uint32_t box8(const RayData& r, const Box8& b, float tmax, float* entries) {
+        simd::Batch<Arch> tn;
+        const std::uint32_t m = simd::intersect_box8<Arch>(r, b, simd::Batch<Arch>(tmax), tn);
+        tn.store_aligned(entries);
+        return m;
+    }
+    template <TriangleTest kTest>
+    static SIMDBVH_FORCE_INLINE void closest(const RayData& r, const Tri8& b, Hit& best) {
+        simd::intersect_tri8<Arch, kTest>(r, b, best);
+    }
+    template <TriangleTest kTest>
+    static SIMDBVH_FORCE_INLINE bool any(const RayData& r, const Tri8& b, float tmax, Hit& hit) {
+        return simd::occluded_tri8<Arch, kTest>(r, b, tmax, hit);
+    }
+};
+
+}  // namespace simdbvh::bvh8

@@ -1,0 +1,280 @@
+// Embree 3 wrapper: see simdbvh/compare/embree.h.
+#include "simdbvh/compare/embree.h"
+
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <mutex>
+#include <thread>
+
+#include "simdbvh/kernels/error.h"
+
+namespace simdbvh::compare {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+const char* error_name(RTCError e) {
+    switch (e) {
+    case RTC_ERROR_NONE: return "RTC_ERROR_NONE";
+    case RTC_ERROR_UNKNOWN: return "RTC_ERROR_UNKNOWN";
+    case RTC_ERROR_INVALID_ARGUMENT: return "RTC_ERROR_INVALID_ARGUMENT";
+    case RTC_ERROR_INVALID_OPERATION: return "RTC_ERROR_INVALID_OPERATION";
+    case RTC_ERROR_OUT_OF_MEMORY: return "RTC_ERROR_OUT_OF_MEMORY";
+    case RTC_ERROR_UNSUPPORTED_CPU: return "RTC_ERROR_UNSUPPORTED_CPU";
+    case RTC_ERROR_CANCELLED: return "RTC_ERROR_CANCELLED";
+    }
+    return "RTC_ERROR_?";
+}
+
+// Embree's Ray::valid() bound on |org| and |dir| components (FLT_LARGE).
+constexpr float kEmbreeLarge = 1.844E18f;
+
+bool within_large(const Vec3& a) {
+    return std::fabs(a.x) <= kEmbreeLarge && std::fabs(a.y) <= kEmbreeLarge && std::fabs(a.z) <= kEmbreeLarge;
+}
+
+}  // namespace
+
+std::string_view name(EmbreeQuality q) { return q == EmbreeQuality::high ? "high" : "medium"; }
+
+std::optional<EmbreeQuality> parse_embree_quality(std::string_view s) {
+    if (s == "medium") return EmbreeQuality::medium;
+    if (s == "high") return EmbreeQuality::high;
+    return std::nullopt;
+}
+
+std::string method_name(const EmbreeOptions& o) {
+    std::string s = "embree-" + std::string(name(o.quality));
+    if (o.robust) s += "-robust";
+    return s;
+}
+
+EmbreeRayCheck check_embree_ray(const Ray& r) {
+    if (!prepare(r).valid) return EmbreeRayCheck::invalid;
+    // Embree asserts tnear >= 0 and |org|, |dir| <= FLT_LARGE (BVHNIntersector1).
+    if (!(r.tmin >= 0.0f) || !within_large(r.org) || !within_large(r.dir)) return EmbreeRayCheck::unsupported;
+    return EmbreeRayCheck::ok;
+}
+
+struct EmbreeScene::Impl {
+    EmbreeOptions opts;
+    EmbreeStats stats;
+    RTCDevice device = nullptr;
+    RTCScene scene = nullptr;
+
+    // Errors: Embree calls back from inside its C API, where throwing is not
+    // allowed; record the first one and throw after the call returns.
+    std::mutex error_mutex;
+    std::atomic<bool> failed{false};
+    std::string error;
+
+    // Memory monitor (may be called from Embree's build threads).
+    std::atomic<std::int64_t> mem_current{0};
+    std::atomic<std::int64_t> mem_peak{0};
+    std::atomic<bool> mem_seen{false};
+
+    mutable std::atomic<std::uint64_t> invalid{0};
+    mutable std::atomic<std::uint64_t> unsupported{0};
+
+    ~Impl() {
+        if (scene) rtcReleaseScene(scene);
+        if (device) rtcReleaseDevice(device);
+    }
+
+    static void on_error(void* user, RTCError code, const char* str) {
+        auto* self = static_cast<Impl*>(user);
+        std::lock_guard<std::mutex> lock(self->error_mutex);
+        if (self->failed.load()) return;
+        self->error = std::string("Embree: ") + error_name(code) + (str ? std::string(": ") + str : std::string());
+        self->failed.store(true);
+    }
+
+    static bool on_memory(void* user, ssize_t bytes, bool /*post*/) {
+        auto* self = static_cast<Impl*>(user);
+        self->mem_seen.store(true, std::memory_order_relaxed);
+        const std::int64_t now = self->mem_current.fetch_add(bytes) + bytes;
+        std::int64_t peak = self->mem_peak.load();
+        while (now > peak && !self->mem_peak.compare_exchange_weak(peak, now)) {
+        }
+        return true;  // never refuse an allocation
+    }
+
+    void check(const char* what) const {
+        if (failed.load(std::memory_order_acquire)) {
+            std::lock_guard<std::mutex> lock(const_cast<std::mutex&>(error_mutex));
+            throw Error(std::string(what) + ": " + error);
+        }
+    }
+};
+
+EmbreeScene::EmbreeScene(const Mesh& mesh, const EmbreeOptions& opts) : impl_(std::make_unique<Impl>()) {
+    validate(mesh);
+    if (mesh.size() > kMaxTriangles - 1) throw Error("mesh has too many triangles for Embree");
+    if (opts.threads < 0) throw Error("EmbreeOptions::threads must be >= 0");
+    Impl& s = *impl_;
+    s.opts = opts;
+    s.stats.triangles = mesh.size();
+    s.stats.threads = opts.threads > 0 ? opts.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+
+    const auto t0 = Clock::now();
+    const std::string config = "verbose=0" + (opts.threads > 0 ? ",threads=" + std::to_string(opts.threads) : std::string());
+    s.device = rtcNewDevice(config.c_str());
+    if (!s.device) {
+        const RTCError e = rtcGetDeviceError(nullptr);
+        throw Error(std::string("Embree: rtcNewDevice(\"") + config + "\") failed: " + error_name(e));
+    }
+    rtcSetDeviceErrorFunction(s.device, &Impl::on_error, &s);
+    rtcSetDeviceMemoryMonitorFunction(s.device, &Impl::on_memory, &s);
+
+    s.scene = rtcNewScene(s.device);
+    s.check("rtcNewScene");
+    rtcSetSceneFlags(s.scene, opts.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
+    rtcSetSceneBuildQuality(s.scene,
+                            opts.quality == EmbreeQuality::high ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
+    s.check("rtcSetSceneBuildQuality");
+
+    const std::int64_t before_buffers = s.mem_current.load();
+    if (!mesh.triangles.empty()) {
+        RTCGeometry geom = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        s.check("rtcNewGeometry");
+        rtcSetGeometryBuildQuality(
+            geom, opts.quality == EmbreeQuality::high ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
+        // rtcSetNewGeometryBuffer over-allocates so the last vertex can be read
+        // with a 16-byte load (Embree's padding requirement).
+        auto* verts = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                                  3 * sizeof(float), mesh.positions.size()));
+        auto* index = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(
+            geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t), mesh.triangles.size()));
+        if (s.failed.load() || !verts || !index) {
+            rtcReleaseGeometry(geom);
+            s.check("rtcSetNewGeometryBuffer");
+            throw Error("Embree: rtcSetNewGeometryBuffer returned null");
+        }
+        static_assert(sizeof(Vec3) == 3 * sizeof(float) && sizeof(Triangle) == 3 * sizeof(std::uint32_t));
+        std::memcpy(verts, mesh.positions.data(), mesh.positions.size() * sizeof(Vec3));
+        std::memcpy(index, mesh.triangles.data(), mesh.triangles.size() * sizeof(Triangle));
+        rtcCommitGeometry(geom);
+        rtcAttachGeometryByID(s.scene, geom, 0);  // geomID 0: primID is our triangle id
+        rtcReleaseGeometry(geom);                 // the scene holds it now
+        s.check("rtcCommitGeometry");
+    }
+    const std::int64_t after_buffers = s.mem_current.load();
+    s.stats.setup_ms = ms_since(t0);
+
+    const auto t1 = Clock::now();
+    rtcCommitScene(s.scene);
+    s.stats.build_ms = ms_since(t1);
+    s.check("rtcCommitScene");
+
+    s.stats.memory_tracked = s.mem_seen.load();
+    s.stats.buffer_bytes = after_buffers - before_buffers;
+    s.stats.bvh_bytes = s.mem_current.load() - after_buffers;
+    s.stats.peak_bytes = s.mem_peak.load();
+    s.stats.bytes_per_triangle =
+        mesh.size() == 0 ? 0.0 : double(s.stats.bvh_bytes) / double(mesh.size());
+}
+
+EmbreeScene::~EmbreeScene() = default;
+EmbreeScene::EmbreeScene(EmbreeScene&&) noexcept = default;
+EmbreeScene& EmbreeScene::operator=(EmbreeScene&&) noexcept = default;
+
+const EmbreeOptions& EmbreeScene::options() const { return impl_->opts; }
+const EmbreeStats& EmbreeScene::stats() const { return impl_->stats; }
+
+std::string EmbreeScene::version() {
+    return std::to_string(RTC_VERSION_MAJOR) + "." + std::to_string(RTC_VERSION_MINOR) + "." +
+           std::to_string(RTC_VERSION_PATCH);
+}
+
+std::string EmbreeScene::tasking_system() const {
+    switch (rtcGetDeviceProperty(impl_->device, RTC_DEVICE_PROPERTY_TASKING_SYSTEM)) {
+    case 0: return "internal";
+    case 1: return "tbb";
+    case 2: return "ppl";
+    default: return "unknown";
+    }
+}
+
+Hit EmbreeScene::intersect(const Ray& r) const {
+    switch (check_embree_ray(r)) {
+    case EmbreeRayCheck::invalid: impl_->invalid.fetch_add(1, std::memory_order_relaxed); return Hit{};
+    case EmbreeRayCheck::unsupported: impl_->unsupported.fetch_add(1, std::memory_order_relaxed); return Hit{};
+    case EmbreeRayCheck::ok: break;
+    }
+    alignas(16) RTCRayHit rh;
+    rh.ray.org_x = r.org.x;
+    rh.ray.org_y = r.org.y;
+    rh.ray.org_z = r.org.z;
+    rh.ray.tnear = r.tmin;
+    rh.ray.dir_x = r.dir.x;
+    rh.ray.dir_y = r.dir.y;
+    rh.ray.dir_z = r.dir.z;
+    rh.ray.time = 0.0f;
+    rh.ray.tfar = r.tmax;
+    rh.ray.mask = 0xFFFFFFFFu;
+    rh.ray.id = 0;
+    rh.ray.flags = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    rtcIntersect1(impl_->scene, &ctx, &rh);
+    impl_->check("rtcIntersect1");
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return Hit{};
+    return Hit{rh.ray.tfar, rh.hit.u, rh.hit.v, rh.hit.primID};
+}
+
+bool EmbreeScene::occluded(const Ray& r) const {
+    switch (check_embree_ray(r)) {
+    case EmbreeRayCheck::invalid: impl_->invalid.fetch_add(1, std::memory_order_relaxed); return false;
+    case EmbreeRayCheck::unsupported: impl_->unsupported.fetch_add(1, std::memory_order_relaxed); return false;
+    case EmbreeRayCheck::ok: break;
+    }
+    alignas(16) RTCRay ray;
+    ray.org_x = r.org.x;
+    ray.org_y = r.org.y;
+    ray.org_z = r.org.z;
+    ray.tnear = r.tmin;
+    ray.dir_x = r.dir.x;
+    ray.dir_y = r.dir.y;
+    ray.dir_z = r.dir.z;
+    ray.time = 0.0f;
+    ray.tfar = r.tmax;
+    ray.mask = 0xFFFFFFFFu;
+    ray.id = 0;
+    ray.flags = 0;
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    rtcOccluded1(impl_->scene, &ctx, &ray);
+    impl_->check("rtcOccluded1");
+    return ray.tfar == -std::numeric_limits<float>::infinity();  // Embree marks a hit with tfar = -inf
+}
+
+void EmbreeScene::intersect(std::span<const Ray> rays, std::span<Hit> hits) const {
+    if (rays.size() != hits.size()) throw Error("EmbreeScene::intersect: rays and hits differ in size");
+    for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = intersect(rays[i]);
+}
+
+void EmbreeScene::occluded(std::span<const Ray> rays, std::span<std::uint8_t> out) const {
+    if (rays.size() != out.size()) throw Error("EmbreeScene::occluded: rays and results differ in size");
+    for (std::size_t i = 0; i < rays.size(); ++i) out[i] = occluded(rays[i]) ? 1 : 0;
+}
+
+std::uint64_t EmbreeScene::invalid_rays() const { return impl_->invalid.load(); }
+std::uint64_t EmbreeScene::unsupported_rays() const { return impl_->unsupported.load(); }
+void EmbreeScene::reset_counters() {
+    impl_->invalid.store(0);
+    impl_->unsupported.store(0);
+}
+
+}  // namespace simdbvh::compare

@@ -1,0 +1,154 @@
+// EmbreeScene: result conversion (t, u, v, prim in our convention), rays that
+// must not reach Embree, options, stats, errors, RAII.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "simdbvh/compare/classify.h"
+#include "simdbvh/compare/embree.h"
+#include "simdbvh/kernels/error.h"
+#include "simdbvh/scene/rays.h"
+#include "simdbvh/scene/scenes.h"
+#include "support/scene.h"
+
+namespace simdbvh::compare {
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+Ray ray(Vec3 o, Vec3 d, float tmin = 0.0f, float tmax = kInf) { return Ray{o, tmin, d, tmax}; }
+
+TEST(EmbreeScene, HitUsesOurConventions) {
+    Mesh m;  // triangle 0 far away, triangle 1 the one we aim at: prim ids must map through
+    m.positions = {{10, 10, 10}, {11, 10, 10}, {10, 11, 10}, {0, 0, 0}, {2, 0, 0}, {0, 4, 0}};
+    m.triangles = {{0, 1, 2}, {3, 4, 5}};
+    const EmbreeScene s(m);
+    // P = (1-u-v) v0 + u v1 + v v2 with u = 0.25, v = 0.5: (0.5, 2, 0).
+    const Hit h = s.intersect(ray({0.5f, 2.0f, 3.0f}, {0, 0, -1}));
+    ASSERT_TRUE(h.hit());
+    EXPECT_EQ(h.prim, 1u);
+    EXPECT_FLOAT_EQ(h.t, 3.0f);
+    EXPECT_NEAR(h.u, 0.25f, 1e-6f);
+    EXPECT_NEAR(h.v, 0.5f, 1e-6f);
+    EXPECT_TRUE(s.occluded(ray({0.5f, 2.0f, 3.0f}, {0, 0, -1})));
+    // Miss, and a hit beyond tmax.
+    EXPECT_EQ(s.intersect(ray({5, 5, 3}, {0, 0, -1})), Hit{});
+    EXPECT_EQ(s.intersect(ray({0.5f, 2.0f, 3.0f}, {0, 0, -1}, 0.0f, 2.0f)), Hit{});
+    EXPECT_FALSE(s.occluded(ray({0.5f, 2.0f, 3.0f}, {0, 0, -1}, 0.0f, 2.0f)));
+    // Back face (no culling).
+    EXPECT_EQ(s.intersect(ray({0.5f, 2.0f, -3.0f}, {0, 0, 1})).prim, 1u);
+    EXPECT_EQ(s.invalid_rays(), 0u);
+}
+
+TEST(EmbreeScene, InvalidRaysAreMissesAndCounted) {
+    const EmbreeScene s(test::one_triangle());
+    const std::vector<Ray> bad = {
+        ray({kNaN, 0.2f, 1}, {0, 0, -1}),          ray({0.2f, 0.2f, 1}, {0, 0, 0}),
+        ray({0.2f, 0.2f, kInf}, {0, 0, -1}),       ray({0.2f, 0.2f, 1}, {kNaN, 0, -1}),
+        ray({0.2f, 0.2f, 1}, {0, -kInf, -1}),      ray({0.2f, 0.2f, 1}, {0, 0, -1}, 2.0f, 1.0f),
+        ray({0.2f, 0.2f, 1}, {0, 0, -1}, kNaN),    ray({0.2f, 0.2f, 1}, {0, 0, -1}, 0.0f, kNaN),
+    };
+    for (const Ray& r : bad) EXPECT_EQ(check_embree_ray(r), EmbreeRayCheck::invalid);
+    std::vector<Hit> hits(bad.size(), Hit{1, 1, 1, 1});
+    s.intersect(bad, hits);
+    for (const Hit& h : hits) EXPECT_EQ(h, Hit{});
+    std::vector<std::uint8_t> occ(bad.size(), 1);
+    s.occluded(bad, occ);
+    for (std::uint8_t o : occ) EXPECT_EQ(o, 0);
+    EXPECT_EQ(s.invalid_rays(), 2 * bad.size());
+
+    // Valid for us, outside Embree's domain: answered as misses, counted apart.
+    const Ray negative_tmin = ray({0.2f, 0.2f, 1}, {0, 0, -1}, -1.0f);
+    const Ray huge = ray({0.2f, 0.2f, 1e19f}, {0, 0, -1});
+    EXPECT_EQ(check_embree_ray(negative_tmin), EmbreeRayCheck::unsupported);
+    EXPECT_EQ(check_embree_ray(huge), EmbreeRayCheck::unsupported);
+    EXPECT_EQ(s.intersect(negative_tmin), Hit{});
+    EXPECT_FALSE(s.occluded(huge));
+    EXPECT_EQ(s.unsupported_rays(), 2u);
+    s.intersect(ray({0.2f, 0.2f, 1}, {0, 0, -1}, -0.0f));  // -0 is a valid tnear
+    EXPECT_EQ(s.unsupported_rays(), 2u);
+    const_cast<EmbreeScene&>(s).reset_counters();
+    EXPECT_EQ(s.invalid_rays(), 0u);
+    EXPECT_EQ(s.unsupported_rays(), 0u);
+}
+
+TEST(EmbreeScene, OptionsStatsAndNames) {
+    const Mesh m = scene::icosphere(4);  // 5120 triangles
+    for (EmbreeQuality q : {EmbreeQuality::medium, EmbreeQuality::high}) {
+        for (bool robust : {false, true}) {
+            const EmbreeOptions o{q, robust, 1};
+            const EmbreeScene s(m, o);
+            EXPECT_EQ(s.options().threads, 1);
+            EXPECT_EQ(s.stats().threads, 1);
+            EXPECT_EQ(s.stats().triangles, m.size());
+            EXPECT_GE(s.stats().build_ms, 0.0);
+            if (s.stats().memory_tracked) {
+                EXPECT_GE(s.stats().buffer_bytes, std::int64_t(m.size() * 12));
+                EXPECT_GT(s.stats().bvh_bytes, 0);
+                EXPECT_GT(s.stats().bytes_per_triangle, 0.0);
+                EXPECT_GE(s.stats().peak_bytes, s.stats().bvh_bytes + s.stats().buffer_bytes);
+            }
+            std::cout << method_name(o) << ": build " << s.stats().build_ms << " ms, "
+                      << s.stats().bytes_per_triangle << " B/tri (bvh " << s.stats().bvh_bytes << " B, buffers "
+                      << s.stats().buffer_bytes << " B, peak " << s.stats().peak_bytes << " B), tasking "
+                      << s.tasking_system() << ", Embree " << EmbreeScene::version() << "\n";
+        }
+    }
+    EXPECT_EQ(method_name({EmbreeQuality::high, true, 0}), "embree-high-robust");
+    EXPECT_EQ(method_name({}), "embree-medium");
+    EXPECT_EQ(parse_embree_quality("high"), EmbreeQuality::high);
+    EXPECT_FALSE(parse_embree_quality("low").has_value());
+    EXPECT_EQ(EmbreeScene::version().substr(0, 2), "3.");
+    EXPECT_GE(EmbreeScene(m).stats().threads, 1);  // 0 = default: resolved to the hardware threads
+}
+
+TEST(EmbreeScene, EmptyMeshMissesEverything) {
+    const EmbreeScene s(Mesh{});
+    EXPECT_EQ(s.intersect(ray({0, 0, 1}, {0, 0, -1})), Hit{});
+    EXPECT_FALSE(s.occluded(ray({0, 0, 1}, {0, 0, -1})));
+    EXPECT_EQ(s.stats().bytes_per_triangle, 0.0);
+}
+
+TEST(EmbreeScene, BadInputThrowsOurError) {
+    Mesh bad = test::one_triangle();
+    bad.triangles[0][2] = 3;  // out of range
+    EXPECT_THROW(EmbreeScene{bad}, Error);
+    Mesh nan = test::one_triangle();
+    nan.positions[1].x = kNaN;
+    EXPECT_THROW(EmbreeScene{nan}, Error);
+    EXPECT_THROW((EmbreeScene{test::one_triangle(), EmbreeOptions{EmbreeQuality::medium, false, -1}}), Error);
+    const EmbreeScene s(test::one_triangle());
+    std::vector<Hit> hits(1);
+    EXPECT_THROW(s.intersect(std::vector<Ray>(2), hits), Error);
+}
+
+TEST(EmbreeScene, MovesKeepTheScene) {
+    EmbreeScene a(test::one_triangle());
+    EmbreeScene b(std::move(a));
+    EXPECT_EQ(b.intersect(ray({0.2f, 0.2f, 1}, {0, 0, -1})).prim, 0u);
+    EmbreeScene c(Mesh{});
+    c = std::move(b);
+    EXPECT_EQ(c.intersect(ray({0.2f, 0.2f, 1}, {0, 0, -1})).prim, 0u);
+}
+
+// Embree against the double reference on a closed mesh: report its own errors.
+TEST(EmbreeScene, AgainstReferenceOnIcosphere) {
+    const Mesh m = scene::icosphere(3);
+    std::vector<Ray> rays = scene::incoherent_rays(m.bounds(), 400, 5);
+    for (const Vec3& p : m.positions) rays.push_back(ray({0.01f, -0.02f, 0.03f}, p));  // through every vertex
+    for (bool robust : {false, true}) {
+        const EmbreeScene s(m, {EmbreeQuality::medium, robust, 1});
+        std::vector<Hit> hits(rays.size());
+        s.intersect(rays, hits);
+        Tally t;
+        for (std::size_t i = 0; i < rays.size(); ++i) t.add(classify(reference_intersect(m, rays[i]), hits[i]));
+        std::cout << method_name(s.options()) << " vs reference (" << rays.size() << " rays): " << to_string(t) << "\n";
+        RecordProperty(method_name(s.options()) + "_disagreements", std::to_string(t.disagreements()));
+        EXPECT_GT(t.agreement_rate(), 0.95) << to_string(t);
+    }
+}
+
+}  // namespace
+}  // namespace simdbvh::compare

@@ -1,0 +1,76 @@
+# cmake -DOBJ_DIR=<.../simdbvh_kernels.dir/src> -DOBJDUMP=objdump -DNM=nm -P check_isa_objects.cmake
+#  1. baseline objects (src/*.o, src/scalar/*.o) contain no ymm/zmm register;
+#  2. src/avx2/*.o and src/avx512/*.o do contain ymm (positive control), and
+#     src/avx2/*.o contain no zmm nor EVEX-only registers (ymm16-31, opmasks);
+#  3. every weak/COMDAT symbol a per-ISA object defines is ISA-specific (its
+#     name mentions the ISA): otherwise the linker may keep the AVX copy of an
+#     inline function for baseline callers (SIGILL on older CPUs).
+foreach(v OBJ_DIR OBJDUMP NM)
+  if(NOT DEFINED ${v})
+    message(FATAL_ERROR "check_isa_objects: -D${v}= is required")
+  endif()
+endforeach()
+
+set(_failures "")
+function(_disasm obj out)
+  execute_process(COMMAND ${OBJDUMP} -d --no-show-raw-insn ${obj} OUTPUT_VARIABLE _d RESULT_VARIABLE _rc)
+  if(NOT _rc EQUAL 0)
+    message(FATAL_ERROR "objdump failed on ${obj}")
+  endif()
+  set(${out} "${_d}" PARENT_SCOPE)
+endfunction()
+
+file(GLOB _base ${OBJ_DIR}/*.o ${OBJ_DIR}/scalar/*.o)
+file(GLOB _avx2 ${OBJ_DIR}/avx2/*.o)
+file(GLOB _avx512 ${OBJ_DIR}/avx512/*.o)
+if(NOT _base OR NOT _avx2 OR NOT _avx512)
+  message(FATAL_ERROR "check_isa_objects: missing objects under ${OBJ_DIR} (build simdbvh_kernels first): "
+                      "baseline='${_base}' avx2='${_avx2}' avx512='${_avx512}'")
+endif()
+
+foreach(obj IN LISTS _base)
+  _disasm(${obj} d)
+  string(REGEX MATCH "[^\n]*%[yz]mm[0-9]+[^\n]*" hit "${d}")
+  if(hit)
+    list(APPEND _failures "baseline object ${obj} uses AVX registers: ${hit}")
+  endif()
+endforeach()
+
+foreach(obj IN LISTS _avx2 _avx512)
+  _disasm(${obj} d)
+  if(NOT d MATCHES "%ymm[0-9]+")
+    list(APPEND _failures "per-ISA object ${obj} contains no ymm register (built without its ISA flags?)")
+  endif()
+  if(obj MATCHES "/avx2/")
+    string(REGEX MATCH "[^\n]*(%zmm[0-9]|%ymm(1[6-9]|2[0-9]|3[01])|%k[0-7])[^\n]*" hit "${d}")
+    if(hit)
+      list(APPEND _failures "avx2 object ${obj} uses AVX-512 state: ${hit}")
+    endif()
+    set(tag "avx2")
+  else()
+    set(tag "avx512")
+  endif()
+  execute_process(COMMAND ${NM} -C --defined-only ${obj} OUTPUT_VARIABLE syms RESULT_VARIABLE rc)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "nm failed on ${obj}")
+  endif()
+  string(REPLACE "\n" ";" syms "${syms}")
+  foreach(line IN LISTS syms)
+    if(line MATCHES "^[0-9a-f]* [WVu] (.*)$")
+      set(sym "${CMAKE_MATCH_1}")
+      # DW.ref.*: data words (EH personality pointer), no code.
+      if(NOT sym MATCHES "${tag}" AND NOT sym MATCHES "^DW\\.ref\\.")
+        list(APPEND _failures "${obj} defines shared weak symbol '${sym}' compiled with ${tag} flags")
+      endif()
+    endif()
+  endforeach()
+endforeach()
+
+list(LENGTH _base nb)
+list(LENGTH _avx2 n2)
+list(LENGTH _avx512 n5)
+if(_failures)
+  string(REPLACE ";" "\n  " msg "${_failures}")
+  message(FATAL_ERROR "ISA object check failed:\n  ${msg}")
+endif()
+message(STATUS "ISA object check passed: ${nb} baseline, ${n2} avx2, ${n5} avx512 objects")

@@ -1,0 +1,482 @@
+// Every 8-wide kernel in every ISA the CPU has equals the scalar reference bit
+// for bit: masks, entry distances, and Hit (t, u, v, prim), on randomized and
+// edge-case inputs. Unsupported ISAs are skipped, not passed.
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "kernel_test_util.h"
+#include "simdbvh/kernels/error.h"
+#include "simdbvh/kernels/box.h"
+#include "simdbvh/kernels/triangle.h"
+
+namespace simdbvh {
+namespace {
+
+using kernels::Tri1;
+using test::bits_of;
+using test::hit_str;
+using test::Rng;
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+constexpr TriangleTest kTests[] = {TriangleTest::watertight, TriangleTest::moller};
+
+const char* test_name(TriangleTest t) { return t == TriangleTest::watertight ? "watertight" : "moller"; }
+
+bool hit_has_nan(const Hit& h) { return std::isnan(h.t) || std::isnan(h.u) || std::isnan(h.v); }
+
+class KernelsVsScalar : public testing::TestWithParam<Isa> {
+protected:
+    void SetUp() override { SIMDBVH_SKIP_IF_UNSUPPORTED(GetParam()); }
+
+    // Box8: masks and all 8 entries per ray, bit for bit; count_box8_hits agrees.
+    void check_box8(const std::vector<Ray>& rays, const Box8& box, const char* what) {
+        const Isa isa = GetParam();
+        std::vector<std::uint8_t> m0(rays.size()), m1(rays.size());
+        std::vector<float> e0(8 * rays.size()), e1(8 * rays.size());
+        kernels::intersect_box8(rays, box, m0, e0, Isa::scalar);
+        kernels::intersect_box8(rays, box, m1, e1, isa);
+        ASSERT_EQ(kernels::last_isa_used(), isa);
+        std::uint64_t hits = 0;
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            ASSERT_EQ(m0[i], m1[i]) << what << ": ray " << i;
+            hits += std::uint64_t(__builtin_popcount(m0[i]));
+            for (int j = 0; j < 8; ++j) {
+                ASSERT_EQ(bits_of(e0[8 * i + j]), bits_of(e1[8 * i + j]))
+                    << what << ": ray " << i << " box " << j << " entry " << e0[8 * i + j] << " vs " << e1[8 * i + j];
+                if ((m0[i] >> j) & 1) {
+                    ASSERT_FALSE(std::isnan(e0[8 * i + j])) << what << ": NaN entry of a hit";
+                }
+            }
+            // The scalar kernel is the reference function itself.
+            const PreparedRay p = prepare(rays[i]);
+            for (int j = 0; j < 8 && p.valid; ++j) {
+                float e;
+                ASSERT_EQ(intersect_box(p, box.get(j), p.tmax, &e), bool((m0[i] >> j) & 1));
+            }
+        }
+        ASSERT_EQ(kernels::count_box8_hits(rays, {&box, 1}, isa), hits) << what;
+    }
+
+    // Tri8: closest hit over all blocks, each block alone, and any-hit, bit for bit.
+    void check_tri8(const std::vector<Ray>& rays, const std::vector<Tri8>& blocks, const char* what,
+                    std::vector<Hit>* closest_out = nullptr, TriangleTest only = TriangleTest::watertight,
+                    bool only_one = false) {
+        const Isa isa = GetParam();
+        for (TriangleTest test : kTests) {
+            if (only_one && test != only) continue;
+            std::vector<Hit> h0(rays.size()), h1(rays.size());
+            kernels::intersect_tri8(rays, blocks, test, h0, Isa::scalar);
+            kernels::intersect_tri8(rays, blocks, test, h1, isa);
+            ASSERT_EQ(kernels::last_isa_used(), isa);
+            for (std::size_t i = 0; i < rays.size(); ++i) {
+                ASSERT_EQ(h0[i], h1[i]) << what << " " << test_name(test) << ": ray " << i << " scalar "
+                                        << hit_str(h0[i]) << " " << name(isa) << " " << hit_str(h1[i]);
+                if (h0[i].hit()) {
+                    ASSERT_FALSE(hit_has_nan(h0[i])) << what << ": NaN in a reported hit " << hit_str(h0[i]);
+                    ASSERT_NE(h0[i].prim, kInvalidPrim);
+                } else {
+                    ASSERT_EQ(h0[i], Hit{}) << what << ": a miss is Hit{}";
+                }
+            }
+            if (closest_out && test == (only_one ? only : TriangleTest::watertight)) *closest_out = h0;
+            for (std::size_t b = 0; b < blocks.size(); ++b) {
+                std::span<const Tri8> one(&blocks[b], 1);
+                kernels::intersect_tri8(rays, one, test, h0, Isa::scalar);
+                kernels::intersect_tri8(rays, one, test, h1, isa);
+                for (std::size_t i = 0; i < rays.size(); ++i)
+                    ASSERT_EQ(h0[i], h1[i]) << what << " " << test_name(test) << ": block " << b << " ray " << i
+                                            << " scalar " << hit_str(h0[i]) << " vs " << hit_str(h1[i]);
+            }
+            std::vector<std::uint8_t> o0(rays.size()), o1(rays.size());
+            kernels::occluded_tri8(rays, blocks, test, o0, h0, Isa::scalar);
+            kernels::occluded_tri8(rays, blocks, test, o1, h1, isa);
+            for (std::size_t i = 0; i < rays.size(); ++i) {
+                ASSERT_EQ(o0[i], o1[i]) << what << " " << test_name(test) << " occluded: ray " << i;
+                ASSERT_EQ(h0[i], h1[i]) << what << " " << test_name(test) << " first hit: ray " << i << " "
+                                        << hit_str(h0[i]) << " vs " << hit_str(h1[i]);
+                ASSERT_EQ(o0[i] != 0, h0[i].hit());
+            }
+        }
+    }
+};
+
+// ---------- boxes ----------
+
+Aabb random_box(Rng& rng) {
+    const Vec3 c = rng.in_box(-1, 1);
+    Vec3 e = rng.in_box(0, 0.5f);
+    if (rng.chance(0.1f)) e.x = 0;  // flat boxes
+    if (rng.chance(0.1f)) e.y = 0;
+    return {c - e, c + e};
+}
+
+Ray random_ray(Rng& rng, float span) {
+    Ray r;
+    r.org = rng.in_box(-span, span);
+    r.dir = rng.direction();
+    if (rng.chance(0.1f)) r.dir.x = rng.chance(0.5f) ? 0.0f : -0.0f;
+    if (rng.chance(0.1f)) r.dir.y = rng.chance(0.5f) ? 0.0f : -0.0f;
+    if (rng.chance(0.05f)) r.dir.z = rng.chance(0.5f) ? 0.0f : -0.0f;
+    r.tmin = rng.chance(0.7f) ? 0.0f : rng.range(0, 2);
+    r.tmax = rng.chance(0.5f) ? kInf : rng.range(0, 6);
+    return r;
+}
+
+TEST_P(KernelsVsScalar, Box8Random) {
+    Rng rng(1);
+    for (int blk = 0; blk < 300; ++blk) {
+        Box8 box;
+        box.clear();
+        const int n = 1 + rng.below(8);
+        for (int j = 0; j < n; ++j) box.set(rng.below(8), random_box(rng));
+        std::vector<Ray> rays;
+        for (int i = 0; i < 64; ++i) {
+            Ray r = random_ray(rng, 2.5f);
+            if (rng.chance(0.3f)) {  // origin exactly on a slab plane of some box
+                const Aabb b = box.get(rng.below(8));
+                const int axis = rng.below(3);
+                const float plane = rng.chance(0.5f) ? b.lo[axis] : b.hi[axis];
+                if (std::isfinite(plane)) r.org[axis] = plane;
+                if (rng.chance(0.5f)) r.dir[axis] = rng.chance(0.5f) ? 0.0f : -0.0f;
+                if (r.dir.x == 0 && r.dir.y == 0 && r.dir.z == 0) r.dir.x = 1;
+            }
+            rays.push_back(r);
+        }
+        check_box8(rays, box, "random");
+        if (HasFatalFailure()) return;
+    }
+}
+
+TEST_P(KernelsVsScalar, Box8AxisAlignedSignedZeroAndSlabPlanes) {
+    Box8 box;
+    box.clear();
+    box.set(0, {{0, 0, 0}, {1, 1, 1}});
+    box.set(1, {{-1, 0, 0}, {0, 0, 1}});        // flat in y
+    box.set(2, {{0.5f, 0.5f, 0.5f}, {0.5f, 0.5f, 0.5f}});  // a point
+    box.set(3, {{-kInf, -1, -1}, {kInf, 1, 1}});  // infinite slab
+    box.set(5, {{2, 2, 2}, {3, 3, 3}});
+    box.set(7, {{-1e30f, -1e-30f, 0}, {1e30f, 1e-30f, 1e-38f}});
+    std::vector<Ray> rays;
+    const float planes[] = {-1, 0, -0.0f, 0.5f, 1, 2, 3, 1e-30f, -1e-30f};
+    const float zeros[] = {0.0f, -0.0f};
+    for (int axis = 0; axis < 3; ++axis)
+        for (float s : {1.0f, -1.0f})
+            for (float z1 : zeros)
+                for (float z2 : zeros)
+                    for (float p : planes)
+                        for (float q : planes) {
+                            Ray r;
+                            r.dir[axis] = s;
+                            r.dir[(axis + 1) % 3] = z1;
+                            r.dir[(axis + 2) % 3] = z2;
+                            r.org[axis] = -5 * s;
+                            r.org[(axis + 1) % 3] = p;
+                            r.org[(axis + 2) % 3] = q;
+                            rays.push_back(r);
+                            r.org[axis] = p;  // origin on a plane along the ray axis too
+                            rays.push_back(r);
+                        }
+    check_box8(rays, box, "axis-aligned");
+    // Semantics: a ray along +x through y = z = 0.5 hits box 0 and the point box 2.
+    std::vector<Ray> one{Ray{{-5, 0.5f, 0.5f}, 0, {1, -0.0f, 0.0f}, kInf}};
+    std::vector<std::uint8_t> m(1);
+    std::vector<float> e(8);
+    kernels::intersect_box8(one, box, m, e, GetParam());
+    EXPECT_EQ(m[0] & 0x7, 0x5);
+    EXPECT_EQ(e[0], 5.0f);
+}
+
+TEST_P(KernelsVsScalar, Box8InvalidRaysMiss) {
+    Box8 box;
+    box.clear();
+    for (int j = 0; j < 8; ++j) box.set(j, {{-10, -10, -10}, {10, 10, 10}});
+    const std::vector<Ray> rays = {
+        Ray{{0, 0, 0}, 0, {0, 0, 0}, kInf},        Ray{{kNaN, 0, 0}, 0, {1, 0, 0}, kInf},
+        Ray{{0, 0, 0}, 0, {kNaN, 1, 0}, kInf},     Ray{{0, kInf, 0}, 0, {1, 0, 0}, kInf},
+        Ray{{0, 0, 0}, 0, {1, kInf, 0}, kInf},     Ray{{0, 0, 0}, kNaN, {1, 0, 0}, kInf},
+        Ray{{0, 0, 0}, 0, {1, 0, 0}, kNaN},        Ray{{0, 0, 0}, 2, {1, 0, 0}, 1},
+        Ray{{0, 0, 0}, 0, {-0.0f, 0.0f, -0.0f}, kInf},
+    };
+    check_box8(rays, box, "invalid");
+    std::vector<std::uint8_t> m(rays.size());
+    std::vector<float> e(8 * rays.size());
+    kernels::intersect_box8(rays, box, m, e, GetParam());
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        EXPECT_EQ(m[i], 0) << "ray " << i;
+        for (int j = 0; j < 8; ++j) EXPECT_EQ(e[8 * i + j], kInf);
+    }
+}
+
+// ---------- triangles ----------
+
+Vec3 on_triangle(Rng& rng, const Tri1& t) {
+    float u = rng.uniform(), v = rng.uniform();
+    switch (rng.below(6)) {
+    case 0: u = float(rng.below(2)); v = u == 1 ? 0.0f : float(rng.below(2)); break;  // a vertex
+    case 1: v = 0; break;                    // on edge v0-v1
+    case 2: u = 0; break;                    // on edge v0-v2
+    case 3: v = 1 - u; break;                // on edge v1-v2 (approximately)
+    default:
+        if (u + v > 1) { u = 1 - u; v = 1 - v; }
+    }
+    return t.v0 + (t.v1 - t.v0) * u + (t.v2 - t.v0) * v;
+}
+
+std::vector<Tri1> random_soup(Rng& rng, int n, float size) {
+    std::vector<Tri1> tris;
+    for (int i = 0; i < n; ++i) {
+        const Vec3 c = rng.in_box(-1, 1);
+        Tri1 t{c + rng.in_box(-size, size), c + rng.in_box(-size, size), c + rng.in_box(-size, size),
+               std::uint32_t(i * 7 % 1000)};
+        if (rng.chance(0.15f) && i > 0) t.v0 = tris[rng.below(i)].v1;  // shared vertices
+        tris.push_back(t);
+    }
+    return tris;
+}
+
+std::vector<Ray> rays_at(Rng& rng, const std::vector<Tri1>& tris, int n) {
+    std::vector<Ray> rays;
+    for (int i = 0; i < n; ++i) {
+        Ray r = random_ray(rng, 3);
+        if (rng.chance(0.8f)) {
+            const Vec3 target = on_triangle(rng, tris[rng.below(int(tris.size()))]);
+            r.dir = target - r.org;
+            if (rng.chance(0.2f)) {  // axis-aligned towards the target
+                const int a = rng.below(3);
+                r.org = target;
+                r.org[a] -= 2;
+                r.dir = Vec3{};
+                r.dir[a] = 1;
+                r.dir[(a + 1) % 3] = rng.chance(0.5f) ? 0.0f : -0.0f;
+            }
+            if (r.dir.x == 0 && r.dir.y == 0 && r.dir.z == 0) r.dir = {0, 0, 1};
+            r.tmin = 0;
+        }
+        rays.push_back(r);
+    }
+    return rays;
+}
+
+TEST_P(KernelsVsScalar, Tri8Random) {
+    Rng rng(2);
+    int hits = 0;
+    for (int round = 0; round < 40; ++round) {
+        std::vector<Tri1> tris = random_soup(rng, 8 * (1 + rng.below(6)) - rng.below(8), rng.chance(0.5f) ? 0.7f : 0.05f);
+        std::vector<Tri8> blocks = test::pack_tri8(tris);
+        std::vector<Ray> rays = rays_at(rng, tris, 200);
+        std::vector<Hit> closest;
+        check_tri8(rays, blocks, "random", &closest);
+        if (HasFatalFailure()) return;
+        // tmax exactly at the hit distance still hits (closed interval), just below misses that triangle.
+        for (std::size_t i = 0; i < rays.size(); ++i)
+            if (closest[i].hit()) {
+                ++hits;
+                rays[i].tmax = closest[i].t;
+            }
+        std::vector<Hit> again;
+        check_tri8(rays, blocks, "tmax = t", &again);
+        if (HasFatalFailure()) return;
+        for (std::size_t i = 0; i < rays.size(); ++i) ASSERT_EQ(again[i], closest[i]) << "ray " << i;
+    }
+    EXPECT_GT(hits, 1000) << "the random rays should mostly hit";
+}
+
+TEST_P(KernelsVsScalar, Tri8VerticesAndEdgesOfAClosedFan) {
+    // A fan of triangles around the origin in z = 0 with shared vertices and
+    // edges; rays aimed at every vertex and edge midpoint from many origins.
+    std::vector<Tri1> tris;
+    const int n = 12;
+    std::vector<Vec3> ring;
+    for (int k = 0; k < n; ++k)
+        ring.push_back({std::cos(6.2831853f * k / n), std::sin(6.2831853f * k / n), 0.25f * float(k % 3)});
+    const Vec3 hub{0.1f, -0.05f, 0.3f};
+    for (int k = 0; k < n; ++k) tris.push_back({hub, ring[k], ring[(k + 1) % n], std::uint32_t(100 + k)});
+    const std::vector<Tri8> blocks = test::pack_tri8(tris);
+    std::vector<Vec3> targets{hub};
+    for (int k = 0; k < n; ++k) {
+        targets.push_back(ring[k] * 0.999f + hub * 0.001f);
+        targets.push_back((hub + ring[k]) * 0.5f);
+        targets.push_back((ring[k] + ring[(k + 1) % n]) * 0.49f + hub * 0.02f);  // near the rim, inside
+        targets.push_back(hub * 0.5f + ring[k] * 0.25f + ring[(k + 1) % n] * 0.25f);
+    }
+    Rng rng(3);
+    std::vector<Ray> rays;
+    for (const Vec3& t : targets)
+        for (int i = 0; i < 24; ++i) {
+            Vec3 o = rng.in_box(-2, 2);
+            o.z = rng.chance(0.5f) ? 3 : -3;
+            if (i < 6) o = {t.x, t.y, i % 2 ? 2.0f : -2.0f};  // along +-z exactly
+            rays.push_back(Ray{o, 0, t - o, kInf});
+        }
+    std::vector<Hit> closest;
+    check_tri8(rays, blocks, "fan", &closest);
+    if (HasFatalFailure()) return;
+    // Watertight: every ray aimed at an interior vertex or edge hits something.
+    for (std::size_t i = 0; i < rays.size(); ++i) EXPECT_TRUE(closest[i].hit()) << "watertight leak, ray " << i;
+}
+
+TEST_P(KernelsVsScalar, Tri8RaysAlongEdgesAndCoplanar) {
+    const Vec3 a{0, 0, 0}, b{1, 0, 0}, c{0, 1, 0};
+    std::vector<Tri1> tris{{a, b, c, 1}, {b, {1, 1, 0}, c, 2}, {a, b, {0.5f, 0, 1}, 3}};
+    const std::vector<Tri8> blocks = test::pack_tri8(tris);
+    std::vector<Ray> rays;
+    for (const auto& [p, q] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}, std::pair{a, Vec3{1, 1, 0}}}) {
+        rays.push_back(Ray{p - (q - p), 0, q - p, kInf});       // along the edge line
+        rays.push_back(Ray{p, 0, q - p, kInf});                  // from a vertex along the edge
+        rays.push_back(Ray{(p + q) * 0.5f, 0, q - p, kInf});     // from the middle of the edge
+        rays.push_back(Ray{p + Vec3{0, 0, 1}, 0, Vec3{0, 0, -1}, kInf});  // down onto the vertex
+        rays.push_back(Ray{(p + q) * 0.5f + Vec3{0, 0, -1}, 0, Vec3{0, -0.0f, 1}, kInf});  // up through the edge
+    }
+    rays.push_back(Ray{{-1, 0.25f, 0}, 0, {1, 0, 0}, kInf});  // coplanar, crossing the interior
+    check_tri8(rays, blocks, "edges");
+}
+
+TEST_P(KernelsVsScalar, Tri8DegenerateTrianglesMiss) {
+    const Vec3 p{0.2f, 0.3f, 0}, q{0.7f, 0.1f, 0}, r{0.3f, 0.9f, 0};
+    std::vector<Tri1> tris{{p, p, q, 1}, {p, q, q, 2}, {q, p, q, 3}, {p, p, p, 4}, {r, q, r, 5}};
+    const std::vector<Tri8> blocks = test::pack_tri8(tris);
+    std::vector<Ray> rays;
+    for (const Vec3& t : {p, q, r, (p + q) * 0.5f, (p + r) * 0.5f})
+        for (const Vec3& o : {Vec3{0, 0, -1}, Vec3{0.5f, 0.5f, 1}, Vec3{t.x, t.y, -2}, Vec3{-1, 0.2f, 0}})
+            rays.push_back(Ray{o, 0, t - o, kInf});
+    for (TriangleTest test : kTests) {
+        std::vector<Hit> h;
+        check_tri8(rays, blocks, "degenerate", &h, test, true);
+        if (HasFatalFailure()) return;
+        for (std::size_t i = 0; i < rays.size(); ++i)
+            EXPECT_FALSE(h[i].hit()) << test_name(test) << ": degenerate triangle hit, ray " << i << " "
+                                     << hit_str(h[i]);
+    }
+}
+
+TEST_P(KernelsVsScalar, Tri8NanInfRaysAndVertices) {
+    std::vector<Tri1> tris{
+        {{-1, -1, 0}, {1, -1, 0}, {0, 1, 0}, 1},
+        {{kNaN, -1, 1}, {1, -1, 1}, {0, 1, 1}, 2},
+        {{-1, -1, 2}, {kInf, -1, 2}, {0, 1, 2}, 3},
+        {{-1, -1, 3}, {1, -1, 3}, {0, -kInf, 3}, 4},
+        {{-kInf, -kInf, 4}, {kInf, -kInf, 4}, {0, kInf, 4}, 5},
+        {{-1, -1, 5}, {1, -1, 5}, {0, 1, kInf}, 6},
+        {{-1e38f, -1e38f, 6}, {3e38f, -1e38f, 6}, {0, 3e38f, 6}, 7},  // overflow in the edge functions
+        {{-1, -1, 7}, {1, -1, 7}, {kNaN, kNaN, kNaN}, 8},
+        {{-1, -1, -1}, {1, -1, -1}, {0, 1, -1}, 9},
+    };
+    const std::vector<Tri8> blocks = test::pack_tri8(tris);
+    std::vector<Ray> rays;
+    for (float z : {-10.0f, 0.5f, 1.5f, 2.5f, 3.5f, 4.5f, 5.5f, 6.5f, 10.0f})
+        for (float dz : {1.0f, -1.0f}) {
+            rays.push_back(Ray{{0, 0, z}, 0, {0, 0, dz}, kInf});
+            rays.push_back(Ray{{0.1f, -0.2f, z}, 0, {0.01f, 0.02f, dz}, kInf});
+        }
+    const std::vector<Ray> bad = {
+        Ray{{kNaN, 0, -10}, 0, {0, 0, 1}, kInf}, Ray{{0, 0, -10}, 0, {0, kNaN, 1}, kInf},
+        Ray{{0, 0, -kInf}, 0, {0, 0, 1}, kInf},  Ray{{0, 0, -10}, 0, {0, 0, kInf}, kInf},
+        Ray{{0, 0, -10}, 0, {0, 0, 0}, kInf},    Ray{{0, 0, -10}, 0, {-0.0f, 0.0f, -0.0f}, kInf},
+        Ray{{0, 0, -10}, kNaN, {0, 0, 1}, kInf}, Ray{{0, 0, -10}, 0, {0, 0, 1}, kNaN},
+        Ray{{0, 0, -10}, 5, {0, 0, 1}, 4},
+    };
+    rays.insert(rays.end(), bad.begin(), bad.end());
+    std::vector<Hit> h;
+    check_tri8(rays, blocks, "nan/inf", &h);
+    for (std::size_t i = rays.size() - bad.size(); i < rays.size(); ++i)
+        EXPECT_EQ(h[i], Hit{}) << "invalid ray " << i << " must miss";
+    EXPECT_EQ(h[0].prim, 9u);  // from z = -10 upwards: the valid triangle at z = -1
+}
+
+TEST_P(KernelsVsScalar, Tri8EmptySlots) {
+    Rng rng(4);
+    for (int filled = 0; filled <= 8; ++filled) {
+        std::vector<Tri1> tris = random_soup(rng, filled, 0.8f);
+        std::vector<Tri8> blocks(1);
+        blocks[0].clear();
+        std::vector<Ray> rays;
+        for (int i = 0; i < filled; ++i) {
+            const int lane = (i * 3 + filled) % 8;  // scattered lanes
+            blocks[0].set(lane, tris[i].v0, tris[i].v1, tris[i].v2, tris[i].prim);
+        }
+        if (filled > 0) rays = rays_at(rng, tris, 100);
+        for (int i = 0; i < 20; ++i) rays.push_back(random_ray(rng, 3));
+        std::vector<Hit> h;
+        check_tri8(rays, blocks, "empty slots", &h);
+        if (HasFatalFailure()) return;
+        for (const Hit& x : h)
+            if (x.hit()) {
+                EXPECT_NE(x.prim, kInvalidPrim);
+            }
+    }
+}
+
+TEST_P(KernelsVsScalar, Tri8TiesGoToTheLowerPrim) {
+    const Vec3 a{-1, -1, 0}, b{1, -1, 0}, c{0, 1, 0};
+    std::vector<Tri8> blocks(2);
+    blocks[0].clear();
+    blocks[1].clear();
+    blocks[0].set(0, a, b, c, 9);  // same triangle, higher id, lower lane
+    blocks[0].set(5, a, b, c, 3);
+    blocks[1].set(2, a, b, c, 2);  // later block, lowest id
+    std::vector<Ray> rays{Ray{{0, 0, -1}, 0, {0, 0, 1}, kInf}, Ray{{0.2f, -0.3f, 2}, 0, {0.01f, 0.02f, -1}, kInf},
+                          Ray{{0, 0, -1}, 0, {0, 0, 1}, 1.0f}};
+    check_tri8(rays, blocks, "ties");
+    for (TriangleTest test : kTests) {
+        std::vector<Hit> h(rays.size());
+        kernels::intersect_tri8(rays, blocks, test, h, GetParam());
+        for (const Hit& x : h) EXPECT_EQ(x.prim, 2u) << test_name(test);
+        std::span<const Tri8> first(&blocks[0], 1);
+        kernels::intersect_tri8(rays, first, test, h, GetParam());
+        for (const Hit& x : h) EXPECT_EQ(x.prim, 3u) << test_name(test) << " within one block";
+        // Any hit: the first lane that hits (lane 0, prim 9).
+        std::vector<std::uint8_t> occ(rays.size());
+        kernels::occluded_tri8(rays, blocks, test, occ, h, GetParam());
+        for (const Hit& x : h) EXPECT_EQ(x.prim, 9u) << test_name(test);
+    }
+}
+
+TEST(Kernels, SingleFormsMatchTheReference) {
+    Rng rng(5);
+    std::vector<Tri1> tris = random_soup(rng, 64, 0.7f);
+    std::vector<Ray> rays = rays_at(rng, tris, 64);
+    std::vector<Hit> hits(64);
+    for (TriangleTest test : kTests) {
+        kernels::intersect_tri1(rays, tris, test, hits);
+        for (int i = 0; i < 64; ++i) {
+            const PreparedRay p = prepare(rays[i]);
+            float t, u, v;
+            const bool h = test == TriangleTest::watertight
+                               ? intersect_watertight(p, tris[i].v0, tris[i].v1, tris[i].v2, p.tmax, &t, &u, &v)
+                               : intersect_moller(p, tris[i].v0, tris[i].v1, tris[i].v2, p.tmax, &t, &u, &v);
+            const Hit want = h ? Hit{t, u, v, tris[i].prim} : Hit{};
+            EXPECT_EQ(hits[i], want);
+        }
+    }
+    std::vector<Aabb> boxes;
+    for (int i = 0; i < 64; ++i) boxes.push_back(random_box(rng));
+    std::vector<std::uint8_t> m(64);
+    std::vector<float> e(64);
+    kernels::intersect_box1(rays, boxes, m, e);
+    for (int i = 0; i < 64; ++i) {
+        const PreparedRay p = prepare(rays[i]);
+        float x;
+        EXPECT_EQ(m[i] != 0, intersect_box(p, boxes[i], p.tmax, &x));
+        if (m[i]) {
+            EXPECT_EQ(bits_of(e[i]), bits_of(x));
+        }
+    }
+}
+
+TEST(Kernels, SpanSizesAreChecked) {
+    std::vector<Ray> rays(4);
+    std::vector<Hit> hits(3);
+    EXPECT_THROW(kernels::intersect_tri8(rays, {}, TriangleTest::watertight, hits, Isa::scalar), Error);
+    Box8 box;
+    box.clear();
+    std::vector<std::uint8_t> m(4);
+    std::vector<float> e(31);
+    EXPECT_THROW(kernels::intersect_box8(rays, box, m, e, Isa::scalar), Error);
+}
+
+INSTANTIATE_TEST_SUITE_P(AllIsas, KernelsVsScalar, testing::ValuesIn(kAllIsas), test::isa_param_name);
+
+}  // namespace
+}  // namespace simdbvh

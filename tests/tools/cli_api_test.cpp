@@ -1,0 +1,135 @@
+// The CLI against the C++ API: gen-rays -> trace -> the same hits as the API;
+// bad input exits 2 with a message naming the file and leaves no output.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "simdbvh/bvh2/bvh2.h"
+#include "simdbvh/scene/rays.h"
+#include "simdbvh/scene/scenes.h"
+
+namespace fs = std::filesystem;
+
+namespace simdbvh {
+namespace {
+
+struct Run {
+    int status = -1;
+    std::string output;  // stdout and stderr
+};
+
+Run run(const std::string& args) {
+    const char* cli = std::getenv("SIMDBVH_CLI");
+    EXPECT_NE(cli, nullptr) << "SIMDBVH_CLI is not set";
+    Run r;
+    if (!cli) return r;
+    const std::string cmd = std::string(cli) + " " + args + " 2>&1";
+    FILE* p = popen(cmd.c_str(), "r");
+    char buf[4096];
+    std::size_t n;
+    while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
+    const int st = pclose(p);
+    r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+    return r;
+}
+
+class Cli : public testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() / ("simdbvh_cli_" + std::to_string(::getpid()) + "_" +
+                                            testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+    std::string path(const std::string& name) const { return (dir_ / name).string(); }
+    fs::path dir_;
+};
+
+TEST_F(Cli, RoundTripMatchesTheApi) {
+    for (const char* method : {"bvh2", "bvh8", "brute"}) {
+        for (const char* kind : {"primary", "incoherent", "diffuse"}) {
+            const std::string rays = path(std::string(kind) + ".bin"), hits = path(std::string(method) + kind + ".hits");
+            Run g = run("gen-rays --scene icosphere-3 --kind " + std::string(kind) + " --count 3000 --seed 5 --out " + rays);
+            ASSERT_EQ(g.status, 0) << g.output;
+            Run t = run("trace --scene icosphere-3 --rays " + rays + " --out " + hits + " --method " + method);
+            ASSERT_EQ(t.status, 0) << t.output;
+            EXPECT_NE(t.output.find("isa"), std::string::npos) << "the output names the ISA";
+            const Mesh mesh = scene::load_scene("icosphere-3");
+            const auto r = scene::read_rays(rays);
+            const auto api = scene::generate_rays(mesh, *scene::parse_ray_kind(kind), 3000, 5);
+            ASSERT_EQ(r.size(), api.size());
+            ASSERT_EQ(0, std::memcmp(r.data(), api.data(), r.size() * sizeof(Ray))) << "gen-rays differs from the API";
+            const auto h = scene::read_hits(hits);
+            ASSERT_EQ(h.size(), r.size());
+            const Bvh2 bvh = Bvh2::build(mesh);
+            std::size_t n_hit = 0;
+            for (std::size_t i = 0; i < r.size(); ++i) {
+                ASSERT_EQ(h[i], intersect(bvh, r[i])) << method << " " << kind << " ray " << i;
+                n_hit += h[i].hit();
+            }
+            EXPECT_GT(n_hit, r.size() / 10);
+        }
+    }
+}
+
+TEST_F(Cli, AnyHitAgreesOnHitOrMiss) {
+    const std::string rays = path("r.bin"), a = path("a.hits"), c = path("c.hits");
+    ASSERT_EQ(run("gen-rays --scene soup-2000 --kind incoherent --count 2000 --out " + rays).status, 0);
+    ASSERT_EQ(run("trace --scene soup-2000 --rays " + rays + " --out " + c).status, 0);
+    ASSERT_EQ(run("trace --scene soup-2000 --rays " + rays + " --out " + a + " --any-hit --method bvh8").status, 0);
+    const auto hc = scene::read_hits(c), ha = scene::read_hits(a);
+    ASSERT_EQ(hc.size(), ha.size());
+    for (std::size_t i = 0; i < hc.size(); ++i) ASSERT_EQ(hc[i].hit(), ha[i].hit()) << "ray " << i;
+}
+
+TEST_F(Cli, BadRayFileExits2WithNoOutput) {
+    const std::string rays = path("bad.bin"), out = path("out.hits");
+    std::ofstream(rays, std::ios::binary) << std::string(100, 'x');  // not a multiple of 32
+    Run t = run("trace --scene icosphere-2 --rays " + rays + " --out " + out);
+    EXPECT_EQ(t.status, 2);
+    EXPECT_NE(t.output.find(rays), std::string::npos) << t.output;
+    EXPECT_NE(t.output.find("32"), std::string::npos) << t.output;
+    EXPECT_FALSE(fs::exists(out));
+    for (const auto& e : fs::directory_iterator(dir_)) EXPECT_EQ(e.path().string(), rays) << "stray file " << e.path();
+}
+
+TEST_F(Cli, UnknownOptionAndCommandExit2) {
+    Run a = run("trace --scene icosphere-2 --frobnicate 3");
+    EXPECT_EQ(a.status, 2);
+    EXPECT_NE(a.output.find("--frobnicate"), std::string::npos) << a.output;
+    Run b = run("fly");
+    EXPECT_EQ(b.status, 2);
+    Run c = run("trace --scene icosphere-2 --rays x --out y --method magic");
+    EXPECT_EQ(c.status, 2);
+    EXPECT_NE(c.output.find("magic"), std::string::npos) << c.output;
+}
+
+TEST_F(Cli, MalformedMeshNamesTheFile) {
+    const std::string mesh = path("broken.obj"), rays = path("r.bin"), out = path("o.hits");
+    std::ofstream(mesh) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n";  // index out of range
+    ASSERT_EQ(run("gen-rays --scene icosphere-2 --kind incoherent --count 10 --out " + rays).status, 0);
+    Run t = run("trace --scene " + mesh + " --rays " + rays + " --out " + out);
+    EXPECT_EQ(t.status, 2);
+    EXPECT_NE(t.output.find("broken.obj"), std::string::npos) << t.output;
+    EXPECT_FALSE(fs::exists(out));
+    std::ofstream(mesh) << "v 0 0 nan\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    Run n = run("info --scene " + mesh);
+    EXPECT_EQ(n.status, 2);
+    EXPECT_NE(n.output.find("broken.obj"), std::string::npos) << n.output;
+}
+
+TEST_F(Cli, UnsupportedIsaIsAClearError) {
+    Run t = run("info --scene icosphere-1 --isa avx9000");
+    EXPECT_EQ(t.status, 2);
+    EXPECT_NE(t.output.find("avx9000"), std::string::npos) << t.output;
+}
+
+}  // namespace
+}  // namespace simdbvh
