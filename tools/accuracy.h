@@ -1,26 +1,17 @@
 #pragma once
 // Accuracy of a method on a sample of rays against the brute-force reference.
-#include <cstddef>
 #include <span>
 
-#include "simdbvh/kernels/hit.h"
-#include "simdbvh/kernels/ray.h"
-#include "simdbvh/mesh.h"
+#include "simdbvh/compare/classify.h"
 
 namespace simdbvh::cli {
 
-struct Tally {
-    std::size_t agree = 0, tie = 0, leak = 0, false_hit = 0, wrong_triangle = 0, t_error = 0;
-    std::size_t total() const { return agree + tie + leak + false_hit + wrong_triangle + t_error; }
-    std::size_t disagreements() const { return leak + false_hit + wrong_triangle + t_error; }
-    double agreement() const { return total() ? double(agree + tie) / double(total()) : 1.0; }
-};
+using Tally = compare::Tally;
 
-// exact: our own paths must equal the float brute force bit for bit (closest)
-// or on hit/miss (any hit); any difference is classified against the
-// double-precision reference. Other methods (Embree) are classified against
-// the reference wherever they differ from the float brute force.
+// Compares hits with the float brute force on the same rays; where they
+// differ, both are classified against the double-precision reference
+// (compare::compare_methods). Any hit: hit/miss only.
 Tally classify_sample(const Mesh& mesh, std::span<const Ray> rays, std::span<const Hit> reference,
-                      std::span<const Hit> hits, bool any_hit, bool exact);
+                      std::span<const Hit> hits, bool any_hit);
 
 }  // namespace simdbvh::cli

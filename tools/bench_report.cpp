@@ -1,5 +1,6 @@
 #include "bench_report.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -67,7 +68,7 @@ std::string speed_table(const std::vector<Record>& recs, int threads) {
                     s << " - |";
                     continue;
                 }
-                s << " " << fmt("%.2f", r->mrays_per_s);
+                s << " " << fmt("%.3g", r->mrays_per_s);
                 if (e && e->mrays_per_s > 0 && lab != ref) s << " (" << fmt("%.2f", r->mrays_per_s / e->mrays_per_s) << "x)";
                 s << " |";
                 agree_n += r->tally.agree + r->tally.tie;

@@ -187,9 +187,8 @@ int cmd_bench(const std::vector<std::string>& args) {
                     rec.rays = rs.size();
                     rec.sample = ref.size();
                     rec.tally = classify_sample(mesh, std::span<const Ray>(rays[k]).first(ref.size()), ref,
-                                                std::span<const Hit>(hits).first(ref.size()), any,
-                                                base.method != "embree");
-                    rec.agreement = rec.tally.agreement();
+                                                std::span<const Hit>(hits).first(ref.size()), any);
+                    rec.agreement = rec.tally.agreement_rate();
                     records.push_back(rec);
                 }
             }
@@ -202,7 +201,7 @@ int cmd_bench(const std::vector<std::string>& args) {
     std::printf("%-22s %-8s %-10s %-7s %3s %9s %9s %9s %7s %9s\n", "method", "isa", "rays", "query", "thr", "Mrays/s",
                 "build ms", "B/tri", "SAH", "agree");
     for (const Record& r : records)
-        std::printf("%-22s %-8s %-10s %-7s %3d %9.2f %9.1f %9.1f %7.2f %8.2f%%\n", r.method.c_str(), r.isa.c_str(),
+        std::printf("%-22s %-8s %-10s %-7s %3d %9.4g %9.1f %9.1f %7.2f %8.2f%%\n", r.method.c_str(), r.isa.c_str(),
                     r.ray_kind.c_str(), r.query.c_str(), r.threads, r.mrays_per_s, r.build_ms, r.bytes_per_triangle,
                     r.sah_cost, 100.0 * r.agreement);
 

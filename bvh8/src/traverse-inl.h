@@ -22,8 +22,10 @@ namespace simdbvh::bvh8::detail {
 // At most 7 entries are pushed per level: 1 + 7 * depth (depth <= kMaxDepth, checked at build).
 inline constexpr int kStackSize = 1 + 7 * kMaxDepth;
 
+// No default member initializers: the stack must stay uninitialized (it is
+// large, and zero-filling it per ray cost a quarter of the traversal time).
 struct StackEntry {
-    Child8 ref;
+    std::uint32_t index, count;  // Child8
     float entry;
 };
 
@@ -60,7 +62,7 @@ inline __attribute__((always_inline)) Hit traverse(const Node8* nodes, const Tri
                 if (mask == 0) {  // two hits: push the far one
                     const bool first0 = entries[i0] <= entries[i1];
                     const int nearer = first0 ? i0 : i1, farther = first0 ? i1 : i0;
-                    stack[sp++] = {n.children[farther], entries[farther]};
+                    stack[sp++] = {n.children[farther].index, n.children[farther].count, entries[farther]};
                     cur = n.children[nearer];
                     continue;
                 }
@@ -75,12 +77,13 @@ inline __attribute__((always_inline)) Hit traverse(const Node8* nodes, const Tri
                         stack[k] = stack[k - 1];
                         --k;
                     }
-                    stack[k] = {n.children[i], e};
+                    stack[k] = {n.children[i].index, n.children[i].count, e};
                 };
                 insert(i0);
                 insert(i1);
                 for (; mask != 0; mask &= mask - 1) insert(__builtin_ctz(mask));
-                cur = stack[--sp].ref;
+                --sp;
+                cur = Child8{stack[sp].index, stack[sp].count};
                 continue;
             }
         } else {
@@ -100,7 +103,7 @@ inline __attribute__((always_inline)) Hit traverse(const Node8* nodes, const Tri
             if (sp == 0) return best.hit() ? best : Hit{};
             const StackEntry& s = stack[--sp];
             if (s.entry <= best.t * kCullWiden) {
-                cur = s.ref;
+                cur = Child8{s.index, s.count};
                 break;
             }
         }

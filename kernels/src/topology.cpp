@@ -79,19 +79,21 @@ const Topology& topology() {
 }
 
 std::string machine_line() {
+    // Built with append() only: GCC 12's -Wrestrict misfires on `"literal" + std::string&&`.
     const Topology& t = topology();
     std::string s(cpu_name());
-    s += " | " + (t.physical_cores > 0 ? std::to_string(t.physical_cores) : std::string("?")) + " cores, " +
-         std::to_string(t.logical_cpus) + " threads";
-    s += " | L1d " + bytes(t.l1d_bytes) + ", L2 " + bytes(t.l2_bytes) + ", L3 " + bytes(t.l3_bytes);
-    s += " | ISAs";
-    for (Isa isa : supported_isas()) s += " " + std::string(name(isa));
+    s.append(" | ").append(t.physical_cores > 0 ? std::to_string(t.physical_cores) : std::string("?"));
+    s.append(" cores, ").append(std::to_string(t.logical_cpus)).append(" threads");
+    s.append(" | L1d ").append(bytes(t.l1d_bytes)).append(", L2 ").append(bytes(t.l2_bytes));
+    s.append(", L3 ").append(bytes(t.l3_bytes)).append(" | ISAs");
+    for (Isa isa : supported_isas()) s.append(" ").append(name(isa));
     try {
-        s += " (active " + std::string(name(active_isa())) + ")";
+        const Isa active = active_isa();
+        s.append(" (active ").append(name(active)).append(")");
     } catch (const std::exception&) {
-        s += " (active: invalid SIMDBVH_ISA)";
+        s.append(" (active: invalid SIMDBVH_ISA)");
     }
-    s += t.from_hwloc ? " | hwloc" : " | no hwloc";
+    s.append(t.from_hwloc ? " | hwloc" : " | no hwloc");
     return s;
 }
 

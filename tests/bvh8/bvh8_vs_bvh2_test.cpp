@@ -88,7 +88,7 @@ TEST_P(Bvh8VsBvh2, ClosestBitIdenticalAnyHitAgrees) {
                 ++hits;
             }
         }
-        if (scene_name.rfind("soup", 0) != 0) {
+        if (kind != RayKind::diffuse && scene_name.rfind("soup", 0) != 0) {  // diffuse rays mostly escape convex scenes
             EXPECT_GT(hits, f.rays.size() / 20) << "too few hits to mean anything";
         }
     }

@@ -12,6 +12,11 @@
 #include "simdbvh/kernels/batch.h"
 #include "simdbvh/kernels/isa.h"
 
+namespace simdbvh {
+// GoogleTest prints parameters through ADL: "avx2", not "1-byte object <01>".
+inline void PrintTo(Isa isa, std::ostream* os) { *os << name(isa); }
+}  // namespace simdbvh
+
 namespace simdbvh::test {
 
 // SplitMix64 (Steele, Lea, Flood 2014): fixed seeds, same stream everywhere.

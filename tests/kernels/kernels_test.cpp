@@ -331,6 +331,14 @@ TEST_P(KernelsVsScalar, Tri8RaysAlongEdgesAndCoplanar) {
     }
     rays.push_back(Ray{{-1, 0.25f, 0}, 0, {1, 0, 0}, kInf});  // coplanar, crossing the interior
     check_tri8(rays, blocks, "edges");
+    if (HasFatalFailure()) return;
+    // Exactly through the shared edge b-c (an edge function is exactly 0: the
+    // exact path): watertight hits, both triangles at the same t, lower id wins.
+    std::vector<Ray> through{Ray{{0.5f, 0.5f, -1}, 0, {0, -0.0f, 1}, kInf}, Ray{{0.5f, 0.5f, 1}, 0, {0.0f, 0, -1}, kInf},
+                             Ray{{0.25f, 0.75f, -2}, 0, {0, 0, 2}, kInf}};
+    std::vector<Hit> h(through.size());
+    kernels::intersect_tri8(through, blocks, TriangleTest::watertight, h, GetParam());
+    for (std::size_t i = 0; i < through.size(); ++i) EXPECT_EQ(h[i].prim, 1u) << "ray " << i << " " << hit_str(h[i]);
 }
 
 TEST_P(KernelsVsScalar, Tri8DegenerateTrianglesMiss) {

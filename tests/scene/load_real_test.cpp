@@ -129,7 +129,6 @@ TEST(AssimpModels, LoadValidModels) {
         {"PLY/Wuson.ply", 0},           // Blender 2.47: non-standard "Created by Blender3D" header line
         {"PLY/float-color.ply", 1},
         {"PLY/points.ply", 0},          // vertices only
-        {"PLY/issue623.ply", 0},        // the index list sits in the vertex element: no faces
         {"OBJ/box.obj", 12},
         {"OBJ/box_without_lineending.obj", 12},
         {"OBJ/concave_polygon.obj", 0},
@@ -176,6 +175,9 @@ TEST(AssimpModels, InvalidFolderThrowsError) {
     EXPECT_THROW(load_mesh(dir / "OFF/invalid.off"), simdbvh::Error);
     // A binary point cloud 69 bytes short of its 70051 declared 31-byte vertices (assimp tolerates it).
     EXPECT_THROW(load_mesh(dir / "PLY/pond.0.ply"), simdbvh::Error);
+    // Its header lost the "element face" line: the index list is declared in the vertex element,
+    // but the vertex lines lack it.
+    EXPECT_THROW(load_mesh(dir / "PLY/issue623.ply"), simdbvh::Error);
     EXPECT_THROW(load_mesh(dir / "OBJ/number_formats.obj"), simdbvh::Error);  // "3.1+e2"
     EXPECT_THROW(load_mesh(dir / "OBJ/box_UTF16BE.obj"), simdbvh::Error);
 }

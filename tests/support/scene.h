@@ -33,6 +33,8 @@ simdbvh::Mesh unit_cube();           // [0,1]^3, 12 triangles, outward counter-c
 class TempDir {
 public:
     TempDir();
+    // in_memory: under /dev/shm when it is usable (many small files, e.g. fuzzing).
+    explicit TempDir(bool in_memory);
     ~TempDir();
     TempDir(const TempDir&) = delete;
     TempDir& operator=(const TempDir&) = delete;

@@ -3,19 +3,26 @@
 // (Ize 2013), bit for bit: same near/far choice, (plane - org) * rdir, the
 // NaN-discarding max_ps/min_ps order, far bound widened by kFarWiden.
 #include <cstdint>
+#include <type_traits>
 
 #include "simd/ray-inl.h"
 
 namespace simdbvh::simd {
 
-// vec.h max_ps/min_ps: `a` may be NaN, the result is then `b` (maxps/minps).
+// vec.h max_ps(a, b) = a > b ? a : b and min_ps(a, b) = a < b ? a : b: `a` may
+// be NaN, the result is then `b`. That is exactly x86 maxps/minps with `a` as
+// the first operand (second operand returned on NaN or +-0 ties), which
+// xsimd::max/min emit for avx/avx2; GCC does not commute them without
+// -ffinite-math-only. The tests check NaN and +-0 slab values bit for bit.
 template <class Arch>
 SIMDBVH_FORCE_INLINE Batch<Arch> max_ps(const Batch<Arch>& a, const Batch<Arch>& b) {
-    return xsimd::select(a > b, a, b);
+    static_assert(std::is_base_of_v<xsimd::avx, Arch>, "maxps operand order: check the arch's max kernel");
+    return xsimd::max(a, b);
 }
 template <class Arch>
 SIMDBVH_FORCE_INLINE Batch<Arch> min_ps(const Batch<Arch>& a, const Batch<Arch>& b) {
-    return xsimd::select(a < b, a, b);
+    static_assert(std::is_base_of_v<xsimd::avx, Arch>, "minps operand order: check the arch's min kernel");
+    return xsimd::min(a, b);
 }
 
 // Returns the 8-bit hit mask (bit i: box i overlaps [tmin, tmax]); `tnear`

@@ -1,0 +1,12 @@
+#include "accuracy.h"
+
+namespace simdbvh::cli {
+
+Tally classify_sample(const Mesh& mesh, std::span<const Ray> rays, std::span<const Hit> reference,
+                      std::span<const Hit> hits, bool any_hit) {
+    if (any_hit)
+        return compare::compare_occluded(mesh, rays, compare::occluded_flags(reference), compare::occluded_flags(hits)).b;
+    return compare::compare_methods(mesh, rays, reference, hits).b;
+}
+
+}  // namespace simdbvh::cli
