@@ -110,7 +110,16 @@ Comparison compare(const Mesh& mesh, std::span<const Ray> rays, const CompareOpt
             out.b.add({Label::agree, false});
             continue;
         }
-        const Reference ref = reference_intersect(mesh, rays[i]);
+        Reference local;
+        const Reference* ref_ptr = &local;
+        if (options.cache) {
+            auto it = options.cache->refs.find(i);
+            if (it == options.cache->refs.end()) it = options.cache->refs.emplace(i, reference_intersect(mesh, rays[i])).first;
+            ref_ptr = &it->second;
+        } else {
+            local = reference_intersect(mesh, rays[i]);
+        }
+        const Reference& ref = *ref_ptr;
         ++out.reference_rays;
         const auto [va, vb] = judge(ref, i);
         out.a.add(va);

@@ -117,14 +117,14 @@ std::vector<std::uint32_t> Reference::tie_set() const {
     std::vector<std::uint32_t> ids;
     if (!hit()) return ids;
     for (const RefHit& h : candidates)
-        if (h.hit && std::fabs(h.t - t) <= tau) ids.push_back(h.prim);
+        if (std::fabs(h.t - t) <= tau) ids.push_back(h.prim);
     std::sort(ids.begin(), ids.end());
     return ids;
 }
 
 bool Reference::in_tie_set(std::uint32_t id) const {
     const RefHit* h = find(id);
-    return hit() && h && h->hit && std::fabs(h->t - t) <= tau;
+    return hit() && h && std::fabs(h->t - t) <= tau;
 }
 
 const RefHit* Reference::find(std::uint32_t id) const {

@@ -59,7 +59,8 @@ SIMDBVH_FORCE_INLINE Tri8Lanes<Arch> watertight_lanes(const RayPack<Arch>& r, co
     const B det = eu + ev + ew;
     const B az = r.sz * akz, bz = r.sz * bkz, cz = r.sz * ckz;
     const B tt = (eu * az + ev * bz + ew * cz) / det;
-    cand &= bits<Arch>((!(det == zero)) & (tt >= r.tmin) & (tt <= tmax));
+    // det != 0 (ordered): a NaN det also fails here; the reference rejects it at the t test.
+    cand &= bits<Arch>((det != zero) & (tt >= r.tmin) & (tt <= tmax));
     out.hits = cand;
     out.t = tt;
     out.u_num = ev;
@@ -81,7 +82,8 @@ SIMDBVH_FORCE_INLINE Tri8Lanes<Arch> moller_lanes(const RayPack<Arch>& r, const 
     const B sx = r.ox - v0x, sy = r.oy - v0y, sz = r.oz - v0z;
     const B uu = (sx * px + sy * py + sz * pz) * inv;
     const B zero(0.0f), one(1.0f);
-    const Mask<Arch> ok_u = (!(det == zero)) & (uu >= zero) & (uu <= one);
+    // det != 0 (ordered): a NaN det makes uu NaN, which the reference rejects too.
+    const Mask<Arch> ok_u = (det != zero) & (uu >= zero) & (uu <= one);
     if (bits<Arch>(ok_u) == 0) {
         out.t = out.u_num = out.v_num = out.den = zero;
         return out;
@@ -131,10 +133,12 @@ SIMDBVH_FORCE_INLINE bool intersect_tri8(const RayPack<Arch>& r, const Tri8& b, 
     std::uint32_t m = l.hits | l.exact;
     if (m == 0) return false;
     alignas(32) float t[8], un[8], vn[8], den[8];
-    l.t.store_aligned(t);
-    l.u_num.store_aligned(un);
-    l.v_num.store_aligned(vn);
-    if constexpr (kTest == TriangleTest::watertight) l.den.store_aligned(den);
+    if (l.hits != 0) {  // only exact lanes: nothing to store
+        l.t.store_aligned(t);
+        l.u_num.store_aligned(un);
+        l.v_num.store_aligned(vn);
+        if constexpr (kTest == TriangleTest::watertight) l.den.store_aligned(den);
+    }
     bool changed = false;
     for (; m != 0; m &= m - 1) {
         const int i = __builtin_ctz(m);
@@ -157,10 +161,12 @@ SIMDBVH_FORCE_INLINE bool occluded_tri8(const RayPack<Arch>& r, const Tri8& b, f
     std::uint32_t m = l.hits | l.exact;
     if (m == 0) return false;
     alignas(32) float t[8], un[8], vn[8], den[8];
-    l.t.store_aligned(t);
-    l.u_num.store_aligned(un);
-    l.v_num.store_aligned(vn);
-    if constexpr (kTest == TriangleTest::watertight) l.den.store_aligned(den);
+    if (l.hits != 0) {  // only exact lanes: nothing to store
+        l.t.store_aligned(t);
+        l.u_num.store_aligned(un);
+        l.v_num.store_aligned(vn);
+        if constexpr (kTest == TriangleTest::watertight) l.den.store_aligned(den);
+    }
     for (; m != 0; m &= m - 1) {
         const int i = __builtin_ctz(m);
         float tt, uu, vv;

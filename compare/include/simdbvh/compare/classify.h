@@ -16,6 +16,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 #include <vector>
 
 #include "simdbvh/compare/reference.h"
@@ -74,13 +75,20 @@ struct Disagreement {  // one ray on which the two methods differ (closest hit) 
 struct Comparison {
     Tally a, b;                               // over every ray
     std::vector<Disagreement> disagreements;  // rays where a and b differ, ascending
-    std::size_t reference_rays = 0;           // rays the reference was computed for
+    std::size_t reference_rays = 0;           // rays the reference was needed for (computed or cached)
+};
+
+// References already computed, by ray index: share one between comparisons of
+// several methods on the SAME mesh and rays (the reference is the costly part).
+struct ReferenceCache {
+    std::unordered_map<std::size_t, Reference> refs;
 };
 
 struct CompareOptions {
     // Also check rays on which both methods give the same answer against the
     // reference (O(rays x triangles)); by default they count as agreements.
     bool reference_all = false;
+    ReferenceCache* cache = nullptr;  // optional, see ReferenceCache
 };
 
 // Closest hits of two methods (say ours = a, Embree = b) on the same rays.

@@ -60,7 +60,11 @@ struct Reference {
     bool hit() const { return prim != kInvalidPrim; }
     bool robust_hit() const;  // some triangle is robustly hit: a float method must not miss
     bool near_hit() const { return !candidates.empty(); }
-    // The tie-set: every strictly hit triangle with |t - t_ref| <= tau (ids ascending).
+    // The tie-set: every triangle hit with |t - t_ref| <= tau (ids ascending), empty on a miss.
+    // "Hit" includes near hits: a ray through a vertex or along an edge strictly
+    // hits one triangle of the fan in double, but the float ray is only known to
+    // within rounding and a watertight float test may pick any of them at the
+    // same t; every one of them is a correct answer.
     std::vector<std::uint32_t> tie_set() const;
     bool in_tie_set(std::uint32_t prim) const;
     const RefHit* find(std::uint32_t prim) const;  // nullptr when the triangle is not near-hit

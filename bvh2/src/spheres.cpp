@@ -1,0 +1,264 @@
+// Seed 002's bounding-sphere hierarchy: the variance topology, one sphere per
+// node, a stack traversal with a conservative ray/sphere test.
+#include "simdbvh/bvh2/spheres.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "simdbvh/kernels/error.h"
+#include "simdbvh/kernels/parallel.h"
+
+namespace simdbvh {
+
+namespace {
+
+// The float at or above x (x >= 0, finite).
+float round_up(double x) {
+    float f = static_cast<float>(x);
+    if (double(f) < x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+    return f;
+}
+// The float at or below x.
+float round_down(double x) {
+    float f = static_cast<float>(x);
+    if (double(f) > x) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+    return f;
+}
+
+}  // namespace
+
+SphereBvh SphereBvh::build(const Mesh& mesh, const BuildOptions& in) {
+    const auto t0 = std::chrono::steady_clock::now();
+    validate(mesh);
+    BuildOptions opts = in;
+    opts.builder = Builder::variance;
+    const std::size_t n = mesh.triangles.size();
+    std::vector<Aabb> boxes(n);
+    std::vector<Vec3> centroids(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        Aabb b;
+        for (int k = 0; k < 3; ++k) b.grow(mesh.vertex(i, k));
+        boxes[i] = b;
+        centroids[i] = b.center();
+    }
+    Bvh2Topology topo = build_topology(boxes, centroids, opts);
+    SphereBvh bvh;
+    bvh.tris_.resize(topo.prim_ids.size());
+    for (std::size_t i = 0; i < topo.prim_ids.size(); ++i) {
+        const std::uint32_t p = topo.prim_ids[i];
+        bvh.tris_[i] = {mesh.vertex(p, 0), mesh.vertex(p, 1), mesh.vertex(p, 2)};
+    }
+
+    // Every subtree covers a contiguous range of the leaf order; children
+    // always come after their parent, so one reverse pass gives the ranges and
+    // the vertex sums (in double) bottom-up.
+    const std::size_t nn = topo.nodes.size();
+    std::vector<std::uint32_t> lo(nn), hi(nn);
+    std::vector<std::array<double, 3>> sum(nn);
+    for (std::size_t j = nn; j-- > 0;) {
+        const Node2& nd = topo.nodes[j];
+        if (nd.is_leaf()) {
+            lo[j] = nd.first;
+            hi[j] = nd.first + nd.count;
+            std::array<double, 3> s{0, 0, 0};
+            for (std::uint32_t i = lo[j]; i < hi[j]; ++i)
+                for (const Vec3& v : {bvh.tris_[i].v0, bvh.tris_[i].v1, bvh.tris_[i].v2})
+                    for (int a = 0; a < 3; ++a) s[a] += double(v[a]);
+            sum[j] = s;
+        } else {
+            const std::uint32_t a = nd.first, b = nd.first + 1;
+            if (a <= j || b >= nn) throw Error("spheres: unexpected node order");
+            lo[j] = std::min(lo[a], lo[b]);
+            hi[j] = std::max(hi[a], hi[b]);
+            for (int k = 0; k < 3; ++k) sum[j][k] = sum[a][k] + sum[b][k];
+        }
+    }
+    // Centre: the mean of the group's vertices; radius: the largest distance
+    // to them, in double, rounded up to the next float.
+    bvh.nodes_.resize(nn);
+    ParallelOptions po;
+    po.grain = 64;
+    parallel_for(nn, std::max(1, opts.threads), [&](std::size_t b, std::size_t e) {
+        for (std::size_t j = b; j < e; ++j) {
+            const double cnt = 3.0 * double(hi[j] - lo[j]);
+            const Vec3 c{float(sum[j][0] / cnt), float(sum[j][1] / cnt), float(sum[j][2] / cnt)};
+            double r2 = 0;
+            for (std::uint32_t i = lo[j]; i < hi[j]; ++i)
+                for (const Vec3& v : {bvh.tris_[i].v0, bvh.tris_[i].v1, bvh.tris_[i].v2}) {
+                    const double dx = double(v.x) - double(c.x), dy = double(v.y) - double(c.y),
+                                 dz = double(v.z) - double(c.z);
+                    r2 = std::max(r2, dx * dx + dy * dy + dz * dz);
+                }
+            const Node2& nd = topo.nodes[j];
+            bvh.nodes_[j] = SphereNode{c, round_up(std::sqrt(r2)), nd.first, nd.count};
+        }
+    }, po);
+
+    const auto t1 = std::chrono::steady_clock::now();
+    SphereBuildStats& s = bvh.stats_;
+    s.build_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
+    s.nodes = nn;
+    s.triangles = n;
+    s.sah_cost = sah_cost(topo, opts.traversal_cost, opts.intersection_cost);
+    if (nn) {
+        const double r0 = double(bvh.nodes_[0].radius);
+        double cost = 0;
+        for (const SphereNode& nd : bvh.nodes_) {
+            const double ratio = r0 > 0 ? double(nd.radius) * double(nd.radius) / (r0 * r0) : 1.0;
+            cost += (nd.is_leaf() ? opts.intersection_cost * double(nd.count) : opts.traversal_cost) * ratio;
+        }
+        s.sphere_sah_cost = cost;
+        std::vector<std::pair<std::uint32_t, int>> stack{{0u, 1}};
+        while (!stack.empty()) {
+            auto [i, d] = stack.back();
+            stack.pop_back();
+            s.depth = std::max(s.depth, d);
+            const SphereNode& nd = bvh.nodes_[i];
+            if (nd.is_leaf()) ++s.leaves;
+            else {
+                stack.push_back({nd.first, d + 1});
+                stack.push_back({nd.first + 1, d + 1});
+            }
+        }
+    }
+    s.bytes_per_triangle =
+        n ? double(nn * sizeof(SphereNode) + topo.prim_ids.size() * (sizeof(std::uint32_t) + sizeof(TriangleVerts))) /
+                double(n)
+          : 0.0;
+    bvh.prim_ids_ = std::move(topo.prim_ids);
+    return bvh;
+}
+
+// In double, the closest-approach form (Haines et al., "Precision Improvements
+// for Ray/Sphere Intersection", Ray Tracing Gems ch. 7): the squared distance
+// from the centre to the line is |f - (f.d / d.d) d|^2, with no catastrophic
+// cancellation of b^2 - c. Everything from the float inputs is exact in double
+// up to a few double roundings (~1e-16 relative). The triangle test decides in
+// float on coordinates translated to the ray origin and sheared, so a hit is
+// exact only for a ray and triangle perturbed by a few float ulps of the
+// coordinates involved; the sphere is widened far beyond that (1e-5 relative
+// to the magnitudes, ~170 float ulps), laterally and along the ray.
+bool intersect_sphere(const PreparedRay& r, const SphereNode& s, float tmax, float* entry) {
+    const double fx = double(s.center.x) - double(r.org.x);
+    const double fy = double(s.center.y) - double(r.org.y);
+    const double fz = double(s.center.z) - double(r.org.z);
+    const double dx = r.dir.x, dy = r.dir.y, dz = r.dir.z;
+    const double dd = dx * dx + dy * dy + dz * dz;  // > 0 for a valid ray (no underflow in double)
+    const double tc = (fx * dx + fy * dy + fz * dz) / dd;
+    const double qx = fx - tc * dx, qy = fy - tc * dy, qz = fz - tc * dz;
+    const double q2 = qx * qx + qy * qy + qz * qz;
+    // Magnitude scale of the coordinates the triangle test rounds.
+    const double scale = std::fabs(fx) + std::fabs(fy) + std::fabs(fz) + std::fabs(double(r.org.x)) +
+                         std::fabs(double(r.org.y)) + std::fabs(double(r.org.z)) + double(s.radius);
+    const double rr = double(s.radius) + 1e-5 * scale;
+    if (q2 > rr * rr) return false;  // NaN compares false: accepted
+    const double h = std::sqrt(std::max(0.0, rr * rr - q2) / dd);
+    const double tol = 1e-5 * (std::fabs(tc) + h + scale / std::sqrt(dd));
+    const double near = tc - h - tol, far = tc + h + tol;
+    if (far < double(r.tmin) || near > double(tmax)) return false;
+    *entry = round_down(near);
+    return true;
+}
+
+namespace {
+
+struct StackEntry {
+    std::uint32_t node;
+    float entry;
+};
+constexpr int kStackSize = kMaxDepth + 1;
+
+template <TriangleTest kTest, bool kAnyHit, bool kStats>
+Hit traverse(const SphereBvh& bvh, const Ray& ray, TraceStats* stats) {
+    Hit best;
+    const PreparedRay r = prepare(ray);
+    if (kStats) stats->rays++;
+    const auto& nodes = bvh.nodes();
+    if (!r.valid || nodes.empty()) return best;
+    const TriangleVerts* tris = bvh.triangles().data();
+    const std::uint32_t* ids = bvh.prim_ids().data();
+    best.t = r.tmax;
+    StackEntry stack[kStackSize];
+    int sp = 0;
+    float entry;
+    if (kStats) stats->box_tests++;
+    if (!intersect_sphere(r, nodes[0], best.t, &entry)) return Hit{};
+    std::uint32_t idx = 0;
+    for (;;) {
+        const SphereNode& n = nodes[idx];
+        if (kStats) stats->nodes_visited++;
+        if (!n.is_leaf()) {
+            float ea, eb;
+            const float cull = best.t * kCullWiden;
+            const bool ha = intersect_sphere(r, nodes[n.first], cull, &ea);
+            const bool hb = intersect_sphere(r, nodes[n.first + 1], cull, &eb);
+            if (kStats) stats->box_tests += 2;
+            if (ha && hb) {
+                const bool a_first = ea <= eb;
+                stack[sp++] = {a_first ? n.first + 1 : n.first, a_first ? eb : ea};
+                idx = a_first ? n.first : n.first + 1;
+                continue;
+            }
+            if (ha || hb) {
+                idx = ha ? n.first : n.first + 1;
+                continue;
+            }
+        } else {
+            for (std::uint32_t i = n.first, e = n.first + n.count; i < e; ++i) {
+                const TriangleVerts& tv = tris[i];
+                float t, u, v;
+                if (kStats) stats->triangle_tests++;
+                if (intersect_triangle<kTest>(r, tv.v0, tv.v1, tv.v2, best.t, &t, &u, &v)) {
+                    const std::uint32_t prim = ids[i];
+                    if (kAnyHit) return Hit{t, u, v, prim};
+                    if (closer(t, prim, best)) best = {t, u, v, prim};
+                }
+            }
+        }
+        for (;;) {
+            if (sp == 0) return best.hit() ? best : Hit{};
+            const StackEntry& s = stack[--sp];
+            if (!(s.entry > best.t * kCullWiden)) {
+                idx = s.node;
+                break;
+            }
+        }
+    }
+}
+
+template <bool kAnyHit>
+Hit dispatch(const SphereBvh& bvh, const Ray& ray, const TraceOptions& o) {
+    if (o.stats)
+        return o.test == TriangleTest::watertight ? traverse<TriangleTest::watertight, kAnyHit, true>(bvh, ray, o.stats)
+                                                  : traverse<TriangleTest::moller, kAnyHit, true>(bvh, ray, o.stats);
+    return o.test == TriangleTest::watertight ? traverse<TriangleTest::watertight, kAnyHit, false>(bvh, ray, nullptr)
+                                              : traverse<TriangleTest::moller, kAnyHit, false>(bvh, ray, nullptr);
+}
+
+template <bool kAnyHit>
+void dispatch_span(const SphereBvh& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o) {
+    if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
+    if (o.stats) {
+        for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = dispatch<kAnyHit>(bvh, rays[i], o);
+        return;
+    }
+    parallel_for(rays.size(), o.threads, [&](std::size_t b, std::size_t e) {
+        for (std::size_t i = b; i < e; ++i) hits[i] = dispatch<kAnyHit>(bvh, rays[i], o);
+    });
+}
+
+}  // namespace
+
+Hit intersect(const SphereBvh& bvh, const Ray& ray, const TraceOptions& o) { return dispatch<false>(bvh, ray, o); }
+Hit occluded(const SphereBvh& bvh, const Ray& ray, const TraceOptions& o) { return dispatch<true>(bvh, ray, o); }
+void intersect(const SphereBvh& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o) {
+    dispatch_span<false>(bvh, rays, hits, o);
+}
+void occluded(const SphereBvh& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o) {
+    dispatch_span<true>(bvh, rays, hits, o);
+}
+
+}  // namespace simdbvh
