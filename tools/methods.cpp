@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "simdbvh/bvh2/spheres.h"
 #include "simdbvh/compare/embree.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/kernels/parallel.h"
@@ -22,6 +23,7 @@ std::string MethodSpec::builder_name() const {
     if (method == "bvh2") return std::string(name(build.builder));
     if (method == "bvh8") return std::string(name(build.builder)) + "+" + std::string(name(bvh8.collapse));
     if (method == "embree") return "embree-" + quality;
+    if (method == "spheres") return "variance";
     return "-";
 }
 
@@ -33,8 +35,8 @@ void add_method_options(std::set<std::string>& valued, std::set<std::string>& fl
 MethodSpec parse_method(const Options& o) {
     MethodSpec s;
     s.method = o.get("method", "bvh2");
-    if (s.method != "brute" && s.method != "bvh2" && s.method != "bvh8" && s.method != "embree")
-        throw UsageError("unknown --method '" + s.method + "' (brute, bvh2, bvh8, embree)");
+    if (s.method != "brute" && s.method != "bvh2" && s.method != "bvh8" && s.method != "embree" && s.method != "spheres")
+        throw UsageError("unknown --method '" + s.method + "' (brute, bvh2, bvh8, embree, spheres)");
     if (o.has("isa")) {
         auto isa = parse_isa(o.get("isa"));
         if (!isa) throw UsageError("unknown --isa '" + o.get("isa") + "' (scalar, avx2, avx512)");
@@ -138,6 +140,30 @@ private:
     Bvh8 bvh_;
 };
 
+// Seed 002's bounding-sphere hierarchy (variance splits; --builder is ignored).
+class SpheresTracer final : public Tracer {
+public:
+    SpheresTracer(const Mesh& m, const MethodSpec& s) : spec_(s), bvh_(SphereBvh::build(m, s.build)) {
+        const SphereBuildStats& st = bvh_.stats();
+        build_ms = st.build_ms;
+        bytes_per_triangle = st.bytes_per_triangle;
+        sah_cost = st.sah_cost;
+        depth = st.depth;
+        nodes = st.nodes;
+    }
+    void trace(std::span<const Ray> rays, std::span<Hit> hits, bool any, TraceStats* stats) override {
+        TraceOptions o;
+        o.test = spec_.test;
+        o.stats = stats;
+        o.threads = stats ? 1 : spec_.threads;
+        any ? occluded(bvh_, rays, hits, o) : intersect(bvh_, rays, hits, o);
+    }
+
+private:
+    MethodSpec spec_;
+    SphereBvh bvh_;
+};
+
 class EmbreeTracer final : public Tracer {
 public:
     EmbreeTracer(const Mesh& m, const MethodSpec& s) : spec_(s) {
@@ -175,6 +201,7 @@ std::unique_ptr<Tracer> make_tracer(const Mesh& mesh, const MethodSpec& spec) {
     if (spec.method == "bvh2") return std::make_unique<Bvh2Tracer>(mesh, spec);
     if (spec.method == "bvh8") return std::make_unique<Bvh8Tracer>(mesh, spec);
     if (spec.method == "embree") return std::make_unique<EmbreeTracer>(mesh, spec);
+    if (spec.method == "spheres") return std::make_unique<SpheresTracer>(mesh, spec);
     throw Error("unknown method " + spec.method);
 }
 

@@ -1,5 +1,5 @@
 #pragma once
-// The methods the CLI can run, behind one interface: brute, bvh2, bvh8, embree.
+// The methods the CLI can run, behind one interface: brute, bvh2, bvh8, embree, spheres.
 #include <memory>
 #include <span>
 #include <string>
@@ -10,7 +10,7 @@
 namespace simdbvh::cli {
 
 struct MethodSpec {
-    std::string method = "bvh2";  // brute | bvh2 | bvh8 | embree
+    std::string method = "bvh2";  // brute | bvh2 | bvh8 | embree | spheres
     Isa isa = Isa::scalar;        // bvh8 only (bvh2 and brute are scalar)
     BuildOptions build;
     Bvh8Options bvh8;

@@ -29,6 +29,19 @@ struct StackEntry {
     float entry;
 };
 
+// Prefetch a child's lines (a Node8: 4 lines; a leaf: its first Tri8 block, 5
+// lines) as soon as its box is hit, so the misses of the children that are
+// pushed overlap the traversal of the nearer subtree.
+inline __attribute__((always_inline)) void prefetch_child(const Node8* nodes, const Tri8* blocks, Child8 c) {
+    const char* p = c.count == 0 ? reinterpret_cast<const char*>(nodes + c.index)
+                                 : reinterpret_cast<const char*>(blocks + c.index);
+    __builtin_prefetch(p);
+    __builtin_prefetch(p + 64);
+    __builtin_prefetch(p + 128);
+    __builtin_prefetch(p + 192);
+    if (c.count != 0) __builtin_prefetch(p + 256);
+}
+
 template <class K, TriangleTest kTest, bool kAnyHit, bool kStats>
 inline __attribute__((always_inline)) Hit traverse(const Node8* nodes, const Tri8* blocks, bool empty, const Ray& ray,
                                                    TraceStats* stats) {
@@ -51,6 +64,7 @@ inline __attribute__((always_inline)) Hit traverse(const Node8* nodes, const Tri
             alignas(32) float entries[8];
             std::uint32_t mask = K::box8(rd, n.boxes, best.t * kCullWiden, entries);
             if (mask != 0) {
+                for (std::uint32_t m = mask; m != 0; m &= m - 1) prefetch_child(nodes, blocks, n.children[__builtin_ctz(m)]);
                 const int i0 = __builtin_ctz(mask);
                 mask &= mask - 1;
                 if (mask == 0) {  // one hit: descend

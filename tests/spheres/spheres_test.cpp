@@ -61,7 +61,9 @@ TEST_P(SpheresVsBrute, ClosestAndAnyHitMatchBruteForce) {
         }
         hits += want.hit();
     }
-    if (c.kind != RayKind::incoherent) EXPECT_GT(hits, rays.size() / 10) << "too few hits to mean anything";
+    if (c.kind == RayKind::primary) {  // (diffuse bounces off a convex icosphere never hit)
+        EXPECT_GT(hits, rays.size() / 10) << "too few hits to mean anything";
+    }
     // Threads and the stats path give the same hits.
     std::vector<Hit> par(rays.size());
     TraceOptions o;
