@@ -1,19 +1,75 @@
 // simdbvh gen-rays and trace: ray and hit files.
+#include <algorithm>
+#include <filesystem>
 #include <iostream>
 
 #include "common.h"
 #include "methods.h"
 #include "simdbvh/kernels/error.h"
+#include "simdbvh/scene/families.h"
+#include "simdbvh/scene/load.h"
 #include "simdbvh/scene/rays.h"
 
 namespace simdbvh::cli {
 
-int cmd_gen_rays(const std::vector<std::string>& args) {
-    const Options o("gen-rays", args, {"scene", "kind", "count", "seed", "out"}, {});
-    const std::string scene_name = o.require("scene");
+namespace {
+
+// gen-rays --kind <family>: the family's own mesh and rays (one case).
+int gen_family_rays(const Options& o, scene::Family fam) {
     const std::string kind_s = o.require("kind");
+    if (o.has("scene") && fam != scene::Family::random)
+        throw UsageError("--kind " + kind_s + " generates its own scene (write it with --mesh-out); --scene is for "
+                         "primary, incoherent, diffuse and random");
+    scene::FamilyOptions fo;
+    fo.quick = o.has("quick");
+    fo.seed = std::uint64_t(o.get_int("seed", 1, 0, (1LL << 62)));
+    fo.random_scene = o.get("scene");
+    const std::string out = o.require("out");
+    progress("generating the " + kind_s + " family ...");
+    auto cases = scene::make_family(fam, fo);
+    const std::string want = o.get("case", cases.front().name);
+    const scene::FamilyCase* c = nullptr;
+    std::string names;
+    for (const auto& fc : cases) {
+        names += (names.empty() ? "" : ", ") + fc.name;
+        if (fc.name == want) c = &fc;
+    }
+    if (!c) throw UsageError("unknown --case '" + want + "' (" + names + ")");
+    std::vector<Ray> rays = c->rays;
+    if (o.has("count")) rays.resize(std::min(rays.size(), std::size_t(o.get_int("count", 0, 1, 1LL << 31))));
+    if (o.has("mesh-out")) scene::write_ply(o.get("mesh-out"), c->mesh);
+    scene::write_rays(out, rays);
+    std::cout << "wrote " << rays.size() << " rays of case " << c->name << " (seed " << fo.seed << ") to " << out;
+    if (o.has("mesh-out")) std::cout << " and its " << c->mesh.size() << "-triangle mesh to " << o.get("mesh-out");
+    std::cout << "\ncases: " << names << "\n";
+    return 0;
+}
+
+// --drop-invalid: a mesh file loaded with LoadOptions::drop_invalid (triangles
+// with a non-finite vertex are dropped and counted on stdout). Named scenes
+// are always valid and load as usual.
+Mesh load_for_trace(const std::string& name, bool drop_invalid) {
+    if (!drop_invalid || !std::filesystem::is_regular_file(name)) return load_scene_with_progress(name);
+    scene::LoadReport report;
+    Mesh m = scene::load_mesh(name, scene::LoadOptions{.drop_invalid = true}, &report);
+    std::cout << "dropped " << report.dropped_triangles << " triangles with non-finite vertices from " << name << "\n";
+    return m;
+}
+
+}  // namespace
+
+int cmd_gen_rays(const std::vector<std::string>& args) {
+    const Options o("gen-rays", args, {"scene", "kind", "count", "seed", "out", "mesh-out", "case"}, {"quick"});
+    const std::string kind_s = o.require("kind");
+    if (const auto fam = scene::parse_family(kind_s)) return gen_family_rays(o, *fam);
+    if (o.has("mesh-out") || o.has("case") || o.has("quick"))
+        throw UsageError("--mesh-out, --case and --quick apply to ray families only (--kind watertight, ...)");
+    const std::string scene_name = o.require("scene");
     const auto kind = scene::parse_ray_kind(kind_s);
-    if (!kind) throw UsageError("unknown --kind '" + kind_s + "' (primary, incoherent, diffuse)");
+    if (!kind)
+        throw UsageError("unknown --kind '" + kind_s +
+                         "' (primary, incoherent, diffuse, or a family: watertight, offsets, axis-aligned, "
+                         "surface-start, grazing, needles, degenerate, random)");
     const auto count = std::size_t(o.get_int("count", 0, 1, 1LL << 31));
     if (!o.has("count")) throw UsageError("'gen-rays': missing --count");
     const auto seed = std::uint64_t(o.get_int("seed", 1, 0, (1LL << 62)));
@@ -27,7 +83,7 @@ int cmd_gen_rays(const std::vector<std::string>& args) {
 }
 
 int cmd_trace(const std::vector<std::string>& args) {
-    std::set<std::string> valued{"scene", "rays", "out"}, flags{"any-hit", "stats"};
+    std::set<std::string> valued{"scene", "rays", "out"}, flags{"any-hit", "stats", "drop-invalid"};
     add_method_options(valued, flags);
     const Options o("trace", args, valued, flags);
     const std::string scene_name = o.require("scene");
@@ -36,7 +92,7 @@ int cmd_trace(const std::vector<std::string>& args) {
     const MethodSpec spec = parse_method(o);
     // Read the rays first: a bad ray file fails before any expensive work.
     const auto rays = scene::read_rays(rays_file);
-    const Mesh mesh = load_scene_with_progress(scene_name);
+    const Mesh mesh = load_for_trace(scene_name, o.has("drop-invalid"));
     progress("building " + spec.label() + " ...");
     auto tracer = make_tracer(mesh, spec);
     std::vector<Hit> hits(rays.size());

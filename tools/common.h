@@ -20,5 +20,7 @@ int cmd_gen_rays(const std::vector<std::string>& args);
 int cmd_trace(const std::vector<std::string>& args);
 int cmd_bench(const std::vector<std::string>& args);
 int cmd_render(const std::vector<std::string>& args);
+int cmd_accuracy(const std::vector<std::string>& args);
+int cmd_panel(const std::vector<std::string>& args);
 
 }  // namespace simdbvh::cli

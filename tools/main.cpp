@@ -16,11 +16,14 @@ constexpr const char* kUsage = R"(usage: simdbvh <command> [options]
 commands:
   info     --scene S [--builder B] [--collapse C]       triangles, bounds, build time, tree statistics
   gen-rays --scene S --kind K --count N [--seed K] --out RAYS.bin
-           K: primary | incoherent | diffuse
+           K: primary | incoherent | diffuse, or a ray family (its own mesh: --mesh-out MESH.ply [--case C] [--quick];
+              --scene only for random): watertight | offsets | axis-aligned | surface-start | grazing | needles |
+              degenerate | random
   trace    --scene S --rays RAYS.bin --out HITS.bin [--method M] [--any-hit] [--isa I] [--builder B] [--threads N]
-           M: brute | bvh2 | bvh8 | embree (--quality medium|high, --robust)
+           M: brute | bvh2 | bvh8 | embree | spheres (--quality medium|high, --robust)
   bench    [--scene S] [--quick] [--threads N] [--json FILE] [--report DIR]
   render   --scene S --out IMG.png [--method M] [--heatmap] [--width W] [--height H]
+  panel    [--scene S] [--quick] [--json FILE] [--report DIR]   build quality per builder
 S is a scene name (dragon, dragon-res2..4, bunny, teapot, icosphere[-N], soup[-N], terrain) or a mesh file
 (.ply .obj .stl .off, optionally .gz). SIMDBVH_ISA=scalar|avx2|avx512 or --isa forces the ISA.
 )";
@@ -41,6 +44,8 @@ int main(int argc, char** argv) {
         if (cmd == "trace") return cmd_trace(args);
         if (cmd == "bench") return cmd_bench(args);
         if (cmd == "render") return cmd_render(args);
+        if (cmd == "accuracy") return cmd_accuracy(args);
+        if (cmd == "panel") return cmd_panel(args);
         std::cerr << "simdbvh: unknown command '" << cmd << "'\n" << kUsage;
         return 2;
     } catch (const UsageError& e) {

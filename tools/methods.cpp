@@ -10,9 +10,13 @@
 namespace simdbvh::cli {
 
 std::string MethodSpec::label() const {
-    if (method == "bvh8") return "bvh8/" + std::string(name(isa));
+    if (method == "bvh8") return "bvh8/" + std::string(name(isa)) + (test == TriangleTest::moller ? "/moller" : "");
     if (method == "embree") return "embree/" + quality + (robust ? "/robust" : "/default");
-    return method;
+    // Non-default variants are named: bvh2/moller, bvh2/plain-box, brute/moller.
+    std::string l = method;
+    if (test == TriangleTest::moller) l += "/moller";
+    if (box == BoxTest::plain) l += "/plain-box";
+    return l;
 }
 std::string MethodSpec::isa_name() const {
     if (method == "bvh8") return std::string(name(isa));
@@ -28,7 +32,7 @@ std::string MethodSpec::builder_name() const {
 }
 
 void add_method_options(std::set<std::string>& valued, std::set<std::string>& flags) {
-    for (const char* k : {"method", "isa", "builder", "bins", "collapse", "test", "quality", "threads"}) valued.insert(k);
+    for (const char* k : {"method", "isa", "builder", "bins", "collapse", "test", "box", "quality", "threads"}) valued.insert(k);
     flags.insert("robust");
 }
 
@@ -61,6 +65,12 @@ MethodSpec parse_method(const Options& o) {
     if (test == "watertight") s.test = TriangleTest::watertight;
     else if (test == "moller") s.test = TriangleTest::moller;
     else throw UsageError("unknown --test '" + test + "' (watertight, moller)");
+    const std::string box = o.get("box", "conservative");
+    if (box == "conservative") s.box = BoxTest::conservative;
+    else if (box == "plain") s.box = BoxTest::plain;
+    else throw UsageError("unknown --box '" + box + "' (conservative, plain)");
+    if (s.box == BoxTest::plain && s.method != "bvh2")
+        throw UsageError("--box plain is a bvh2 variant only (" + s.method + " uses the conservative box test)");
     s.quality = o.get("quality", "medium");
     if (s.quality != "medium" && s.quality != "high") throw UsageError("unknown --quality '" + s.quality + "' (medium, high)");
     s.robust = o.has("robust");
@@ -103,6 +113,7 @@ public:
     void trace(std::span<const Ray> rays, std::span<Hit> hits, bool any, TraceStats* stats) override {
         TraceOptions o;
         o.test = spec_.test;
+        o.box = spec_.box;
         o.stats = stats;
         o.threads = stats ? 1 : spec_.threads;
         any ? occluded(bvh_, rays, hits, o) : intersect(bvh_, rays, hits, o);
@@ -154,6 +165,7 @@ public:
     void trace(std::span<const Ray> rays, std::span<Hit> hits, bool any, TraceStats* stats) override {
         TraceOptions o;
         o.test = spec_.test;
+        o.box = spec_.box;
         o.stats = stats;
         o.threads = stats ? 1 : spec_.threads;
         any ? occluded(bvh_, rays, hits, o) : intersect(bvh_, rays, hits, o);

@@ -15,6 +15,7 @@ struct MethodSpec {
     BuildOptions build;
     Bvh8Options bvh8;
     TriangleTest test = TriangleTest::watertight;
+    BoxTest box = BoxTest::conservative;  // bvh2 only (bvh8 always conservative)
     std::string quality = "medium";  // embree: medium | high
     bool robust = false;             // embree: RTC_SCENE_FLAG_ROBUST
     int threads = 1;                 // trace (and build) threads
@@ -36,7 +37,7 @@ public:
 };
 
 // Options every tracing command accepts: --method --isa --builder --bins
-// --collapse --test --quality --robust --threads.
+// --collapse --test --box --quality --robust --threads.
 void add_method_options(std::set<std::string>& valued, std::set<std::string>& flags);
 MethodSpec parse_method(const Options& o);
 std::unique_ptr<Tracer> make_tracer(const Mesh& mesh, const MethodSpec& spec);

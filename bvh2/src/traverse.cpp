@@ -19,7 +19,31 @@ struct StackEntry {
 // than the tree is deep.
 constexpr int kStackSize = kMaxDepth + 1;
 
-template <TriangleTest kTest, bool kAnyHit, bool kStats>
+// The plain slab test (BoxTest::plain): intersect_box without Ize's far
+// widening; the traversal also culls without kCullWiden. A comparison
+// variant only: it may reject a box whose triangle the ray hits.
+inline bool intersect_box_plain(const PreparedRay& r, const Aabb& b, float tmax, float* entry) {
+    const float nx = r.near_x ? b.hi.x : b.lo.x, fx = r.near_x ? b.lo.x : b.hi.x;
+    const float ny = r.near_y ? b.hi.y : b.lo.y, fy = r.near_y ? b.lo.y : b.hi.y;
+    const float nz = r.near_z ? b.hi.z : b.lo.z, fz = r.near_z ? b.lo.z : b.hi.z;
+    const float t0x = (nx - r.org.x) * r.rdir.x, t1x = (fx - r.org.x) * r.rdir.x;
+    const float t0y = (ny - r.org.y) * r.rdir.y, t1y = (fy - r.org.y) * r.rdir.y;
+    const float t0z = (nz - r.org.z) * r.rdir.z, t1z = (fz - r.org.z) * r.rdir.z;
+    const float tn = max_ps(t0x, max_ps(t0y, max_ps(t0z, r.tmin)));
+    const float tf = min_ps(t1x, min_ps(t1y, min_ps(t1z, tmax)));
+    *entry = tn;
+    return tn <= tf;
+}
+
+template <BoxTest kBox>
+inline bool box_test(const PreparedRay& r, const Aabb& b, float tmax, float* entry) {
+    if constexpr (kBox == BoxTest::conservative) return intersect_box(r, b, tmax, entry);
+    else return intersect_box_plain(r, b, tmax, entry);
+}
+template <BoxTest kBox>
+constexpr float kCull = kBox == BoxTest::conservative ? kCullWiden : 1.0f;
+
+template <TriangleTest kTest, BoxTest kBox, bool kAnyHit, bool kStats>
 Hit traverse(const Bvh2& bvh, const Ray& ray, TraceStats* stats) {
     Hit best;
     const PreparedRay r = prepare(ray);
@@ -33,7 +57,7 @@ Hit traverse(const Bvh2& bvh, const Ray& ray, TraceStats* stats) {
     int sp = 0;
     float entry;
     if (kStats) stats->box_tests++;
-    if (!intersect_box(r, nodes[0].box, best.t, &entry)) return Hit{};
+    if (!box_test<kBox>(r, nodes[0].box, best.t, &entry)) return Hit{};
     std::uint32_t idx = 0;
     for (;;) {
         const Node2& n = nodes[idx];
@@ -42,9 +66,9 @@ Hit traverse(const Bvh2& bvh, const Ray& ray, TraceStats* stats) {
             const Node2& a = nodes[n.first];
             const Node2& b = nodes[n.first + 1];
             float ea, eb;
-            const float cull = best.t * kCullWiden;
-            const bool ha = intersect_box(r, a.box, cull, &ea);
-            const bool hb = intersect_box(r, b.box, cull, &eb);
+            const float cull = best.t * kCull<kBox>;
+            const bool ha = box_test<kBox>(r, a.box, cull, &ea);
+            const bool hb = box_test<kBox>(r, b.box, cull, &eb);
             if (kStats) stats->box_tests += 2;
             if (ha && hb) {
                 const bool a_first = ea <= eb;
@@ -72,7 +96,7 @@ Hit traverse(const Bvh2& bvh, const Ray& ray, TraceStats* stats) {
         for (;;) {
             if (sp == 0) return best.hit() ? best : Hit{};
             const StackEntry& s = stack[--sp];
-            if (s.entry <= best.t * kCullWiden) {
+            if (s.entry <= best.t * kCull<kBox>) {
                 idx = s.node;
                 break;
             }
@@ -80,33 +104,54 @@ Hit traverse(const Bvh2& bvh, const Ray& ray, TraceStats* stats) {
     }
 }
 
-template <bool kAnyHit>
-Hit dispatch(const Bvh2& bvh, const Ray& ray, const TraceOptions& o) {
-    if (o.stats) {
-        return o.test == TriangleTest::watertight ? traverse<TriangleTest::watertight, kAnyHit, true>(bvh, ray, o.stats)
-                                                  : traverse<TriangleTest::moller, kAnyHit, true>(bvh, ray, o.stats);
-    }
-    return o.test == TriangleTest::watertight ? traverse<TriangleTest::watertight, kAnyHit, false>(bvh, ray, nullptr)
-                                              : traverse<TriangleTest::moller, kAnyHit, false>(bvh, ray, nullptr);
+// One switch over (triangle test, box test, stats) per call: calls
+// f(tag<kTest, kBox, kStats>{}) with the options as template arguments.
+template <TriangleTest kTest, BoxTest kBox, bool kStats>
+struct Variant {
+    static constexpr TriangleTest test = kTest;
+    static constexpr BoxTest box = kBox;
+    static constexpr bool stats = kStats;
+};
+
+template <bool kStats, typename F>
+decltype(auto) with_variant(const TraceOptions& o, F&& f) {
+    constexpr auto wt = TriangleTest::watertight, mt = TriangleTest::moller;
+    constexpr auto cons = BoxTest::conservative, plain = BoxTest::plain;
+    if (o.test == wt) return o.box == cons ? f(Variant<wt, cons, kStats>{}) : f(Variant<wt, plain, kStats>{});
+    return o.box == cons ? f(Variant<mt, cons, kStats>{}) : f(Variant<mt, plain, kStats>{});
 }
 
-template <TriangleTest kTest, bool kAnyHit, bool kStats>
+template <bool kAnyHit>
+Hit dispatch(const Bvh2& bvh, const Ray& ray, const TraceOptions& o) {
+    if (o.stats)
+        return with_variant<true>(o, [&](auto v) {
+            return traverse<decltype(v)::test, decltype(v)::box, kAnyHit, true>(bvh, ray, o.stats);
+        });
+    return with_variant<false>(o, [&](auto v) {
+        return traverse<decltype(v)::test, decltype(v)::box, kAnyHit, false>(bvh, ray, nullptr);
+    });
+}
+
+template <TriangleTest kTest, BoxTest kBox, bool kAnyHit, bool kStats>
 void traverse_span(const Bvh2& bvh, std::span<const Ray> rays, std::span<Hit> hits, TraceStats* stats) {
-    for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = traverse<kTest, kAnyHit, kStats>(bvh, rays[i], stats);
+    for (std::size_t i = 0; i < rays.size(); ++i)
+        hits[i] = traverse<kTest, kBox, kAnyHit, kStats>(bvh, rays[i], stats);
 }
 
 template <bool kAnyHit>
 void dispatch_span(const Bvh2& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o) {
     if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
     if (o.stats) {
-        if (o.test == TriangleTest::watertight) traverse_span<TriangleTest::watertight, kAnyHit, true>(bvh, rays, hits, o.stats);
-        else traverse_span<TriangleTest::moller, kAnyHit, true>(bvh, rays, hits, o.stats);
+        with_variant<true>(o, [&](auto v) {
+            traverse_span<decltype(v)::test, decltype(v)::box, kAnyHit, true>(bvh, rays, hits, o.stats);
+        });
     } else {
         parallel_for(rays.size(), o.threads, [&](std::size_t b, std::size_t e) {
             auto r = rays.subspan(b, e - b);
             auto h = hits.subspan(b, e - b);
-            if (o.test == TriangleTest::watertight) traverse_span<TriangleTest::watertight, kAnyHit, false>(bvh, r, h, nullptr);
-            else traverse_span<TriangleTest::moller, kAnyHit, false>(bvh, r, h, nullptr);
+            with_variant<false>(o, [&](auto v) {
+                traverse_span<decltype(v)::test, decltype(v)::box, kAnyHit, false>(bvh, r, h, nullptr);
+            });
         });
     }
 }

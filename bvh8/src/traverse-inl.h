@@ -29,8 +29,8 @@ struct StackEntry {
     float entry;
 };
 
-// Prefetch a child's lines (a Node8: 4 lines; a leaf: its first Tri8 block, 5
-// lines) as soon as its box is hit, so the misses of the children that are
+// Prefetch a child's lines (a Node8: 4 lines; a leaf: its first Tri8 block,
+// 320 bytes at 32-byte alignment: up to 6 lines) as soon as its box is hit, so the misses of the children that are
 // pushed overlap the traversal of the nearer subtree.
 inline __attribute__((always_inline)) void prefetch_child(const Node8* nodes, const Tri8* blocks, Child8 c) {
     const char* p = c.count == 0 ? reinterpret_cast<const char*>(nodes + c.index)
@@ -39,7 +39,10 @@ inline __attribute__((always_inline)) void prefetch_child(const Node8* nodes, co
     __builtin_prefetch(p + 64);
     __builtin_prefetch(p + 128);
     __builtin_prefetch(p + 192);
-    if (c.count != 0) __builtin_prefetch(p + 256);
+    if (c.count != 0) {
+        __builtin_prefetch(p + 256);
+        __builtin_prefetch(p + 319);
+    }
 }
 
 template <class K, TriangleTest kTest, bool kAnyHit, bool kStats>

@@ -1,21 +1,29 @@
 // BVH8 batched entry points: the only place that chooses an ISA for BVH8.
 #include "simdbvh/kernels/error.h"
+#include "simdbvh/kernels/parallel.h"
 #include "traverse.h"
 
 namespace simdbvh {
 
 namespace {
 
+using TraceFn = void (*)(const Bvh8&, std::span<const Ray>, std::span<Hit>, const TraceOptions&);
+
 template <bool kAnyHit>
 void run(const Bvh8& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o, Isa isa) {
     if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
     require(isa);
+    TraceFn fn = nullptr;
     switch (isa) {
-    case Isa::avx512: return kAnyHit ? bvh8::avx512::occluded(bvh, rays, hits, o) : bvh8::avx512::intersect(bvh, rays, hits, o);
-    case Isa::avx2: return kAnyHit ? bvh8::avx2::occluded(bvh, rays, hits, o) : bvh8::avx2::intersect(bvh, rays, hits, o);
-    case Isa::scalar: return kAnyHit ? bvh8::scalar::occluded(bvh, rays, hits, o) : bvh8::scalar::intersect(bvh, rays, hits, o);
+    case Isa::avx512: fn = kAnyHit ? &bvh8::avx512::occluded : &bvh8::avx512::intersect; break;
+    case Isa::avx2: fn = kAnyHit ? &bvh8::avx2::occluded : &bvh8::avx2::intersect; break;
+    case Isa::scalar: fn = kAnyHit ? &bvh8::scalar::occluded : &bvh8::scalar::intersect; break;
     }
-    throw Error("unknown ISA");
+    if (!fn) throw Error("unknown ISA");
+    if (o.stats || o.threads <= 1) return fn(bvh, rays, hits, o);  // stats: one thread (unsynchronized counters)
+    parallel_for(rays.size(), o.threads, [&](std::size_t b, std::size_t e) {
+        fn(bvh, rays.subspan(b, e - b), hits.subspan(b, e - b), o);
+    });
 }
 
 }  // namespace

@@ -199,7 +199,9 @@ TEST_P(Bvh8Small, InvalidRaysAndStats) {
     std::vector<Hit> plain(rays.size()), counted(rays.size());
     TraceStats st;
     intersect(bvh8, rays, plain, {}, isa);
-    intersect(bvh8, rays, counted, {TriangleTest::watertight, &st}, isa);
+    TraceOptions counting;
+    counting.stats = &st;
+    intersect(bvh8, rays, counted, counting, isa);
     for (std::size_t i = 0; i < rays.size(); ++i) ASSERT_EQ(plain[i], counted[i]) << "ray " << i;
     EXPECT_EQ(st.rays, rays.size());
     EXPECT_GE(st.nodes_visited, rays.size());  // every valid ray visits the root
@@ -209,6 +211,21 @@ TEST_P(Bvh8Small, InvalidRaysAndStats) {
 
 INSTANTIATE_TEST_SUITE_P(Isas, Bvh8Small, testing::ValuesIn(kAllIsas),
                          [](const testing::TestParamInfo<Isa>& i) { return std::string(name(i.param)); });
+
+// TraceOptions::threads splits a batch; the answers do not change.
+TEST_P(Bvh8Small, ThreadsGiveSameHits) {
+    const Isa isa = GetParam();
+    if (!supported(isa)) GTEST_SKIP() << "CPU lacks " << name(isa);
+    const Mesh mesh = scene::icosphere(4);
+    const Bvh8 bvh8 = Bvh8::build(mesh);
+    const auto rays = rays_around(mesh, 10000, 4);
+    std::vector<Hit> one(rays.size()), many(rays.size());
+    intersect(bvh8, rays, one, {}, isa);
+    TraceOptions o;
+    o.threads = 2;
+    intersect(bvh8, rays, many, o, isa);
+    for (std::size_t i = 0; i < rays.size(); ++i) ASSERT_EQ(one[i], many[i]) << "ray " << i;
+}
 
 TEST(Bvh8Api, UnsupportedIsaThrowsAndSpanSizeIsChecked) {
     const Bvh8 bvh8 = Bvh8::build(scene::icosphere(1));

@@ -20,15 +20,15 @@ namespace fs = std::filesystem;
 namespace simdbvh {
 namespace {
 
-struct Run {
+struct CliRun {
     int status = -1;
     std::string output;  // stdout and stderr
 };
 
-Run run(const std::string& args) {
+CliRun run(const std::string& args) {
     const char* cli = std::getenv("SIMDBVH_CLI");
     EXPECT_NE(cli, nullptr) << "SIMDBVH_CLI is not set";
-    Run r;
+    CliRun r;
     if (!cli) return r;
     const std::string cmd = std::string(cli) + " " + args + " 2>&1";
     FILE* p = popen(cmd.c_str(), "r");
@@ -56,9 +56,9 @@ TEST_F(Cli, RoundTripMatchesTheApi) {
     for (const char* method : {"bvh2", "bvh8", "brute"}) {
         for (const char* kind : {"primary", "incoherent", "diffuse"}) {
             const std::string rays = path(std::string(kind) + ".bin"), hits = path(std::string(method) + kind + ".hits");
-            Run g = run("gen-rays --scene icosphere-3 --kind " + std::string(kind) + " --count 3000 --seed 5 --out " + rays);
+            CliRun g = run("gen-rays --scene icosphere-3 --kind " + std::string(kind) + " --count 3000 --seed 5 --out " + rays);
             ASSERT_EQ(g.status, 0) << g.output;
-            Run t = run("trace --scene icosphere-3 --rays " + rays + " --out " + hits + " --method " + method);
+            CliRun t = run("trace --scene icosphere-3 --rays " + rays + " --out " + hits + " --method " + method);
             ASSERT_EQ(t.status, 0) << t.output;
             EXPECT_NE(t.output.find("isa"), std::string::npos) << "the output names the ISA";
             const Mesh mesh = scene::load_scene("icosphere-3");
@@ -92,7 +92,7 @@ TEST_F(Cli, AnyHitAgreesOnHitOrMiss) {
 TEST_F(Cli, BadRayFileExits2WithNoOutput) {
     const std::string rays = path("bad.bin"), out = path("out.hits");
     std::ofstream(rays, std::ios::binary) << std::string(100, 'x');  // not a multiple of 32
-    Run t = run("trace --scene icosphere-2 --rays " + rays + " --out " + out);
+    CliRun t = run("trace --scene icosphere-2 --rays " + rays + " --out " + out);
     EXPECT_EQ(t.status, 2);
     EXPECT_NE(t.output.find(rays), std::string::npos) << t.output;
     EXPECT_NE(t.output.find("32"), std::string::npos) << t.output;
@@ -101,12 +101,12 @@ TEST_F(Cli, BadRayFileExits2WithNoOutput) {
 }
 
 TEST_F(Cli, UnknownOptionAndCommandExit2) {
-    Run a = run("trace --scene icosphere-2 --frobnicate 3");
+    CliRun a = run("trace --scene icosphere-2 --frobnicate 3");
     EXPECT_EQ(a.status, 2);
     EXPECT_NE(a.output.find("--frobnicate"), std::string::npos) << a.output;
-    Run b = run("fly");
+    CliRun b = run("fly");
     EXPECT_EQ(b.status, 2);
-    Run c = run("trace --scene icosphere-2 --rays x --out y --method magic");
+    CliRun c = run("trace --scene icosphere-2 --rays x --out y --method magic");
     EXPECT_EQ(c.status, 2);
     EXPECT_NE(c.output.find("magic"), std::string::npos) << c.output;
 }
@@ -115,18 +115,18 @@ TEST_F(Cli, MalformedMeshNamesTheFile) {
     const std::string mesh = path("broken.obj"), rays = path("r.bin"), out = path("o.hits");
     std::ofstream(mesh) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n";  // index out of range
     ASSERT_EQ(run("gen-rays --scene icosphere-2 --kind incoherent --count 10 --out " + rays).status, 0);
-    Run t = run("trace --scene " + mesh + " --rays " + rays + " --out " + out);
+    CliRun t = run("trace --scene " + mesh + " --rays " + rays + " --out " + out);
     EXPECT_EQ(t.status, 2);
     EXPECT_NE(t.output.find("broken.obj"), std::string::npos) << t.output;
     EXPECT_FALSE(fs::exists(out));
     std::ofstream(mesh) << "v 0 0 nan\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
-    Run n = run("info --scene " + mesh);
+    CliRun n = run("info --scene " + mesh);
     EXPECT_EQ(n.status, 2);
     EXPECT_NE(n.output.find("broken.obj"), std::string::npos) << n.output;
 }
 
 TEST_F(Cli, UnsupportedIsaIsAClearError) {
-    Run t = run("info --scene icosphere-1 --isa avx9000");
+    CliRun t = run("info --scene icosphere-1 --isa avx9000");
     EXPECT_EQ(t.status, 2);
     EXPECT_NE(t.output.find("avx9000"), std::string::npos) << t.output;
 }

@@ -29,8 +29,15 @@ struct TraceStats {  // per-ray counters, summed over a batch
     std::uint64_t rays = 0, nodes_visited = 0, box_tests = 0, triangle_tests = 0;
 };
 
+// Ray/box test of the BVH2 traversal. conservative: Ize 2013 (far distance
+// widened by kFarWiden, culling by kCullWiden), the validated default. plain:
+// (b - o) * rdir with no widening, a comparison variant for the accuracy
+// charts. The BVH8 always uses the conservative test (it ignores this field).
+enum class BoxTest : std::uint8_t { conservative, plain };
+
 struct TraceOptions {
     TriangleTest test = TriangleTest::watertight;
+    BoxTest box = BoxTest::conservative;  // BVH2 only
     TraceStats* stats = nullptr;  // non-null: count (slower path; forces one thread)
     int threads = 1;              // batched calls: split the rays over this many threads
 };

@@ -73,7 +73,9 @@ private:
 };
 
 // Closest hit and any hit, bit-identical to the BVH2 (same kernels, same tie
-// rule). One switch on `isa` per batch.
+// rule). One switch on `isa` per batch; an unsupported isa throws simdbvh::Error.
+// TraceOptions::stats: nodes_visited counts Node8s; box_tests and
+// triangle_tests count SIMD lanes (8 per Node8 test, 8 per Tri8 block).
 void intersect(const Bvh8& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& opts = {},
                Isa isa = active_isa());
 void occluded(const Bvh8& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& opts = {},
