@@ -74,7 +74,7 @@ TEST_F(Cli, RoundTripMatchesTheApi) {
                 ASSERT_EQ(h[i], intersect(bvh, r[i])) << method << " " << kind << " ray " << i;
                 n_hit += h[i].hit();
             }
-            EXPECT_GT(n_hit, r.size() / 10);
+            if (std::string(kind) != "diffuse") EXPECT_GT(n_hit, r.size() / 10);  // diffuse rays leave a convex sphere
         }
     }
 }
