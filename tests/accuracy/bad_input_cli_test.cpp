@@ -25,14 +25,14 @@ namespace fs = std::filesystem;
 namespace simdbvh {
 namespace {
 
-struct Run {
+struct CliRun {
     int status = -1;
     std::string output;  // stdout and stderr
 };
 
 // `prefix` runs in the same shell first (ulimit, trap).
-Run run(const std::string& args, const std::string& prefix = "") {
-    Run r;
+CliRun run(const std::string& args, const std::string& prefix = "") {
+    CliRun r;
     const char* cli = std::getenv("SIMDBVH_CLI");
     if (!cli) return r;
     const std::string cmd = prefix + std::string(cli) + " " + args + " 2>&1";
@@ -60,7 +60,7 @@ protected:
     // trace must fail with status 2, name the file and every part, and leave no output.
     void expect_trace_error(const std::string& mesh, std::initializer_list<const char*> parts) {
         const std::string out = (dir_ / "never.hits").string();
-        const Run t = run("trace --scene " + mesh + " --rays " + rays_ + " --out " + out);
+        const CliRun t = run("trace --scene " + mesh + " --rays " + rays_ + " --out " + out);
         EXPECT_EQ(t.status, 2) << mesh << "\n" << t.output;
         EXPECT_NE(t.output.find("simdbvh: "), std::string::npos) << t.output;
         EXPECT_NE(t.output.find(fs::path(mesh).filename().string()), std::string::npos) << t.output;
@@ -121,7 +121,7 @@ TEST_F(BadInput, NonFiniteVerticesRejectedWithCountAndFirstIndexOrDropped) {
                                              "f 1 2 3\nf 1 4 3\nf 2 5 6\nf 1 2 6\n");
     expect_trace_error(mesh, {"2 vertices", "vertex 3"});
     const std::string out = (dir_ / "o.hits").string();
-    const Run d = run("trace --scene " + mesh + " --rays " + rays_ + " --out " + out + " --drop-invalid");
+    const CliRun d = run("trace --scene " + mesh + " --rays " + rays_ + " --out " + out + " --drop-invalid");
     EXPECT_EQ(d.status, 0) << d.output;
     EXPECT_NE(d.output.find("dropped 2 triangles"), std::string::npos) << d.output;
     EXPECT_EQ(scene::read_hits(out).size(), 200u);
@@ -140,7 +140,7 @@ TEST_F(BadInput, EmptyMeshEveryRayMisses) {
                                      {"e.off", "OFF\n0 0 0\n"}}) {
         const std::string mesh = file(name, text), out = (dir_ / (name + ".hits")).string();
         for (const char* m : {"bvh2", "bvh8", "brute", "embree"}) {
-            const Run t = run("trace --scene " + mesh + " --rays " + rays_ + " --out " + out + " --method " + m);
+            const CliRun t = run("trace --scene " + mesh + " --rays " + rays_ + " --out " + out + " --method " + m);
             ASSERT_EQ(t.status, 0) << name << " " << m << "\n" << t.output;
             for (const Hit& h : scene::read_hits(out)) ASSERT_EQ(h, Hit{}) << name << " " << m;
         }
@@ -159,7 +159,7 @@ TEST_F(BadInput, InvalidRaysMissOnEveryMethod) {
     for (const char* m : {"bvh2", "bvh8", "brute", "embree"})
         for (const char* extra : {"", " --any-hit", " --test moller", " --box plain"}) {
             if (std::string(extra) == " --box plain" && std::string(m) != "bvh2") continue;
-            const Run t = run(std::string("trace --scene icosphere-2 --rays ") + rays + " --out " + out + " --method " + m + extra);
+            const CliRun t = run(std::string("trace --scene icosphere-2 --rays ") + rays + " --out " + out + " --method " + m + extra);
             ASSERT_EQ(t.status, 0) << m << extra << "\n" << t.output;
             const auto hits = scene::read_hits(out);
             ASSERT_EQ(hits.size(), bad.size());
@@ -169,10 +169,10 @@ TEST_F(BadInput, InvalidRaysMissOnEveryMethod) {
 }
 
 TEST_F(BadInput, PlainBoxIsABvh2VariantOnly) {
-    const Run t = run("trace --scene icosphere-1 --rays " + rays_ + " --out x.hits --method bvh8 --box plain");
+    const CliRun t = run("trace --scene icosphere-1 --rays " + rays_ + " --out x.hits --method bvh8 --box plain");
     EXPECT_EQ(t.status, 2);
     EXPECT_NE(t.output.find("--box plain"), std::string::npos) << t.output;
-    const Run u = run("trace --scene icosphere-1 --rays " + rays_ + " --out x.hits --box wobbly");
+    const CliRun u = run("trace --scene icosphere-1 --rays " + rays_ + " --out x.hits --box wobbly");
     EXPECT_EQ(u.status, 2);
     EXPECT_NE(u.output.find("wobbly"), std::string::npos) << u.output;
 }
@@ -185,18 +185,18 @@ TEST_F(BadInput, FailedWriteLeavesEarlierOutputUntouched) {
     ASSERT_EQ(run("trace --scene icosphere-2 --rays " + rays_ + " --out " + out).status, 0);
     const std::string before = test::read_bytes(out);
     // 4000 hits = 64000 bytes > 16 blocks of 512 bytes (the ray file is read, not written).
-    const Run t = run("trace --scene icosphere-2 --rays " + many + " --out " + out, "trap '' XFSZ; ulimit -f 16; ");
+    const CliRun t = run("trace --scene icosphere-2 --rays " + many + " --out " + out, "trap '' XFSZ; ulimit -f 16; ");
     EXPECT_EQ(t.status, 2) << t.output;
     EXPECT_NE(t.output.find(out), std::string::npos) << t.output;
     EXPECT_EQ(test::read_bytes(out), before);
     for (const auto& e : fs::directory_iterator(dir_.path()))
         EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << "stray " << e.path();
     // A missing folder: a clear error, nothing written.
-    const Run m = run("trace --scene icosphere-2 --rays " + rays_ + " --out " + (dir_ / "no/such/dir/x.hits").string());
+    const CliRun m = run("trace --scene icosphere-2 --rays " + rays_ + " --out " + (dir_ / "no/such/dir/x.hits").string());
     EXPECT_EQ(m.status, 2);
     EXPECT_NE(m.output.find("no/such/dir"), std::string::npos) << m.output;
     // gen-rays --mesh-out and accuracy --json fail the same way.
-    const Run g = run("gen-rays --kind grazing --quick --out " + (dir_ / "g.bin").string() + " --mesh-out " +
+    const CliRun g = run("gen-rays --kind grazing --quick --out " + (dir_ / "g.bin").string() + " --mesh-out " +
                       (dir_ / "no/g.ply").string());
     EXPECT_EQ(g.status, 2) << g.output;
     EXPECT_FALSE(fs::exists(dir_ / "g.bin"));
@@ -204,15 +204,15 @@ TEST_F(BadInput, FailedWriteLeavesEarlierOutputUntouched) {
 
 TEST_F(BadInput, FamilyKindsOwnTheirScene) {
     const std::string out = (dir_ / "f.bin").string(), mesh = (dir_ / "f.ply").string();
-    const Run a = run("gen-rays --kind watertight --scene bunny --out " + out);
+    const CliRun a = run("gen-rays --kind watertight --scene bunny --out " + out);
     EXPECT_EQ(a.status, 2);
     EXPECT_NE(a.output.find("--mesh-out"), std::string::npos) << a.output;
-    const Run b = run("gen-rays --kind needles --quick --case nope --out " + out);
+    const CliRun b = run("gen-rays --kind needles --quick --case nope --out " + out);
     EXPECT_EQ(b.status, 2);
     EXPECT_NE(b.output.find("needles/aspect1e7"), std::string::npos) << "lists the cases: " << b.output;
-    const Run c = run("gen-rays --kind watertight --quick --case watertight/torus --out " + out + " --mesh-out " + mesh);
+    const CliRun c = run("gen-rays --kind watertight --quick --case watertight/torus --out " + out + " --mesh-out " + mesh);
     ASSERT_EQ(c.status, 0) << c.output;
-    const Run t = run("trace --scene " + mesh + " --rays " + out + " --out " + (dir_ / "f.hits").string());
+    const CliRun t = run("trace --scene " + mesh + " --rays " + out + " --out " + (dir_ / "f.hits").string());
     ASSERT_EQ(t.status, 0) << t.output;
     for (const Hit& h : scene::read_hits(dir_ / "f.hits")) ASSERT_TRUE(h.hit()) << "watertight rays must hit";
 }
