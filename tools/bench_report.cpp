@@ -69,7 +69,7 @@ std::string speed_table(const std::vector<Record>& recs, int threads) {
                     continue;
                 }
                 s << " " << fmt("%.3g", r->mrays_per_s);
-                if (e && e->mrays_per_s > 0 && lab != ref) s << " (" << fmt("%.2f", r->mrays_per_s / e->mrays_per_s) << "x)";
+                if (e && e->mrays_per_s > 0 && lab != ref && lab != "brute") s << " (" << fmt("%.2f", r->mrays_per_s / e->mrays_per_s) << "x)";
                 s << " |";
                 agree_n += r->tally.agree + r->tally.tie;
                 total += r->tally.total();

@@ -31,12 +31,10 @@ Bvh2Topology build_topology(std::span<const Aabb> boxes, std::span<const Vec3> c
         throw Error("max_depth " + std::to_string(opts.max_depth) + " outside 1.." + std::to_string(kMaxDepth));
     if (opts.max_leaf_size < 1) throw Error("max_leaf_size must be at least 1");
     detail::BuildContext ctx;
-    ctx.boxes = boxes;
-    ctx.centroids = centroids;
     ctx.opts = opts;
-    ctx.ids.reserve(boxes.size());
+    ctx.refs.reserve(boxes.size());
     for (std::size_t i = 0; i < boxes.size(); ++i)
-        if (!boxes[i].is_empty()) ctx.ids.push_back(std::uint32_t(i));
+        if (!boxes[i].is_empty()) ctx.refs.push_back({boxes[i].lo, std::uint32_t(i), boxes[i].hi, 0.0f, centroids[i], 0.0f});
     switch (opts.builder) {
     case Builder::sah_binned:
         return detail::build_top_down(ctx, detail::split_binned_sah, std::uint32_t(opts.max_leaf_size));

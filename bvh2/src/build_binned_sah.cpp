@@ -1,23 +1,57 @@
 // Binned SAH builder (Wald 2007, "On fast Construction of SAH-based Bounding
 // Volume Hierarchies"), with SAH leaf-cost termination and a depth cap.
-#include "build_common.h"
+// Binning and partitioning stream over contiguous PrimRefs with SSE (the
+// x86-64 baseline, no AVX); min/max operand order matches Aabb::grow exactly.
+#include <emmintrin.h>
 
 #include <algorithm>
 #include <cmath>
 #include <future>
+#include <limits>
 #include <memory>
 #include <vector>
+
+#include "build_common.h"
 
 namespace simdbvh::detail {
 
 namespace {
 
+constexpr int kMaxBins = 256;
+
+struct Box4 {  // lo, hi as 4-lane vectors; lane 3 is ignored
+    __m128 lo = _mm_set1_ps(std::numeric_limits<float>::infinity());
+    __m128 hi = _mm_set1_ps(-std::numeric_limits<float>::infinity());
+    void grow(__m128 l, __m128 h) {
+        lo = _mm_min_ps(l, lo);  // == min_ps(l, lo): l < lo ? l : lo
+        hi = _mm_max_ps(h, hi);
+    }
+    void grow(const Box4& b) { grow(b.lo, b.hi); }
+    Aabb aabb() const {
+        alignas(16) float l[4], h[4];
+        _mm_store_ps(l, lo);
+        _mm_store_ps(h, hi);
+        return {{l[0], l[1], l[2]}, {h[0], h[1], h[2]}};
+    }
+};
+
+// Half the surface area, (xy + yz) + zx as Aabb::half_area; for non-empty boxes only.
+inline float half_area(const Box4& b) {
+    const __m128 e = _mm_sub_ps(b.hi, b.lo);
+    const __m128 p = _mm_mul_ps(e, _mm_shuffle_ps(e, e, _MM_SHUFFLE(3, 0, 2, 1)));  // xy, yz, zx, -
+    alignas(16) float v[4];
+    _mm_store_ps(v, p);
+    return (v[0] + v[1]) + v[2];
+}
+
 struct Bin {
-    Aabb box;
+    Box4 box;
     std::uint32_t count = 0;
 };
 
-constexpr int kMaxBins = 256;
+struct Bins3 {
+    Bin bins[3][kMaxBins];
+};
 
 struct Split {
     int axis = -1;
@@ -25,24 +59,35 @@ struct Split {
     float cost = 0;
 };
 
-struct Bins3 {
-    Bin bins[3][kMaxBins];
+inline __m128 load_lo(const PrimRef& r) { return _mm_load_ps(&r.lo.x); }
+inline __m128 load_hi(const PrimRef& r) { return _mm_load_ps(&r.hi.x); }
+inline __m128 load_c(const PrimRef& r) { return _mm_load_ps(&r.c.x); }
+
+struct Binner {
+    __m128 cmin, scale, top;  // top = nbins - 1
+    int nbins;
+    Binner(const Aabb& cbox, int n, const float s[3]) : nbins(n) {
+        cmin = _mm_setr_ps(cbox.lo.x, cbox.lo.y, cbox.lo.z, 0.0f);
+        scale = _mm_setr_ps(s[0], s[1], s[2], 0.0f);
+        top = _mm_set1_ps(float(n - 1));
+    }
+    // Bin indices on the three axes: min(n - 1, int((c - cmin) * scale)).
+    __m128i index(__m128 c) const { return _mm_cvttps_epi32(_mm_min_ps(_mm_mul_ps(_mm_sub_ps(c, cmin), scale), top)); }
 };
 
-// Bins ids[begin, end) on all three axes in one pass over the primitives.
-void bin_range(const BuildContext& ctx, std::uint32_t begin, std::uint32_t end, int nbins, const float cmin[3],
-               const float scale[3], Bins3& out) {
+// Bins refs[begin, end) on all three axes in one pass.
+void bin_range(const BuildContext& ctx, std::uint32_t begin, std::uint32_t end, const Binner& binner, Bins3& out) {
     for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < nbins; ++b) out.bins[a][b] = Bin{};
+        for (int b = 0; b < binner.nbins; ++b) out.bins[a][b] = Bin{};
+    alignas(16) std::int32_t idx[4];
     for (std::uint32_t i = begin; i < end; ++i) {
-        const std::uint32_t p = ctx.ids[i];
-        const Vec3 c = ctx.centroids[p];
-        const Aabb& box = ctx.boxes[p];
+        const PrimRef& r = ctx.refs[i];
+        const __m128 lo = load_lo(r), hi = load_hi(r);
+        _mm_store_si128(reinterpret_cast<__m128i*>(idx), binner.index(load_c(r)));
         for (int a = 0; a < 3; ++a) {
-            if (scale[a] == 0.0f) continue;
-            const int b = std::min(nbins - 1, int((c[a] - cmin[a]) * scale[a]));
-            out.bins[a][b].box.grow(box);
-            out.bins[a][b].count++;
+            Bin& bin = out.bins[a][idx[a]];
+            bin.box.grow(lo, hi);
+            bin.count++;
         }
     }
 }
@@ -59,13 +104,13 @@ SplitResult split_binned_sah(BuildContext& ctx, std::uint32_t begin, std::uint32
     const std::uint32_t n = end - begin;
     const float leaf_cost = ctx.opts.intersection_cost * float(n);
     const float parent_area = node_box.half_area();
-    float cmin[3], scale[3];
+    float scale[3];
     for (int a = 0; a < 3; ++a) {
-        cmin[a] = centroid_box.lo[a];
-        const float extent = centroid_box.hi[a] - cmin[a];
+        const float extent = centroid_box.hi[a] - centroid_box.lo[a];
         scale[a] = extent > 0.0f ? float(nbins) / extent : 0.0f;
         if (!std::isfinite(scale[a])) scale[a] = 0.0f;
     }
+    const Binner binner(centroid_box, nbins, scale);
     thread_local Bins3 tl_bins;  // one per thread: no allocation per node
     Bins3* bins = &tl_bins;
     const int workers = n >= kParallelBinMin ? std::min(ctx.opts.threads, 8) : 1;
@@ -78,9 +123,9 @@ SplitResult split_binned_sah(BuildContext& ctx, std::uint32_t begin, std::uint32
             const std::uint32_t b = std::min(end, begin + chunk * std::uint32_t(w));
             const std::uint32_t e = std::min(end, b + chunk);
             Bins3* out = parts[std::size_t(w - 1)].get();
-            futs.push_back(std::async(std::launch::async, [&, b, e, out] { bin_range(ctx, b, e, nbins, cmin, scale, *out); }));
+            futs.push_back(std::async(std::launch::async, [&, b, e, out] { bin_range(ctx, b, e, binner, *out); }));
         }
-        bin_range(ctx, begin, std::min(end, begin + chunk), nbins, cmin, scale, *bins);
+        bin_range(ctx, begin, std::min(end, begin + chunk), binner, *bins);
         for (auto& f : futs) f.get();
         for (const auto& part : parts)
             for (int a = 0; a < 3; ++a)
@@ -89,46 +134,78 @@ SplitResult split_binned_sah(BuildContext& ctx, std::uint32_t begin, std::uint32
                     bins->bins[a][b].count += part->bins[a][b].count;
                 }
     } else {
-        bin_range(ctx, begin, end, nbins, cmin, scale, *bins);
+        bin_range(ctx, begin, end, binner, *bins);
     }
+
+    // The SAH minimum needs only the numerator A_L N_L + A_R N_R: the cost is
+    // Ct + Ci * numerator / A, monotonic in it.
     Split best;
-    best.cost = std::numeric_limits<float>::infinity();
+    float best_num = std::numeric_limits<float>::infinity();
     float right_area[kMaxBins];
     std::uint32_t right_count[kMaxBins];
     for (int axis = 0; axis < 3; ++axis) {
         if (scale[axis] == 0.0f) continue;
         const Bin* bn = bins->bins[axis];
-        Aabb acc;
+        Box4 acc;
         std::uint32_t cnt = 0;
         for (int b = nbins - 1; b > 0; --b) {
             acc.grow(bn[b].box);
             cnt += bn[b].count;
-            right_area[b] = acc.half_area();
+            right_area[b] = cnt ? half_area(acc) : 0.0f;
             right_count[b] = cnt;
         }
-        acc = Aabb{};
+        acc = Box4{};
         cnt = 0;
         for (int b = 1; b < nbins; ++b) {
             acc.grow(bn[b - 1].box);
             cnt += bn[b - 1].count;
             if (cnt == 0 || right_count[b] == 0) continue;
-            const float cost = ctx.opts.traversal_cost +
-                               ctx.opts.intersection_cost *
-                                   (acc.half_area() * float(cnt) + right_area[b] * float(right_count[b])) / parent_area;
-            if (cost < best.cost) best = {axis, b, cost};
+            const float num = half_area(acc) * float(cnt) + right_area[b] * float(right_count[b]);
+            if (num < best_num) {
+                best_num = num;
+                best.axis = axis;
+                best.bin = b;
+            }
         }
     }
+    best.cost = ctx.opts.traversal_cost + ctx.opts.intersection_cost * best_num / parent_area;
     SplitResult r;
-    if (best.axis < 0) return r;  // no usable split: caller falls back
+    if (best.axis < 0) return r;  // no usable split: the caller falls back
     r.make_leaf = best.cost >= leaf_cost && n <= std::uint32_t(ctx.opts.max_leaf_size);
     if (r.make_leaf) return r;
-    const int axis = best.axis;
-    std::uint32_t* first = ctx.ids.data() + begin;
-    std::uint32_t* mid = std::partition(first, ctx.ids.data() + end, [&](std::uint32_t p) {
-        return std::min(nbins - 1, int((ctx.centroids[p][axis] - cmin[axis]) * scale[axis])) < best.bin;
-    });
-    r.mid = begin + std::uint32_t(mid - first);
+
+    // Partition in place, gathering both children's bounds on the way.
+    alignas(16) std::int32_t idx[4];
+    auto goes_left = [&](const PrimRef& p) {
+        _mm_store_si128(reinterpret_cast<__m128i*>(idx), binner.index(load_c(p)));
+        return idx[best.axis] < best.bin;
+    };
+    Box4 lbox, lcbox, rbox, rcbox;
+    auto add_left = [&](const PrimRef& p) {
+        lbox.grow(load_lo(p), load_hi(p));
+        const __m128 c = load_c(p);
+        lcbox.grow(c, c);
+    };
+    auto add_right = [&](const PrimRef& p) {
+        rbox.grow(load_lo(p), load_hi(p));
+        const __m128 c = load_c(p);
+        rcbox.grow(c, c);
+    };
+    std::uint32_t i = begin, j = end;  // [begin, i) left, [j, end) right
+    PrimRef* refs = ctx.refs.data();
+    for (;;) {
+        while (i < j && goes_left(refs[i])) add_left(refs[i++]);
+        while (i < j && !goes_left(refs[j - 1])) add_right(refs[--j]);
+        if (i >= j) break;
+        std::swap(refs[i], refs[j - 1]);
+        add_left(refs[i++]);
+        add_right(refs[--j]);
+    }
+    r.mid = i;
     r.found = true;
+    r.has_bounds = true;
+    r.left = {lbox.aabb(), lcbox.aabb()};
+    r.right = {rbox.aabb(), rcbox.aabb()};
     return r;
 }
 

@@ -1,5 +1,7 @@
 #pragma once
 // The shared top-down driver: every builder supplies only a split rule.
+// Primitives are PrimRefs (box, centroid, id) kept contiguous and partitioned
+// in place, so every pass over a node's range streams through memory.
 #include <atomic>
 #include <cstdint>
 #include <span>
@@ -9,21 +11,37 @@
 
 namespace simdbvh::detail {
 
+struct alignas(16) PrimRef {  // 48 bytes; lo and hi load as 16-byte vectors
+    Vec3 lo;
+    std::uint32_t id;
+    Vec3 hi;
+    float pad0;
+    Vec3 c;  // centroid, as given by the caller
+    float pad1;
+    Aabb box() const { return {lo, hi}; }
+};
+static_assert(sizeof(PrimRef) == 48);
+
 struct BuildContext {
-    std::span<const Aabb> boxes;
-    std::span<const Vec3> centroids;
-    std::vector<std::uint32_t> ids;  // the permutation being partitioned
+    std::vector<PrimRef> refs;  // partitioned in place
     BuildOptions opts;
     std::atomic<int> spare_threads{0};
 };
 
+struct Bounds {  // a range's box and centroid box
+    Aabb box, cbox;
+};
+Bounds range_bounds(const BuildContext& ctx, std::uint32_t begin, std::uint32_t end);
+
 struct SplitResult {
-    bool found = false;      // split found: ids[begin, mid) left, [mid, end) right
+    bool found = false;      // split found: refs[begin, mid) left, [mid, end) right
     bool make_leaf = false;  // the rule prefers a leaf (e.g. SAH leaf cost wins)
     std::uint32_t mid = 0;
+    bool has_bounds = false;  // the rule computed the children's bounds while partitioning
+    Bounds left, right;
 };
 
-// A split rule partitions ctx.ids[begin, end) in place.
+// A split rule partitions ctx.refs[begin, end) in place.
 using SplitFn = SplitResult (*)(BuildContext& ctx, std::uint32_t begin, std::uint32_t end, const Aabb& node_box,
                                 const Aabb& centroid_box, int depth);
 

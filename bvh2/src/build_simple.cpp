@@ -7,10 +7,15 @@ namespace simdbvh::detail {
 
 namespace {
 
+SplitResult leaf_result() {
+    SplitResult r;
+    r.make_leaf = true;
+    return r;
+}
+
 SplitResult partition_at(BuildContext& ctx, std::uint32_t begin, std::uint32_t end, int axis, float pos) {
-    std::uint32_t* first = ctx.ids.data() + begin;
-    std::uint32_t* mid = std::partition(first, ctx.ids.data() + end,
-                                        [&](std::uint32_t p) { return ctx.centroids[p][axis] < pos; });
+    PrimRef* first = ctx.refs.data() + begin;
+    PrimRef* mid = std::partition(first, ctx.refs.data() + end, [&](const PrimRef& p) { return p.c[axis] < pos; });
     SplitResult r;
     r.mid = begin + std::uint32_t(mid - first);
     r.found = r.mid > begin && r.mid < end;
@@ -19,9 +24,9 @@ SplitResult partition_at(BuildContext& ctx, std::uint32_t begin, std::uint32_t e
 
 // Sorts ids[begin, end) by centroid along an axis, ties by id (deterministic).
 void sort_axis(BuildContext& ctx, std::uint32_t begin, std::uint32_t end, int axis) {
-    std::sort(ctx.ids.begin() + begin, ctx.ids.begin() + end, [&](std::uint32_t a, std::uint32_t b) {
-        const float ca = ctx.centroids[a][axis], cb = ctx.centroids[b][axis];
-        return ca < cb || (ca == cb && a < b);
+    std::sort(ctx.refs.begin() + begin, ctx.refs.begin() + end, [&](const PrimRef& a, const PrimRef& b) {
+        const float ca = a.c[axis], cb = b.c[axis];
+        return ca < cb || (ca == cb && a.id < b.id);
     });
 }
 
@@ -31,7 +36,7 @@ void sort_axis(BuildContext& ctx, std::uint32_t begin, std::uint32_t end, int ax
 // midpoint, leaf at <= 4 triangles (or the depth cap).
 SplitResult split_midpoint(BuildContext& ctx, std::uint32_t begin, std::uint32_t end, const Aabb&,
                            const Aabb& cbox, int) {
-    if (end - begin <= 4) return {false, true, 0};
+    if (end - begin <= 4) return leaf_result();
     const int axis = cbox.largest_axis();
     return partition_at(ctx, begin, end, axis, cbox.center()[axis]);
 }
@@ -40,20 +45,23 @@ SplitResult split_midpoint(BuildContext& ctx, std::uint32_t begin, std::uint32_t
 // split the list in half; one primitive per leaf.
 SplitResult split_median(BuildContext& ctx, std::uint32_t begin, std::uint32_t end, const Aabb&, const Aabb&,
                          int depth) {
-    if (end - begin <= 1) return {false, true, 0};
+    if (end - begin <= 1) return leaf_result();
     sort_axis(ctx, begin, end, depth % 3);
-    return {true, false, begin + (end - begin) / 2};
+    SplitResult r;
+    r.found = true;
+    r.mid = begin + (end - begin) / 2;
+    return r;
 }
 
 // Seed 002: the axis of greatest centroid variance (Welford's method), split
 // at the mean; leaf when at most max_leaf_size triangles remain.
 SplitResult split_variance(BuildContext& ctx, std::uint32_t begin, std::uint32_t end, const Aabb&, const Aabb&,
                            int) {
-    if (end - begin <= std::uint32_t(ctx.opts.max_leaf_size)) return {false, true, 0};
+    if (end - begin <= std::uint32_t(ctx.opts.max_leaf_size)) return leaf_result();
     double mean[3] = {0, 0, 0}, m2[3] = {0, 0, 0};
     double k = 0;
     for (std::uint32_t i = begin; i < end; ++i) {
-        const Vec3 c = ctx.centroids[ctx.ids[i]];
+        const Vec3 c = ctx.refs[i].c;
         k += 1;
         for (int a = 0; a < 3; ++a) {
             const double d = double(c[a]) - mean[a];

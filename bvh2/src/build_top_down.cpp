@@ -22,13 +22,10 @@ struct Builder {
     // Builds the subtree of ids[begin, end) with its root at nodes[0] (already
     // allocated). Children of a node are allocated as a pair at the end of
     // `nodes`, after the parent's whole left subtree is complete.
-    void build(std::vector<Node2>& nodes, std::uint32_t at, std::uint32_t begin, std::uint32_t end, int depth) {
-        Aabb box, cbox;
-        for (std::uint32_t i = begin; i < end; ++i) {
-            const std::uint32_t p = ctx.ids[i];
-            box.grow(ctx.boxes[p]);
-            cbox.grow(ctx.centroids[p]);
-        }
+    void build(std::vector<Node2>& nodes, std::uint32_t at, std::uint32_t begin, std::uint32_t end, int depth,
+               const Bounds& bounds) {
+        const Aabb& box = bounds.box;
+        const Aabb& cbox = bounds.cbox;
         nodes[at].box = box;
         const std::uint32_t n = end - begin;
         auto make_leaf = [&] { nodes[at].first = begin; nodes[at].count = n; };
@@ -39,6 +36,11 @@ struct Builder {
         if (!r.found || r.mid <= begin || r.mid >= end) {
             if (n <= leaf_size) return make_leaf();
             r.mid = begin + n / 2;  // object median: keeps order, always progresses
+            r.has_bounds = false;
+        }
+        if (!r.has_bounds) {
+            r.left = range_bounds(ctx, begin, r.mid);
+            r.right = range_bounds(ctx, r.mid, end);
         }
         const std::uint32_t left = std::uint32_t(nodes.size());
         nodes[at].first = left;
@@ -48,15 +50,15 @@ struct Builder {
         if (n >= kTaskMin && ctx.spare_threads.fetch_sub(1) > 0) {
             std::vector<Node2> right_nodes(1);
             auto fut = std::async(std::launch::async,
-                                  [&] { build(right_nodes, 0, mid, end, depth + 1); });
-            build(nodes, left, begin, mid, depth + 1);
+                                  [&] { build(right_nodes, 0, mid, end, depth + 1, r.right); });
+            build(nodes, left, begin, mid, depth + 1, r.left);
             fut.get();
             ctx.spare_threads.fetch_add(1);
             splice(nodes, left + 1, right_nodes);
         } else {
             if (n >= kTaskMin) ctx.spare_threads.fetch_add(1);
-            build(nodes, left, begin, mid, depth + 1);
-            build(nodes, left + 1, mid, end, depth + 1);
+            build(nodes, left, begin, mid, depth + 1, r.left);
+            build(nodes, left + 1, mid, end, depth + 1, r.right);
         }
     }
 
@@ -74,15 +76,27 @@ struct Builder {
 
 }  // namespace
 
+Bounds range_bounds(const BuildContext& ctx, std::uint32_t begin, std::uint32_t end) {
+    Bounds b;
+    for (std::uint32_t i = begin; i < end; ++i) {
+        const PrimRef& r = ctx.refs[i];
+        b.box.grow(r.box());
+        b.cbox.grow(r.c);
+    }
+    return b;
+}
+
 Bvh2Topology build_top_down(BuildContext& ctx, SplitFn split, std::uint32_t leaf_size) {
     Bvh2Topology topo;
-    if (ctx.ids.empty()) return topo;
+    if (ctx.refs.empty()) return topo;
     ctx.spare_threads = std::max(0, ctx.opts.threads - 1);
-    topo.nodes.reserve(2 * ctx.ids.size());
+    topo.nodes.reserve(2 * ctx.refs.size());
     topo.nodes.resize(1);
     Builder b{ctx, split, std::max<std::uint32_t>(1, leaf_size)};
-    b.build(topo.nodes, 0, 0, std::uint32_t(ctx.ids.size()), 0);
-    topo.prim_ids = std::move(ctx.ids);
+    const auto n = std::uint32_t(ctx.refs.size());
+    b.build(topo.nodes, 0, 0, n, 0, range_bounds(ctx, 0, n));
+    topo.prim_ids.resize(ctx.refs.size());
+    for (std::size_t i = 0; i < ctx.refs.size(); ++i) topo.prim_ids[i] = ctx.refs[i].id;
     return topo;
 }
 

@@ -28,7 +28,9 @@ void parallel_for(std::size_t n, int threads, const std::function<void(std::size
     std::mutex error_mutex;
     auto work = [&](int k) {
 #ifdef SIMDBVH_CAN_PIN
-        if (opts.pin) pin_current_thread_to_core(k);
+        // Workers we start are pinned one per core; the caller's thread (k = 0)
+        // keeps its own affinity: the library never changes it.
+        if (opts.pin && k > 0) pin_current_thread_to_core(k % std::max(1, topology().physical_cores));
 #else
         (void)k;
 #endif

@@ -9,7 +9,7 @@ namespace simdbvh {
 
 struct ParallelOptions {
     std::size_t grain = 2048;  // rays per chunk
-    bool pin = true;           // pin worker k to core k (hwloc) when available
+    bool pin = true;           // pin started worker k to core k (hwloc) when available; never the caller
 };
 
 void parallel_for(std::size_t n, int threads, const std::function<void(std::size_t, std::size_t)>& body,
