@@ -19,26 +19,11 @@ struct StackEntry {
 // than the tree is deep.
 constexpr int kStackSize = kMaxDepth + 1;
 
-// The plain slab test (BoxTest::plain): intersect_box without Ize's far
-// widening; the traversal also culls without kCullWiden. A comparison
-// variant only: it may reject a box whose triangle the ray hits.
-inline bool intersect_box_plain(const PreparedRay& r, const Aabb& b, float tmax, float* entry) {
-    const float nx = r.near_x ? b.hi.x : b.lo.x, fx = r.near_x ? b.lo.x : b.hi.x;
-    const float ny = r.near_y ? b.hi.y : b.lo.y, fy = r.near_y ? b.lo.y : b.hi.y;
-    const float nz = r.near_z ? b.hi.z : b.lo.z, fz = r.near_z ? b.lo.z : b.hi.z;
-    const float t0x = (nx - r.org.x) * r.rdir.x, t1x = (fx - r.org.x) * r.rdir.x;
-    const float t0y = (ny - r.org.y) * r.rdir.y, t1y = (fy - r.org.y) * r.rdir.y;
-    const float t0z = (nz - r.org.z) * r.rdir.z, t1z = (fz - r.org.z) * r.rdir.z;
-    const float tn = max_ps(t0x, max_ps(t0y, max_ps(t0z, r.tmin)));
-    const float tf = min_ps(t1x, min_ps(t1y, min_ps(t1z, tmax)));
-    *entry = tn;
-    return tn <= tf;
-}
-
 template <BoxTest kBox>
 inline bool box_test(const PreparedRay& r, const Aabb& b, float tmax, float* entry) {
-    if constexpr (kBox == BoxTest::conservative) return intersect_box(r, b, tmax, entry);
-    else return intersect_box_plain(r, b, tmax, entry);
+    // BoxTest::plain: no Ize widening (and no kCullWiden below). A comparison
+    // variant only: it may reject a box whose triangle the ray hits.
+    return intersect_box(r, b, tmax, entry, kBox == BoxTest::conservative ? kFarWiden : 1.0f);
 }
 template <BoxTest kBox>
 constexpr float kCull = kBox == BoxTest::conservative ? kCullWiden : 1.0f;

@@ -9,7 +9,8 @@ namespace simdbvh {
 // Returns true when the ray's [tmin, tmax] interval overlaps the box; *entry
 // receives the entry distance (>= tmin). Zero direction components give
 // +-inf or NaN slab distances; NaN is discarded by the min_ps/max_ps order.
-inline bool intersect_box(const PreparedRay& r, const Aabb& b, float tmax, float* entry) {
+// `widen` = 1 gives the plain (non-conservative) slab test, a comparison variant.
+inline bool intersect_box(const PreparedRay& r, const Aabb& b, float tmax, float* entry, float widen = kFarWiden) {
     const float nx = r.near_x ? b.hi.x : b.lo.x, fx = r.near_x ? b.lo.x : b.hi.x;
     const float ny = r.near_y ? b.hi.y : b.lo.y, fy = r.near_y ? b.lo.y : b.hi.y;
     const float nz = r.near_z ? b.hi.z : b.lo.z, fz = r.near_z ? b.lo.z : b.hi.z;
@@ -17,7 +18,7 @@ inline bool intersect_box(const PreparedRay& r, const Aabb& b, float tmax, float
     const float t0y = (ny - r.org.y) * r.rdir.y, t1y = (fy - r.org.y) * r.rdir.y;
     const float t0z = (nz - r.org.z) * r.rdir.z, t1z = (fz - r.org.z) * r.rdir.z;
     const float tn = max_ps(t0x, max_ps(t0y, max_ps(t0z, r.tmin)));
-    const float tf = min_ps(t1x, min_ps(t1y, min_ps(t1z, tmax))) * kFarWiden;
+    const float tf = min_ps(t1x, min_ps(t1y, min_ps(t1z, tmax))) * widen;
     *entry = tn;
     return tn <= tf;
 }
