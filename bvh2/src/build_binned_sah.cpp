@@ -168,7 +168,9 @@ SplitResult split_binned_sah(BuildContext& ctx, std::uint32_t begin, std::uint32
             }
         }
     }
-    best.cost = ctx.opts.traversal_cost + ctx.opts.intersection_cost * best_num / parent_area;
+    // A flat parent (zero area: collinear or coincident boxes) makes every split cost the same.
+    best.cost = parent_area > 0.0f ? ctx.opts.traversal_cost + ctx.opts.intersection_cost * best_num / parent_area
+                                   : ctx.opts.traversal_cost;
     SplitResult r;
     if (best.axis < 0) return r;  // no usable split: the caller falls back
     r.make_leaf = best.cost >= leaf_cost && n <= std::uint32_t(ctx.opts.max_leaf_size);

@@ -77,7 +77,9 @@ TEST_P(Families, DefaultPathAgreesWithReferenceAndPathsAreBitIdentical) {
         // t errors (ill-conditioned t on near-degenerate triangles) are allowed
         // only within the float error bound of the reference.
         EXPECT_EQ(tally.hard_disagreements(), 0u) << compare::to_string(tally);
-        if (GetParam() != Family::degenerate) EXPECT_GT(n_hit, 0u);
+        // (At offsets >= 1e6 the float spacing is 0.06..1, the meshes' size: they
+        // collapse and may legitimately be missed by every ray.)
+        if (GetParam() != Family::degenerate && c.offset < 1e6) EXPECT_GT(n_hit, 0u);
         for (Isa isa : supported_isas()) {
             const Bvh8 b8 = Bvh8::build(bvh);
             EXPECT_LE(b8.stats().depth, BuildOptions{}.max_depth);

@@ -111,7 +111,11 @@ SIMDBVH_FORCE_INLINE bool lane_result(const RayPack<Arch>& r, const Tri8& b, con
                                       const float* t, const float* un, const float* vn, const float* den, int i,
                                       float tmax, float* ot, float* ou, float* ov) {
     if constexpr (kTest == TriangleTest::watertight) {
-        if ((l.exact >> i) & 1u) return detail::watertight_exact(r.ray, b, i, tmax, ot, ou, ov);
+        if ((l.exact >> i) & 1u) {
+            if (r.ray) return detail::watertight_exact(*r.ray, b, i, tmax, ot, ou, ov);
+            const PreparedRay pr = prepare(*r.src);
+            return detail::watertight_exact(pr, b, i, tmax, ot, ou, ov);
+        }
         *ot = t[i];
         *ou = un[i] / den[i];
         *ov = vn[i] / den[i];

@@ -51,7 +51,9 @@ inline PreparedRay prepare(const Ray& r) {
     p.tmax = r.tmax;
     const bool dir_ok = is_finite(r.dir) && (r.dir.x != 0.0f || r.dir.y != 0.0f || r.dir.z != 0.0f);
     p.valid = dir_ok && is_finite(r.org) && !std::isnan(r.tmin) && !std::isnan(r.tmax) && r.tmin <= r.tmax;
-    p.rdir = {1.0f / r.dir.x, 1.0f / r.dir.y, 1.0f / r.dir.z};
+    // 1/(+-0) = +-inf, written without dividing by zero (UBSan's float-divide-by-zero).
+    auto rcp = [](float d) { return d != 0.0f ? 1.0f / d : std::copysign(std::numeric_limits<float>::infinity(), d); };
+    p.rdir = {rcp(r.dir.x), rcp(r.dir.y), rcp(r.dir.z)};
     p.near_x = std::signbit(p.rdir.x) ? 1 : 0;
     p.near_y = std::signbit(p.rdir.y) ? 1 : 0;
     p.near_z = std::signbit(p.rdir.z) ? 1 : 0;

@@ -1,0 +1,23 @@
+// libFuzzer target: the ray and hit file readers (raw little-endian records).
+// Allowed outcome: records, or simdbvh::Error (a size that is not a multiple
+// of the record size). Anything else is a finding.
+#include <cstdlib>
+
+#include "fuzz_util.h"
+#include "simdbvh/kernels/error.h"
+#include "simdbvh/scene/rays.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    const auto path = simdbvh::fuzz::write_input("in.bin", data, size);
+    try {
+        const auto rays = simdbvh::scene::read_rays(path);
+        if (rays.size() * 32 != size) std::abort();
+    } catch (const simdbvh::Error&) {
+    }
+    try {
+        const auto hits = simdbvh::scene::read_hits(path);
+        if (hits.size() * 16 != size) std::abort();
+    } catch (const simdbvh::Error&) {
+    }
+    return 0;
+}
