@@ -25,6 +25,7 @@ struct ReportInputs {
     bool quick = false;
     int threads_all = 1;
     std::string readme;  // non-empty: replace the README's results block
+    std::string command; // the command line that produced the records
 };
 
 void write_report(const ReportInputs& in);

@@ -216,6 +216,8 @@ int cmd_bench(const std::vector<std::string>& args) {
         progress("rendering pictures and charts into " + report_dir, true);
         ReportInputs in{report_dir, json_file, scene_name, why, machine, &mesh, &records, quick, all};
         in.readme = o.get("readme");
+        in.command = "simdbvh bench";
+        for (const std::string& a : args) in.command += " " + a;
         write_report(in);
         std::cout << "wrote " << report_dir << "/report.md\n";
     }

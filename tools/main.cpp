@@ -14,16 +14,20 @@ namespace {
 
 constexpr const char* kUsage = R"(usage: simdbvh <command> [options]
 commands:
-  info     --scene S [--builder B] [--collapse C]       triangles, bounds, build time, tree statistics
+  info     --scene S [--builder B] [--bins N] [--collapse sah|greedy]   triangles, bounds, both trees' statistics
   gen-rays --scene S --kind K --count N [--seed K] --out RAYS.bin
-           K: primary | incoherent | diffuse, or a ray family (its own mesh: --mesh-out MESH.ply [--case C] [--quick];
-              --scene only for random): watertight | offsets | axis-aligned | surface-start | grazing | needles |
-              degenerate | random
-  trace    --scene S --rays RAYS.bin --out HITS.bin [--method M] [--any-hit] [--isa I] [--builder B] [--threads N]
-           M: brute | bvh2 | bvh8 | embree | spheres (--quality medium|high, --robust)
-  bench    [--scene S] [--quick] [--threads N] [--json FILE] [--report DIR]
+           K: primary | incoherent | diffuse, or a ray family with its own mesh (--mesh-out MESH.ply
+              [--case C] [--quick]; --scene only for random): watertight | offsets | axis-aligned |
+              surface-start | grazing | needles | degenerate | random
+  trace    --scene S --rays RAYS.bin --out HITS.bin [--method M] [--any-hit] [--stats] [--threads N]
+           [--isa I] [--builder B] [--bins N] [--collapse C] [--test watertight|moller]
+           [--box conservative|plain] [--quality medium|high] [--robust] [--drop-invalid]
+           M: brute | bvh2 | bvh8 | embree | spheres
+  bench    [--scene S] [--quick] [--threads N] [--json FILE] [--report DIR] [--readme README.md]
+           every method: build, Mrays/s (1 thread, all cores), accuracy; report with charts and pictures
   render   --scene S --out IMG.png [--method M] [--heatmap] [--width W] [--height H]
-  panel    [--scene S] [--quick] [--json FILE] [--report DIR]   build quality per builder
+  panel    [--scene S] [--quick] [--json FILE] [--report DIR]          build quality per builder
+  accuracy [--quick] [--family F] [--report DIR] [--json FILE] [--no-embree]   ray families x method variants
 S is a scene name (dragon, dragon-res2..4, bunny, teapot, icosphere[-N], soup[-N], terrain) or a mesh file
 (.ply .obj .stl .off, optionally .gz). SIMDBVH_ISA=scalar|avx2|avx512 or --isa forces the ISA.
 )";
