@@ -1,10 +1,10 @@
 #pragma once
-// BVH8 single-ray stack traversal, templated on the 8-wide kernels K (the
+// BVH8 stack traversal (several rays in flight per batch, see trace_span), templated on the 8-wide kernels K (the
 // scalar reference loops in scalar/, xsimd in avx2/ and avx512/). Included
 // only by the per-ISA translation units; everything here is a template on K so
 // no ISA-encoded copy can be shared between them.
 //
-// K provides: RayData pack(PreparedRay); uint32 box8(RayData, Box8, tmax,
+// K provides: void pack(RayData&, PreparedRay, const Ray& (outlives the RayData)); uint32 box8(RayData, Box8, tmax,
 // float entries[8]) (hit mask, entry distances); closest<Test>(RayData, Tri8,
 // Hit& best); bool any<Test>(RayData, Tri8, tmax, Hit&).
 //
@@ -29,9 +29,9 @@ struct StackEntry {
     float entry;
 };
 
-// Prefetch a child's lines (a Node8: 4 lines; a leaf: its first Tri8 block,
-// 320 bytes at 32-byte alignment: up to 6 lines) as soon as its box is hit, so the misses of the children that are
-// pushed overlap the traversal of the nearer subtree.
+// Prefetch the lines of the next node or leaf a ray will visit (a Node8: 4
+// lines; a leaf: its first Tri8 block, 320 bytes at 32-byte alignment: up to
+// 6 lines) at the end of its step, so the miss overlaps the other rays' steps.
 inline __attribute__((always_inline)) void prefetch_child(const Node8* nodes, const Tri8* blocks, Child8 c) {
     const char* p = c.count == 0 ? reinterpret_cast<const char*>(nodes + c.index)
                                  : reinterpret_cast<const char*>(blocks + c.index);
@@ -45,87 +45,131 @@ inline __attribute__((always_inline)) void prefetch_child(const Node8* nodes, co
     }
 }
 
-template <class K, TriangleTest kTest, bool kAnyHit, bool kStats>
-inline __attribute__((always_inline)) Hit traverse(const Node8* nodes, const Tri8* blocks, bool empty, const Ray& ray,
-                                                   TraceStats* stats) {
-    Hit best;
-    const PreparedRay r = prepare(ray);
-    if constexpr (kStats) stats->rays++;
-    if (!r.valid || empty) return best;
-    const typename K::RayData rd = K::pack(r);
-    best.t = r.tmax;
+// One ray's traversal state. No default member initializers (the stack must
+// stay uninitialized).
+template <class K>
+struct RayState {
+    typename K::RayData rd;
+    Hit best;   // closest hit so far; best.t = current tmax (any hit: the ray's tmax, then the hit)
+    Child8 cur; // next node or leaf to visit
+    int sp;
+    std::size_t ray;  // index in the batch
     StackEntry stack[kStackSize];
-    int sp = 0;
-    Child8 cur{0, 0};
-    for (;;) {
-        if (cur.count == 0) {
-            const Node8& n = nodes[cur.index];
-            if constexpr (kStats) {
-                stats->nodes_visited++;
-                stats->box_tests += 8;
-            }
-            alignas(32) float entries[8];
-            std::uint32_t mask = K::box8(rd, n.boxes, best.t * kCullWiden, entries);
-            if (mask != 0) {
-                for (std::uint32_t m = mask; m != 0; m &= m - 1) prefetch_child(nodes, blocks, n.children[__builtin_ctz(m)]);
-                const int i0 = __builtin_ctz(mask);
-                mask &= mask - 1;
-                if (mask == 0) {  // one hit: descend
-                    cur = n.children[i0];
-                    continue;
-                }
-                const int i1 = __builtin_ctz(mask);
-                mask &= mask - 1;
-                if (mask == 0) {  // two hits: push the far one
-                    const bool first0 = entries[i0] <= entries[i1];
-                    const int nearer = first0 ? i0 : i1, farther = first0 ? i1 : i0;
-                    stack[sp++] = {n.children[farther].index, n.children[farther].count, entries[farther]};
-                    cur = n.children[nearer];
-                    continue;
-                }
-                // Three or more: insertion-sort them onto the stack, farthest
-                // deepest, then continue with the nearest (Embree sorts 2-4
-                // with a network; the stack slots are the sort buffer here).
-                const int base = sp;
-                auto insert = [&](int i) {
-                    const float e = entries[i];
-                    int k = sp++;
-                    while (k > base && stack[k - 1].entry < e) {
-                        stack[k] = stack[k - 1];
-                        --k;
-                    }
-                    stack[k] = {n.children[i].index, n.children[i].count, e};
-                };
-                insert(i0);
-                insert(i1);
-                for (; mask != 0; mask &= mask - 1) insert(__builtin_ctz(mask));
-                --sp;
-                cur = Child8{stack[sp].index, stack[sp].count};
-                continue;
-            }
-        } else {
-            const Tri8* b = blocks + cur.index;
-            for (std::uint32_t k = 0; k < cur.count; ++k) {
-                if constexpr (kStats) stats->triangle_tests += 8;
-                if constexpr (kAnyHit) {
-                    Hit h;
-                    if (K::template any<kTest>(rd, b[k], best.t, h)) return h;
-                } else {
-                    K::template closest<kTest>(rd, b[k], best);
-                }
-            }
+};
+
+// One traversal step of ray `s`: visits s.cur (one Node8 or one leaf), then
+// sets s.cur to the next node or leaf to visit. Returns true when the ray is
+// finished, its result in s.best (Hit{} for a miss).
+template <class K, TriangleTest kTest, bool kAnyHit, bool kStats>
+inline __attribute__((always_inline)) bool step(const Node8* nodes, const Tri8* blocks, RayState<K>& s,
+                                                TraceStats* stats) {
+    const typename K::RayData& rd = s.rd;
+    Hit& best = s.best;
+    StackEntry* stack = s.stack;
+    if (s.cur.count == 0) {
+        const Node8& n = nodes[s.cur.index];
+        if constexpr (kStats) {
+            stats->nodes_visited++;
+            stats->box_tests += 8;
         }
-        // Pop the nearest pending child still in front of the closest hit.
-        for (;;) {
-            if (sp == 0) return best.hit() ? best : Hit{};
-            const StackEntry& s = stack[--sp];
-            if (s.entry <= best.t * kCullWiden) {
-                cur = Child8{s.index, s.count};
-                break;
+        alignas(32) float entries[8];
+        std::uint32_t mask = K::box8(rd, n.boxes, best.t * kCullWiden, entries);
+        if (mask != 0) {
+            const int i0 = __builtin_ctz(mask);
+            mask &= mask - 1;
+            if (mask == 0) {  // one hit: descend
+                s.cur = n.children[i0];
+                return false;
+            }
+            const int i1 = __builtin_ctz(mask);
+            mask &= mask - 1;
+            int sp = s.sp;
+            if (mask == 0) {  // two hits: push the far one
+                const bool first0 = entries[i0] <= entries[i1];
+                const int nearer = first0 ? i0 : i1, farther = first0 ? i1 : i0;
+                stack[sp++] = {n.children[farther].index, n.children[farther].count, entries[farther]};
+                s.sp = sp;
+                s.cur = n.children[nearer];
+                return false;
+            }
+            // Three or more: insertion-sort them onto the stack, farthest
+            // deepest, then continue with the nearest (Embree sorts 2-4
+            // with a network; the stack slots are the sort buffer here).
+            const int base = sp;
+            auto insert = [&](int i) {
+                const float e = entries[i];
+                int k = sp++;
+                while (k > base && stack[k - 1].entry < e) {
+                    stack[k] = stack[k - 1];
+                    --k;
+                }
+                stack[k] = {n.children[i].index, n.children[i].count, e};
+            };
+            insert(i0);
+            insert(i1);
+            for (; mask != 0; mask &= mask - 1) insert(__builtin_ctz(mask));
+            --sp;
+            s.sp = sp;
+            s.cur = Child8{stack[sp].index, stack[sp].count};
+            return false;
+        }
+    } else {
+        const Tri8* b = blocks + s.cur.index;
+        for (std::uint32_t k = 0; k < s.cur.count; ++k) {
+            if constexpr (kStats) stats->triangle_tests += 8;
+            if constexpr (kAnyHit) {
+                Hit h;
+                if (K::template any<kTest>(rd, b[k], best.t, h)) {
+                    best = h;
+                    return true;
+                }
+            } else {
+                K::template closest<kTest>(rd, b[k], best);
             }
         }
     }
+    // Pop the nearest pending child still in front of the closest hit.
+    int sp = s.sp;
+    for (;;) {
+        if (sp == 0) {
+            if (!best.hit()) best = Hit{};
+            return true;
+        }
+        const StackEntry& e = stack[--sp];
+        if (e.entry <= best.t * kCullWiden) {
+            s.cur = Child8{e.index, e.count};
+            s.sp = sp;
+            return false;
+        }
+    }
 }
+
+// Starts ray `i` in `s`; false (and hits[i] written) when it cannot hit anything.
+template <class K, bool kStats>
+inline __attribute__((always_inline)) bool start(RayState<K>& s, const Ray& ray, std::size_t i, bool empty,
+                                                 Hit* hits, TraceStats* stats) {
+    const PreparedRay r = prepare(ray);
+    if constexpr (kStats) stats->rays++;
+    if (!r.valid || empty) {
+        hits[i] = Hit{};
+        return false;
+    }
+    K::pack(s.rd, r, ray);  // a pack keeps no pointer to r (a copy of r here was a store-forwarding stall)
+    s.best = Hit{};
+    s.best.t = r.tmax;
+    s.cur = Child8{0, 0};
+    s.sp = 0;
+    s.ray = i;
+    return true;
+}
+
+// Rays in flight per batch loop: each step ends with its next node or leaf
+// prefetched, and the other rays' steps run while those lines arrive (the
+// traversal of incoherent rays is bound by the latency of those misses).
+#ifndef SIMDBVH_BVH8_IN_FLIGHT
+#define SIMDBVH_BVH8_IN_FLIGHT 8
+#endif
+inline constexpr int kInFlight = SIMDBVH_BVH8_IN_FLIGHT;
 
 template <class K, TriangleTest kTest, bool kAnyHit, bool kStats>
 inline __attribute__((always_inline)) void trace_span(const Bvh8& bvh, std::span<const Ray> rays, std::span<Hit> hits,
@@ -133,8 +177,35 @@ inline __attribute__((always_inline)) void trace_span(const Bvh8& bvh, std::span
     const Node8* nodes = bvh.nodes().data();
     const Tri8* blocks = bvh.blocks().data();
     const bool empty = bvh.nodes().empty();
-    for (std::size_t i = 0; i < rays.size(); ++i)
-        hits[i] = traverse<K, kTest, kAnyHit, kStats>(nodes, blocks, empty, rays[i], stats);
+    const std::size_t n = rays.size();
+    RayState<K> states[kInFlight];
+    int live[kInFlight];
+    int nlive = 0;
+    std::size_t next = 0;
+    auto refill = [&](int slot) {
+        while (next < n) {
+            const std::size_t i = next++;
+            if (start<K, kStats>(states[slot], rays[i], i, empty, hits.data(), stats)) return true;
+        }
+        return false;
+    };
+    for (int w = 0; w < kInFlight; ++w)
+        if (refill(w)) live[nlive++] = w;
+    while (nlive > 0) {
+        for (int k = 0; k < nlive;) {
+            RayState<K>& s = states[live[k]];
+            if (!step<K, kTest, kAnyHit, kStats>(nodes, blocks, s, stats)) {
+                prefetch_child(nodes, blocks, s.cur);
+            } else {
+                hits[s.ray] = s.best;
+                if (!refill(live[k])) {
+                    live[k] = live[--nlive];
+                    continue;
+                }
+            }
+            ++k;
+        }
+    }
 }
 
 // The per-ISA entry: test and stats chosen once per batch.

@@ -11,7 +11,7 @@ namespace {
 
 struct ScalarKernels {
     using RayData = PreparedRay;
-    static RayData pack(const PreparedRay& r) { return r; }
+    static void pack(RayData& d, const PreparedRay& r, const Ray&) { d = r; }
     static std::uint32_t box8(const PreparedRay& r, const Box8& b, float tmax, float* entries) {
         std::uint32_t m = 0;
         for (int i = 0; i < 8; ++i) m |= std::uint32_t(intersect_box(r, b.get(i), tmax, &entries[i])) << i;
