@@ -11,6 +11,7 @@
 #include "common.h"
 #include "image.h"
 #include "methods.h"
+#include "simdbvh/compare/embree.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/scene/rays.h"
 
@@ -159,7 +160,10 @@ void write_report(const ReportInputs& in) {
     std::ostringstream md;
     md << "# simdbvh bench report\n\nScene **" << in.scene << "** (" << mesh.size() << " triangles)"
        << (in.scene_why.empty() ? "" : ": " + in.scene_why) << ".\n\nMachine: " << in.machine
-       << "\n\nCommand: `" << in.command << "`\n\nRatios in parentheses are against `embree/medium/default` in the same run. Mrays/s are medians of "
+       << "\n\nCommand: `" << in.command << "`\n\nEmbree " << compare::EmbreeScene::version()
+       << " (Debian libembree3): the one-thread rows use a device configured with `threads=1`, the all-core rows "
+          "`threads=" << in.threads_all << "`; rays are traced with rtcIntersect1/rtcOccluded1 from our own threads."
+       << "\n\nRatios in parentheses are against `embree/medium/default` in the same run. Mrays/s are medians of "
           "repetitions; `brute` runs on the accuracy sample only.\n\n## One thread\n\n"
        << speed_table(recs, 1) << "\n";
     if (in.threads_all > 1) md << "## All cores (" << in.threads_all << " threads, pinned)\n\n" << speed_table(recs, in.threads_all) << "\n";
