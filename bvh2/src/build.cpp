@@ -2,6 +2,7 @@
 #include <string>
 
 #include "build_common.h"
+#include "tree_shape.h"
 #include "simdbvh/bvh2/bvh2.h"
 #include "simdbvh/kernels/error.h"
 
@@ -84,21 +85,9 @@ Bvh2 Bvh2::build(const Mesh& mesh, const BuildOptions& opts) {
     s.nodes = topo.nodes.size();
     s.triangles = n;
     s.sah_cost = sah_cost(topo, opts.traversal_cost, opts.intersection_cost);
-    // Depth and leaf count by an explicit walk.
-    if (!topo.nodes.empty()) {
-        std::vector<std::pair<std::uint32_t, int>> stack{{0u, 1}};
-        while (!stack.empty()) {
-            auto [i, d] = stack.back();
-            stack.pop_back();
-            s.depth = std::max(s.depth, d);
-            const Node2& nd = topo.nodes[i];
-            if (nd.is_leaf()) ++s.leaves;
-            else {
-                stack.push_back({nd.first, d + 1});
-                stack.push_back({nd.first + 1, d + 1});
-            }
-        }
-    }
+    const detail::TreeShape shape = detail::tree_shape(topo.nodes);
+    s.depth = shape.depth;
+    s.leaves = shape.leaves;
     s.bytes_per_triangle =
         n ? double(topo.nodes.size() * sizeof(Node2) + topo.prim_ids.size() * (sizeof(std::uint32_t) + sizeof(TriangleVerts))) /
                 double(n)

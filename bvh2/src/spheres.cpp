@@ -1,6 +1,5 @@
 // Seed 002's bounding-sphere hierarchy: the variance topology, one sphere per
 // node, a stack traversal with a conservative ray/sphere test.
-#include "simdbvh/bvh2/spheres.h"
 
 #include <algorithm>
 #include <array>
@@ -10,6 +9,8 @@
 
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/kernels/parallel.h"
+#include "simdbvh/bvh2/spheres.h"
+#include "tree_shape.h"
 
 namespace simdbvh {
 
@@ -111,18 +112,9 @@ SphereBvh SphereBvh::build(const Mesh& mesh, const BuildOptions& in) {
             cost += (nd.is_leaf() ? opts.intersection_cost * double(nd.count) : opts.traversal_cost) * ratio;
         }
         s.sphere_sah_cost = cost;
-        std::vector<std::pair<std::uint32_t, int>> stack{{0u, 1}};
-        while (!stack.empty()) {
-            auto [i, d] = stack.back();
-            stack.pop_back();
-            s.depth = std::max(s.depth, d);
-            const SphereNode& nd = bvh.nodes_[i];
-            if (nd.is_leaf()) ++s.leaves;
-            else {
-                stack.push_back({nd.first, d + 1});
-                stack.push_back({nd.first + 1, d + 1});
-            }
-        }
+        const detail::TreeShape shape = detail::tree_shape(bvh.nodes_);
+        s.depth = shape.depth;
+        s.leaves = shape.leaves;
     }
     s.bytes_per_triangle =
         n ? double(nn * sizeof(SphereNode) + topo.prim_ids.size() * (sizeof(std::uint32_t) + sizeof(TriangleVerts))) /

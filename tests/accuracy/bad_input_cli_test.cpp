@@ -18,6 +18,7 @@
 
 #include "simdbvh/kernels/ray.h"
 #include "simdbvh/scene/rays.h"
+#include "support/cli.h"
 #include "support/scene.h"
 
 namespace fs = std::filesystem;
@@ -25,23 +26,11 @@ namespace fs = std::filesystem;
 namespace simdbvh {
 namespace {
 
-struct CliRun {
-    int status = -1;
-    std::string output;  // stdout and stderr
-};
+using test::CliRun;
 
-// `prefix` runs in the same shell first (ulimit, trap).
 CliRun run(const std::string& args, const std::string& prefix = "") {
-    CliRun r;
-    const char* cli = std::getenv("SIMDBVH_CLI");
-    if (!cli) return r;
-    const std::string cmd = prefix + std::string(cli) + " " + args + " 2>&1";
-    FILE* p = popen(cmd.c_str(), "r");
-    char buf[4096];
-    std::size_t n;
-    while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
-    const int st = pclose(p);
-    r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+    CliRun r = test::run_cli(args, prefix);
+    EXPECT_NE(r.status, -1) << r.output;
     return r;
 }
 

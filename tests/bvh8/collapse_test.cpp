@@ -1,10 +1,13 @@
 // Structure of the two build steps, checked separately: collapse (the wide
-// topology, collapse.h) and pack (Node8 / Tri8 blocks). Triangle conservation,
-// child boxes bounding their subtrees, <= 8 children, leaf sizes, empty slots
-// last and never hit, and the SAH collapse never costing more than greedy.
+// topology, collapse.h) and pack (Node8 / Tri8 blocks, small leaves sharing
+// blocks). Triangle conservation, child boxes bounding their subtrees, <= 8
+// children, leaf sizes, empty slots last and never hit, and the SAH collapse
+// never costing more than greedy.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
 
 #include "collapse.h"
@@ -75,22 +78,37 @@ void check_topology(const Mesh& mesh, const Bvh2& bvh2, const bvh8::WideTopology
     EXPECT_LE(depth, kMaxDepth);
 }
 
+// Small leaves (<= 8 triangles) share Tri8 blocks with siblings of the same
+// node (Child8 in bvh8.h): each in one block, on its own lanes. Checked: every
+// triangle on exactly one lane of one block, each leaf's lanes hold exactly its
+// triangles (inside its box), the sharing masks, the lanes of a block are the
+// disjoint union of its leaves' lanes filled from lane 0, empty lanes NaN, a
+// block referenced by one node only, and first fit (no two of a node's shared
+// blocks would fit in one).
 void check_packed(const Mesh& mesh, const Bvh2& bvh2, const bvh8::WideTopology& topo, const Bvh8& b,
                   const Bvh8Options& o, const std::string& what) {
     SCOPED_TRACE(what);
     const auto& nodes = b.nodes();
     const auto& blocks = b.blocks();
+    const auto& ids = bvh2.prim_ids();
     ASSERT_EQ(nodes.size(), topo.nodes.size());
+    if (!blocks.empty()) {
+        EXPECT_EQ(reinterpret_cast<std::uintptr_t>(blocks.data()) % 64, 0u) << "Tri8 blocks not 64-byte aligned";
+    }
     std::vector<int> seen(mesh.size(), 0);
-    std::vector<int> block_refs(blocks.size(), 0);
-    std::size_t used = 0, leaves = 0;
+    std::vector<std::int64_t> block_node(blocks.size(), -1);  // the node whose leaves use the block
+    std::vector<std::uint32_t> block_lanes(blocks.size(), 0); // lanes claimed by leaves
+    std::vector<int> block_leaves(blocks.size(), 0);
+    std::size_t used = 0, leaves = 0, shared = 0;
     for (std::size_t i = 0; i < nodes.size(); ++i) {
         const Node8& n = nodes[i];
         const bvh8::WideNode& w = topo.nodes[i];
+        std::vector<std::uint32_t> node_shared_blocks;
         for (int c = 0; c < 8; ++c) {
             const Aabb box = n.boxes.get(c);
             if (c >= w.child_count) {  // empty slots: at the end, +inf/-inf, marked
                 EXPECT_EQ(n.children[c].count, kInvalidPrim);
+                EXPECT_TRUE(n.children[c].is_empty());
                 EXPECT_TRUE(std::isinf(box.lo.x) && box.lo.x > 0 && std::isinf(box.hi.x) && box.hi.x < 0);
                 EXPECT_TRUE(std::isinf(box.lo.y) && box.lo.y > 0 && std::isinf(box.hi.y) && box.hi.y < 0);
                 EXPECT_TRUE(std::isinf(box.lo.z) && box.lo.z > 0 && std::isinf(box.hi.z) && box.hi.z < 0);
@@ -101,52 +119,123 @@ void check_packed(const Mesh& mesh, const Bvh2& bvh2, const bvh8::WideTopology& 
             EXPECT_EQ(box.lo, wc.box.lo);
             EXPECT_EQ(box.hi, wc.box.hi);
             const Child8 ch = n.children[c];
-            ASSERT_NE(ch.count, kInvalidPrim);
-            if (ch.count == 0) {
+            ASSERT_FALSE(ch.is_empty());
+            if (ch.is_inner()) {
                 EXPECT_EQ(ch.index, wc.index);
+                EXPECT_FALSE(wc.is_leaf());
                 continue;
             }
+            ASSERT_TRUE(wc.is_leaf());
             ++leaves;
-            ASSERT_LE(std::size_t(ch.index) + ch.count, blocks.size());
-            EXPECT_EQ(ch.count, (wc.count + 7) / 8);
-            std::uint32_t tris = 0;
-            for (std::uint32_t k = ch.index; k < ch.index + ch.count; ++k) {
-                block_refs[k]++;
-                const Tri8& blk = blocks[k];
-                bool ended = false;
-                for (int lane = 0; lane < 8; ++lane) {
-                    if (blk.prim[lane] == kInvalidPrim) {  // empty lanes: NaN, only at the end of the leaf's last block
-                        ended = true;
-                        EXPECT_EQ(k, ch.index + ch.count - 1);
-                        EXPECT_TRUE(std::isnan(blk.v0x[lane]) && std::isnan(blk.v1y[lane]) && std::isnan(blk.v2z[lane]));
-                        continue;
+            const std::uint32_t nb = ch.blocks();
+            ASSERT_LE(std::size_t(ch.index) + nb, blocks.size());
+            // The leaf's (block, lane) positions.
+            std::vector<std::pair<std::uint32_t, int>> mine;
+            if (wc.count <= 8) {
+                ASSERT_EQ(nb, 1u);
+                EXPECT_EQ(std::uint32_t(__builtin_popcount(ch.own_lanes())), wc.count);
+                const std::uint32_t sh = ch.sharing_slots();
+                if (sh != 0) {
+                    EXPECT_TRUE(sh & (1u << c)) << "sharing mask without its own slot";
+                    EXPECT_GE(__builtin_popcount(sh), 2);
+                    for (int d = 0; d < 8; ++d) {
+                        if (!(sh & (1u << d))) continue;
+                        ASSERT_LT(d, w.child_count);
+                        EXPECT_FALSE(n.children[d].is_inner() || n.children[d].is_empty());
+                        EXPECT_EQ(n.children[d].index, ch.index) << "slot " << d << " in the sharing mask";
+                        EXPECT_EQ(n.children[d].sharing_slots(), sh);
                     }
-                    EXPECT_FALSE(ended) << "filled lane after an empty one";
-                    const std::uint32_t p = blk.prim[lane];
-                    ASSERT_LT(p, mesh.size());
-                    seen[p]++;
-                    ++tris;
-                    EXPECT_EQ(blk.v0(lane), mesh.vertex(p, 0));
-                    EXPECT_EQ(blk.v1(lane), mesh.vertex(p, 1));
-                    EXPECT_EQ(blk.v2(lane), mesh.vertex(p, 2));
-                    EXPECT_TRUE(box.contains(tri_box(mesh, p)));
+                }
+                for (int d = 0; d < w.child_count; ++d)  // every sibling on the same block is in the mask
+                    if (d != c && !n.children[d].is_inner() && n.children[d].index == ch.index) {
+                        EXPECT_TRUE(sh & (1u << d)) << "slot " << d << " shares the block, not in the mask";
+                    }
+                if (sh != 0 && std::uint32_t(__builtin_ctz(sh)) == std::uint32_t(c)) {
+                    node_shared_blocks.push_back(ch.index);
+                    ++shared;
+                }
+                for (int lane = 0; lane < 8; ++lane)
+                    if (ch.own_lanes() & (1u << lane)) mine.push_back({ch.index, lane});
+                EXPECT_EQ(block_lanes[ch.index] & ch.own_lanes(), 0u) << "two leaves on one lane";
+                block_lanes[ch.index] |= ch.own_lanes();
+                block_leaves[ch.index]++;
+                if (block_node[ch.index] >= 0) {
+                    EXPECT_EQ(block_node[ch.index], std::int64_t(i)) << "block shared across nodes";
+                }
+                block_node[ch.index] = std::int64_t(i);
+            } else {  // a large leaf owns its blocks, lanes from 0
+                EXPECT_EQ(nb, (wc.count + 7) / 8);
+                EXPECT_EQ(ch.own_lanes(), 0u);
+                EXPECT_EQ(ch.sharing_slots(), 0u);
+                for (std::uint32_t k = 0; k < nb; ++k) {
+                    const std::uint32_t blk = ch.index + k;
+                    EXPECT_EQ(block_leaves[blk], 0) << "large leaf's block used twice";
+                    block_leaves[blk]++;
+                    block_node[blk] = std::int64_t(i);
+                    const std::uint32_t n_here = std::min(8u, wc.count - k * 8);
+                    block_lanes[blk] = (1u << n_here) - 1u;
+                    for (std::uint32_t lane = 0; lane < n_here; ++lane) mine.push_back({blk, int(lane)});
                 }
             }
-            EXPECT_EQ(tris, wc.count);
+            // Exactly the leaf's triangles, each inside its box.
+            ASSERT_EQ(mine.size(), wc.count);
+            std::vector<std::uint32_t> want, got;
+            for (std::uint32_t k = wc.index; k < wc.index + wc.count; ++k) want.push_back(ids[topo.prims[k]]);
+            for (auto [blk, lane] : mine) {
+                const Tri8& t = blocks[blk];
+                const std::uint32_t p = t.prim[lane];
+                ASSERT_LT(p, mesh.size()) << "leaf lane " << lane << " of block " << blk << " is empty";
+                got.push_back(p);
+                seen[p]++;
+                EXPECT_EQ(t.v0(lane), mesh.vertex(p, 0));
+                EXPECT_EQ(t.v1(lane), mesh.vertex(p, 1));
+                EXPECT_EQ(t.v2(lane), mesh.vertex(p, 2));
+                EXPECT_TRUE(box.contains(tri_box(mesh, p)));
+            }
+            std::sort(want.begin(), want.end());
+            std::sort(got.begin(), got.end());
+            EXPECT_EQ(got, want);
+        }
+        // First fit: no two of the node's shared-or-not small-leaf blocks fit in one.
+        std::vector<std::uint32_t> small_blocks;
+        for (int c = 0; c < w.child_count; ++c) {
+            const Child8 ch = n.children[c];
+            if (!ch.is_inner() && w.children[c].count <= 8 &&
+                std::find(small_blocks.begin(), small_blocks.end(), ch.index) == small_blocks.end())
+                small_blocks.push_back(ch.index);
+        }
+        for (std::size_t x = 0; x < small_blocks.size(); ++x)
+            for (std::size_t y = x + 1; y < small_blocks.size(); ++y)
+                EXPECT_GT(__builtin_popcount(block_lanes[small_blocks[x]]) + __builtin_popcount(block_lanes[small_blocks[y]]), 8)
+                    << "node " << i << ": blocks " << small_blocks[x] << " and " << small_blocks[y] << " would fit in one";
+    }
+    // Every block used; its lanes are its leaves' lanes, filled from lane 0; the rest empty (NaN, kInvalidPrim).
+    for (std::size_t k = 0; k < blocks.size(); ++k) {
+        ASSERT_GE(block_leaves[k], 1) << "block " << k << " unreferenced";
+        const std::uint32_t lanes = block_lanes[k];
+        EXPECT_EQ(lanes & (lanes + 1), 0u) << "block " << k << ": lanes not filled from 0";
+        for (int lane = 0; lane < 8; ++lane) {
+            const Tri8& blk = blocks[k];
+            if (lanes & (1u << lane)) continue;
+            EXPECT_EQ(blk.prim[lane], kInvalidPrim) << "block " << k << " lane " << lane;
+            EXPECT_TRUE(std::isnan(blk.v0x[lane]) && std::isnan(blk.v1y[lane]) && std::isnan(blk.v2z[lane]));
         }
     }
     // Every triangle of the BVH2 exactly once (degenerate triangles left out of the BVH2 stay out).
     std::vector<int> in_bvh2(mesh.size(), 0);
     for (std::uint32_t p : bvh2.prim_ids()) in_bvh2[p] = 1;
     for (std::size_t p = 0; p < mesh.size(); ++p) ASSERT_EQ(seen[p], in_bvh2[p]) << "triangle " << p;
-    for (std::size_t k = 0; k < block_refs.size(); ++k) ASSERT_EQ(block_refs[k], 1) << "block " << k;
     const Bvh8Stats& s = b.stats();
     EXPECT_EQ(s.nodes, nodes.size());
     EXPECT_EQ(s.leaves, leaves);
     EXPECT_EQ(s.blocks, blocks.size());
+    EXPECT_EQ(s.shared_blocks, shared);
     EXPECT_EQ(s.triangles, bvh2.prim_ids().size());
     EXPECT_EQ(s.depth, topo.depth);
     EXPECT_DOUBLE_EQ(s.fill_rate, double(used) / (8.0 * double(nodes.size())));
+    EXPECT_DOUBLE_EQ(s.block_fill, double(s.triangles) / (8.0 * double(blocks.size())));
+    EXPECT_DOUBLE_EQ(s.bytes_per_triangle,
+                     double(nodes.size() * sizeof(Node8) + blocks.size() * sizeof(Tri8)) / double(s.triangles));
     EXPECT_DOUBLE_EQ(s.sah_cost, bvh8::sah_cost(topo, o));
     EXPECT_GT(s.bytes_per_triangle, 0);
 }
@@ -222,7 +311,7 @@ TEST(Bvh8Collapse, EmptySlotsNeverHit) {
             const PreparedRay r = prepare(ray);
             for (const Node8& n : b.nodes())
                 for (int c = 0; c < 8; ++c) {
-                    if (n.children[c].count != kInvalidPrim) continue;
+                    if (!n.children[c].is_empty()) continue;
                     ++empty_slots;
                     float e;
                     ASSERT_FALSE(intersect_box(r, n.boxes.get(c), std::numeric_limits<float>::infinity(), &e));

@@ -13,6 +13,7 @@
 
 #include "simdbvh/bvh2/bvh2.h"
 #include "simdbvh/scene/rays.h"
+#include "support/cli.h"
 #include "simdbvh/scene/scenes.h"
 
 namespace fs = std::filesystem;
@@ -20,23 +21,11 @@ namespace fs = std::filesystem;
 namespace simdbvh {
 namespace {
 
-struct CliRun {
-    int status = -1;
-    std::string output;  // stdout and stderr
-};
+using test::CliRun;
 
-CliRun run(const std::string& args) {
-    const char* cli = std::getenv("SIMDBVH_CLI");
-    EXPECT_NE(cli, nullptr) << "SIMDBVH_CLI is not set";
-    CliRun r;
-    if (!cli) return r;
-    const std::string cmd = std::string(cli) + " " + args + " 2>&1";
-    FILE* p = popen(cmd.c_str(), "r");
-    char buf[4096];
-    std::size_t n;
-    while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
-    const int st = pclose(p);
-    r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+CliRun run(const std::string& args, const std::string& prefix = "") {
+    CliRun r = test::run_cli(args, prefix);
+    EXPECT_NE(r.status, -1) << r.output;
     return r;
 }
 
