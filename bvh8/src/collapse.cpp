@@ -9,7 +9,9 @@
 //   C(n, i) = min(C_dist(n, i), C(n, i - 1))
 //   C_dist(n, j) = min_k C(left, k) + C(right, j - k)
 // Leaf cost adapted to our leaf format: a leaf is tested one whole Tri8 block
-// at a time, so n triangles cost Cb * ceil(n / 8) * A(n) (block_cost Cb), and
+// at a time, so n triangles cost Cb * ceil(n / 8) * A(n) (block_cost Cb; small
+// leaves share blocks with their siblings in memory, pack.cpp, but a visit
+// still tests one whole block), and
 // C_leaf = inf above max_leaf_size (a BVH2 leaf that is already larger is kept).
 //
 // Greedy: start from the two children of a BVH2 node and repeatedly replace the

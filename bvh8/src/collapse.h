@@ -41,7 +41,7 @@ double sah_cost(const WideTopology& topo, const Bvh8Options& opts);
 
 // Step 2: packs the topology into Node8 / Tri8 blocks and fills the stats
 // (all but build_ms and sah_cost).
-void pack(const Bvh2& bvh2, const WideTopology& topo, std::vector<Node8>& nodes, std::vector<Tri8>& blocks,
+void pack(const Bvh2& bvh2, const WideTopology& topo, std::vector<Node8>& nodes, Tri8Blocks& blocks,
           Bvh8Stats& stats);
 
 }  // namespace simdbvh::bvh8

@@ -10,7 +10,9 @@
 //
 // Counters (TraceOptions::stats): nodes_visited = Node8s visited; box_tests
 // and triangle_tests count SIMD lanes, 8 per Node8 test and 8 per Tri8 block
-// (empty slots and lanes included).
+// (empty slots and lanes included; a block shared by several hit leaves of one
+// node counts once).
+#include <algorithm>
 #include <cstdint>
 #include <span>
 
@@ -30,8 +32,8 @@ struct StackEntry {
 };
 
 // Prefetch the lines of the next node or leaf a ray will visit (a Node8: 4
-// lines; a leaf: its first Tri8 block, 320 bytes at 32-byte alignment: up to
-// 6 lines) at the end of its step, so the miss overlaps the other rays' steps.
+// lines; a leaf: its first Tri8 block, 320 bytes at 64-byte alignment: 5
+// lines) at the end of its step, so the miss overlaps the other rays' steps.
 inline __attribute__((always_inline)) void prefetch_child(const Node8* nodes, const Tri8* blocks, Child8 c) {
     const char* p = c.count == 0 ? reinterpret_cast<const char*>(nodes + c.index)
                                  : reinterpret_cast<const char*>(blocks + c.index);
@@ -39,10 +41,27 @@ inline __attribute__((always_inline)) void prefetch_child(const Node8* nodes, co
     __builtin_prefetch(p + 64);
     __builtin_prefetch(p + 128);
     __builtin_prefetch(p + 192);
-    if (c.count != 0) {
-        __builtin_prefetch(p + 256);
-        __builtin_prefetch(p + 319);
+    if (c.count != 0) __builtin_prefetch(p + 256);
+}
+
+// Hit leaf siblings sharing one Tri8 block (Child8::sharing_slots) are merged
+// into the lowest hit slot at the nearest of their entry distances, so the
+// block is tested once. Called with two or more hits in `mask`.
+inline __attribute__((always_inline)) std::uint32_t merge_shared(const Node8& n, std::uint32_t mask,
+                                                                 float* entries) {
+    for (std::uint32_t m = mask; m != 0;) {
+        const int i = __builtin_ctz(m);
+        const std::uint32_t group = n.children[i].sharing_slots() & mask;  // i is its lowest hit slot
+        m &= m - 1;
+        const std::uint32_t others = group & ~(1u << i);
+        if (others == 0) continue;
+        m &= ~others;
+        mask &= ~others;
+        float e = entries[i];
+        for (std::uint32_t o = others; o != 0; o &= o - 1) e = std::min(e, entries[__builtin_ctz(o)]);
+        entries[i] = e;
     }
+    return mask;
 }
 
 // One ray's traversal state. No default member initializers (the stack must
@@ -74,6 +93,7 @@ inline __attribute__((always_inline)) bool step(const Node8* nodes, const Tri8* 
         }
         alignas(32) float entries[8];
         std::uint32_t mask = K::box8(rd, n.boxes, best.t * kCullWiden, entries);
+        if ((mask & (mask - 1)) != 0) mask = merge_shared(n, mask, entries);
         if (mask != 0) {
             const int i0 = __builtin_ctz(mask);
             mask &= mask - 1;
@@ -115,7 +135,8 @@ inline __attribute__((always_inline)) bool step(const Node8* nodes, const Tri8* 
         }
     } else {
         const Tri8* b = blocks + s.cur.index;
-        for (std::uint32_t k = 0; k < s.cur.count; ++k) {
+        const std::uint32_t nblocks = s.cur.blocks();
+        for (std::uint32_t k = 0; k < nblocks; ++k) {
             if constexpr (kStats) stats->triangle_tests += 8;
             if constexpr (kAnyHit) {
                 Hit h;
