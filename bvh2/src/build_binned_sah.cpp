@@ -138,33 +138,40 @@ SplitResult split_binned_sah(BuildContext& ctx, std::uint32_t begin, std::uint32
     }
 
     // The SAH minimum needs only the numerator A_L N_L + A_R N_R: the cost is
-    // Ct + Ci * numerator / A, monotonic in it.
+    // Ct + Ci * numerator / A, monotonic in it. Only boundaries between
+    // non-empty bins give distinct partitions, so the sweeps visit the
+    // non-empty bins only (small nodes have few); the chosen split is the
+    // first minimal bin boundary, as a sweep over every bin would pick.
     Split best;
     float best_num = std::numeric_limits<float>::infinity();
     float right_area[kMaxBins];
     std::uint32_t right_count[kMaxBins];
+    int used[kMaxBins];
     for (int axis = 0; axis < 3; ++axis) {
         if (scale[axis] == 0.0f) continue;
         const Bin* bn = bins->bins[axis];
+        int k = 0;
+        for (int b = 0; b < nbins; ++b)
+            if (bn[b].count) used[k++] = b;
+        if (k < 2) continue;
         Box4 acc;
         std::uint32_t cnt = 0;
-        for (int b = nbins - 1; b > 0; --b) {
-            acc.grow(bn[b].box);
-            cnt += bn[b].count;
-            right_area[b] = cnt ? half_area(acc) : 0.0f;
-            right_count[b] = cnt;
+        for (int j = k - 1; j > 0; --j) {
+            acc.grow(bn[used[j]].box);
+            cnt += bn[used[j]].count;
+            right_area[j] = half_area(acc);
+            right_count[j] = cnt;
         }
         acc = Box4{};
         cnt = 0;
-        for (int b = 1; b < nbins; ++b) {
-            acc.grow(bn[b - 1].box);
-            cnt += bn[b - 1].count;
-            if (cnt == 0 || right_count[b] == 0) continue;
-            const float num = half_area(acc) * float(cnt) + right_area[b] * float(right_count[b]);
+        for (int j = 1; j < k; ++j) {
+            acc.grow(bn[used[j - 1]].box);
+            cnt += bn[used[j - 1]].count;
+            const float num = half_area(acc) * float(cnt) + right_area[j] * float(right_count[j]);
             if (num < best_num) {
                 best_num = num;
                 best.axis = axis;
-                best.bin = b;
+                best.bin = used[j - 1] + 1;
             }
         }
     }
