@@ -76,7 +76,8 @@ struct AlignedAllocator {
     template <class U>
     AlignedAllocator(const AlignedAllocator<U, kAlign>&) noexcept {}
     T* allocate(std::size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), std::align_val_t(kAlign))); }
-    void deallocate(T* p, std::size_t n) noexcept { ::operator delete(p, n * sizeof(T), std::align_val_t(kAlign)); }
+    // Unsized aligned delete: clang without -fsized-deallocation has no sized form.
+    void deallocate(T* p, std::size_t) noexcept { ::operator delete(p, std::align_val_t(kAlign)); }
     template <class U>
     bool operator==(const AlignedAllocator<U, kAlign>&) const noexcept { return true; }
 };
