@@ -1,6 +1,7 @@
 // simdbvh accuracy: every ray family (ACCURACY.md) against every method
 // variant: throughput and the classification against the double reference,
 // plus each family's own expectation (must hit, must miss, no self-hit).
+#include <cstdlib>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -298,14 +299,6 @@ int cmd_accuracy(const std::vector<std::string>& args) {
         md << "| " << r.case_name << " | " << r.method << " | " << r.rays << " | " << r.triangles << " | " << r.depth
            << " | " << r.tally.leak << " | " << r.tally.false_hit << " | " << r.tally.wrong_triangle << " | "
            << r.tally.t_error << " | " << r.expect_violations << " | " << r.self_hits << " |\n";
-    const std::string text = md.str();
-    std::cout << text;
-    if (o.has("report")) {
-        const fs::path dir = o.get("report");
-        const std::string& t = text;
-        scene::write_file_atomic(dir / "accuracy.md", std::span(reinterpret_cast<const unsigned char*>(t.data()), t.size()));
-        std::cout << "\nwrote " << (dir / "accuracy.md").string() << "\n";
-    }
     std::ostringstream js;
     js << "{\n  \"command\": \"accuracy\", \"quick\": " << (quick ? "true" : "false") << ", \"seed\": " << fo.seed
        << ", \"isa\": \"" << name(active_isa()) << "\",\n  \"rows\": [\n";
@@ -328,6 +321,27 @@ int cmd_accuracy(const std::vector<std::string>& args) {
     };
     if (o.has("json")) write_json(o.get("json"));
     if (o.has("report")) write_json(fs::path(o.get("report")) / "accuracy.json");
+    // Charts (scripts/plot_accuracy.py, matplotlib) next to the report.
+    bool charts = false;
+    if (o.has("report")) {
+        const fs::path dir = o.get("report");
+        const std::string py = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+        const std::string cmd = py + " '" SIMDBVH_SOURCE_DIR "/scripts/plot_accuracy.py' '" +
+                                (dir / "accuracy.json").string() + "' '" + dir.string() + "' >/dev/null";
+        charts = std::system(cmd.c_str()) == 0;
+        if (!charts) progress("warning: chart script failed (" + cmd + "); the report has tables only", true);
+    }
+    if (charts)
+        md << "\n## Charts\n\n![speed against accuracy](speed_vs_accuracy.png)\n\n"
+              "![leak rate and t error against offset](offsets.png)\n";
+    const std::string text = md.str();
+    std::cout << text;
+    if (o.has("report")) {
+        const fs::path dir = o.get("report");
+        const std::string& t = text;
+        scene::write_file_atomic(dir / "accuracy.md", std::span(reinterpret_cast<const unsigned char*>(t.data()), t.size()));
+        std::cout << "\nwrote " << (dir / "accuracy.md").string() << "\n";
+    }
     return 0;
 }
 
