@@ -49,6 +49,19 @@ Bvh2Topology build_topology(std::span<const Aabb> boxes, std::span<const Vec3> c
     throw Error("unknown builder");
 }
 
+Bvh2Topology build_topology(const Mesh& mesh, const BuildOptions& opts) {
+    const std::size_t n = mesh.triangles.size();
+    std::vector<Aabb> boxes(n);
+    std::vector<Vec3> centroids(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        Aabb b;
+        for (int k = 0; k < 3; ++k) b.grow(mesh.vertex(i, k));
+        boxes[i] = b;
+        centroids[i] = b.center();
+    }
+    return build_topology(boxes, centroids, opts);
+}
+
 double sah_cost(const Bvh2Topology& topo, float ct, float ci) {
     if (topo.nodes.empty()) return 0.0;
     const double root = topo.nodes[0].box.half_area();
@@ -63,15 +76,7 @@ Bvh2 Bvh2::build(const Mesh& mesh, const BuildOptions& opts) {
     const auto t0 = std::chrono::steady_clock::now();
     validate(mesh);
     const std::size_t n = mesh.triangles.size();
-    std::vector<Aabb> boxes(n);
-    std::vector<Vec3> centroids(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        Aabb b;
-        for (int k = 0; k < 3; ++k) b.grow(mesh.vertex(i, k));
-        boxes[i] = b;
-        centroids[i] = b.center();
-    }
-    Bvh2Topology topo = build_topology(boxes, centroids, opts);
+    Bvh2Topology topo = build_topology(mesh, opts);
     Bvh2 bvh;
     bvh.opts_ = opts;
     bvh.tris_.resize(topo.prim_ids.size());

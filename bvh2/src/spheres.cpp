@@ -37,15 +37,7 @@ SphereBvh SphereBvh::build(const Mesh& mesh, const BuildOptions& in) {
     BuildOptions opts = in;
     opts.builder = Builder::variance;
     const std::size_t n = mesh.triangles.size();
-    std::vector<Aabb> boxes(n);
-    std::vector<Vec3> centroids(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        Aabb b;
-        for (int k = 0; k < 3; ++k) b.grow(mesh.vertex(i, k));
-        boxes[i] = b;
-        centroids[i] = b.center();
-    }
-    Bvh2Topology topo = build_topology(boxes, centroids, opts);
+    Bvh2Topology topo = build_topology(mesh, opts);
     SphereBvh bvh;
     bvh.tris_.resize(topo.prim_ids.size());
     for (std::size_t i = 0; i < topo.prim_ids.size(); ++i) {

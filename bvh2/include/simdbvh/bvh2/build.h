@@ -44,6 +44,10 @@ struct Bvh2Topology {
 // with an empty box are left out of the tree (they can never be hit).
 Bvh2Topology build_topology(std::span<const Aabb> boxes, std::span<const Vec3> centroids, const BuildOptions& opts = {});
 
+// The same over a mesh's triangles (box of the three vertices, centroid = box centre).
+struct Mesh;
+Bvh2Topology build_topology(const Mesh& mesh, const BuildOptions& opts = {});
+
 // SAH cost of a topology: C = sum over inner nodes of Ct * A(n)/A(root) + sum over leaves of Ci * N * A(n)/A(root).
 double sah_cost(const Bvh2Topology& topo, float traversal_cost = 1.0f, float intersection_cost = 1.0f);
 
