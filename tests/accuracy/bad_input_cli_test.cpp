@@ -27,19 +27,14 @@ namespace simdbvh {
 namespace {
 
 using test::CliRun;
-
-CliRun run(const std::string& args, const std::string& prefix = "") {
-    CliRun r = test::run_cli(args, prefix);
-    EXPECT_NE(r.status, -1) << r.output;
-    return r;
-}
+using test::run_cli;
 
 class BadInput : public testing::Test {
 protected:
     void SetUp() override {
         if (!std::getenv("SIMDBVH_CLI")) GTEST_SKIP() << "SIMDBVH_CLI is not set (built without the tools)";
         rays_ = (dir_ / "r.bin").string();
-        ASSERT_EQ(run("gen-rays --scene icosphere-2 --kind incoherent --count 200 --out " + rays_).status, 0);
+        ASSERT_EQ(run_cli("gen-rays --scene icosphere-2 --kind incoherent --count 200 --out " + rays_).status, 0);
     }
     std::string file(const std::string& name, const std::string& bytes) {
         const fs::path p = dir_ / name;
@@ -49,7 +44,7 @@ protected:
     // trace must fail with status 2, name the file and every part, and leave no output.
     void expect_trace_error(const std::string& mesh, std::initializer_list<const char*> parts) {
         const std::string out = (dir_ / "never.hits").string();
-        const CliRun t = run("trace --scene " + mesh + " --rays " + rays_ + " --out " + out);
+        const CliRun t = run_cli("trace --scene " + mesh + " --rays " + rays_ + " --out " + out);
         EXPECT_EQ(t.status, 2) << mesh << "\n" << t.output;
         EXPECT_NE(t.output.find("simdbvh: "), std::string::npos) << t.output;
         EXPECT_NE(t.output.find(fs::path(mesh).filename().string()), std::string::npos) << t.output;
@@ -110,7 +105,7 @@ TEST_F(BadInput, NonFiniteVerticesRejectedWithCountAndFirstIndexOrDropped) {
                                              "f 1 2 3\nf 1 4 3\nf 2 5 6\nf 1 2 6\n");
     expect_trace_error(mesh, {"2 vertices", "vertex 3"});
     const std::string out = (dir_ / "o.hits").string();
-    const CliRun d = run("trace --scene " + mesh + " --rays " + rays_ + " --out " + out + " --drop-invalid");
+    const CliRun d = run_cli("trace --scene " + mesh + " --rays " + rays_ + " --out " + out + " --drop-invalid");
     EXPECT_EQ(d.status, 0) << d.output;
     EXPECT_NE(d.output.find("dropped 2 triangles"), std::string::npos) << d.output;
     EXPECT_EQ(scene::read_hits(out).size(), 200u);
@@ -129,7 +124,7 @@ TEST_F(BadInput, EmptyMeshEveryRayMisses) {
                                      {"e.off", "OFF\n0 0 0\n"}}) {
         const std::string mesh = file(name, text), out = (dir_ / (name + ".hits")).string();
         for (const char* m : {"bvh2", "bvh8", "brute", "embree"}) {
-            const CliRun t = run("trace --scene " + mesh + " --rays " + rays_ + " --out " + out + " --method " + m);
+            const CliRun t = run_cli("trace --scene " + mesh + " --rays " + rays_ + " --out " + out + " --method " + m);
             ASSERT_EQ(t.status, 0) << name << " " << m << "\n" << t.output;
             for (const Hit& h : scene::read_hits(out)) ASSERT_EQ(h, Hit{}) << name << " " << m;
         }
@@ -148,7 +143,7 @@ TEST_F(BadInput, InvalidRaysMissOnEveryMethod) {
     for (const char* m : {"bvh2", "bvh8", "brute", "embree"})
         for (const char* extra : {"", " --any-hit", " --test moller", " --box plain"}) {
             if (std::string(extra) == " --box plain" && std::string(m) != "bvh2") continue;
-            const CliRun t = run(std::string("trace --scene icosphere-2 --rays ") + rays + " --out " + out + " --method " + m + extra);
+            const CliRun t = run_cli(std::string("trace --scene icosphere-2 --rays ") + rays + " --out " + out + " --method " + m + extra);
             ASSERT_EQ(t.status, 0) << m << extra << "\n" << t.output;
             const auto hits = scene::read_hits(out);
             ASSERT_EQ(hits.size(), bad.size());
@@ -158,10 +153,10 @@ TEST_F(BadInput, InvalidRaysMissOnEveryMethod) {
 }
 
 TEST_F(BadInput, PlainBoxIsABvh2VariantOnly) {
-    const CliRun t = run("trace --scene icosphere-1 --rays " + rays_ + " --out x.hits --method bvh8 --box plain");
+    const CliRun t = run_cli("trace --scene icosphere-1 --rays " + rays_ + " --out x.hits --method bvh8 --box plain");
     EXPECT_EQ(t.status, 2);
     EXPECT_NE(t.output.find("--box plain"), std::string::npos) << t.output;
-    const CliRun u = run("trace --scene icosphere-1 --rays " + rays_ + " --out x.hits --box wobbly");
+    const CliRun u = run_cli("trace --scene icosphere-1 --rays " + rays_ + " --out x.hits --box wobbly");
     EXPECT_EQ(u.status, 2);
     EXPECT_NE(u.output.find("wobbly"), std::string::npos) << u.output;
 }
@@ -170,22 +165,22 @@ TEST_F(BadInput, PlainBoxIsABvh2VariantOnly) {
 // SIGXFSZ ignored); the command exits 2 and the earlier output is untouched.
 TEST_F(BadInput, FailedWriteLeavesEarlierOutputUntouched) {
     const std::string out = (dir_ / "keep.hits").string(), many = (dir_ / "many.bin").string();
-    ASSERT_EQ(run("gen-rays --scene icosphere-2 --kind incoherent --count 4000 --out " + many).status, 0);
-    ASSERT_EQ(run("trace --scene icosphere-2 --rays " + rays_ + " --out " + out).status, 0);
+    ASSERT_EQ(run_cli("gen-rays --scene icosphere-2 --kind incoherent --count 4000 --out " + many).status, 0);
+    ASSERT_EQ(run_cli("trace --scene icosphere-2 --rays " + rays_ + " --out " + out).status, 0);
     const std::string before = test::read_bytes(out);
     // 4000 hits = 64000 bytes > 16 blocks (512 or 1024 bytes, by shell); the ray file is only read.
-    const CliRun t = run("trace --scene icosphere-2 --rays " + many + " --out " + out, "trap '' XFSZ; ulimit -f 16; ");
+    const CliRun t = run_cli("trace --scene icosphere-2 --rays " + many + " --out " + out, "trap '' XFSZ; ulimit -f 16; ");
     EXPECT_EQ(t.status, 2) << t.output;
     EXPECT_NE(t.output.find(out), std::string::npos) << t.output;
     EXPECT_EQ(test::read_bytes(out), before);
     for (const auto& e : fs::directory_iterator(dir_.path()))
         EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << "stray " << e.path();
     // A missing folder: a clear error, nothing written.
-    const CliRun m = run("trace --scene icosphere-2 --rays " + rays_ + " --out " + (dir_ / "no/such/dir/x.hits").string());
+    const CliRun m = run_cli("trace --scene icosphere-2 --rays " + rays_ + " --out " + (dir_ / "no/such/dir/x.hits").string());
     EXPECT_EQ(m.status, 2);
     EXPECT_NE(m.output.find("no/such/dir"), std::string::npos) << m.output;
     // gen-rays --mesh-out and accuracy --json fail the same way.
-    const CliRun g = run("gen-rays --kind grazing --quick --out " + (dir_ / "g.bin").string() + " --mesh-out " +
+    const CliRun g = run_cli("gen-rays --kind grazing --quick --out " + (dir_ / "g.bin").string() + " --mesh-out " +
                       (dir_ / "no/g.ply").string());
     EXPECT_EQ(g.status, 2) << g.output;
     EXPECT_FALSE(fs::exists(dir_ / "g.bin"));
@@ -193,15 +188,15 @@ TEST_F(BadInput, FailedWriteLeavesEarlierOutputUntouched) {
 
 TEST_F(BadInput, FamilyKindsOwnTheirScene) {
     const std::string out = (dir_ / "f.bin").string(), mesh = (dir_ / "f.ply").string();
-    const CliRun a = run("gen-rays --kind watertight --scene bunny --out " + out);
+    const CliRun a = run_cli("gen-rays --kind watertight --scene bunny --out " + out);
     EXPECT_EQ(a.status, 2);
     EXPECT_NE(a.output.find("--mesh-out"), std::string::npos) << a.output;
-    const CliRun b = run("gen-rays --kind needles --quick --case nope --out " + out);
+    const CliRun b = run_cli("gen-rays --kind needles --quick --case nope --out " + out);
     EXPECT_EQ(b.status, 2);
     EXPECT_NE(b.output.find("needles/aspect1e7"), std::string::npos) << "lists the cases: " << b.output;
-    const CliRun c = run("gen-rays --kind watertight --quick --case watertight/torus --out " + out + " --mesh-out " + mesh);
+    const CliRun c = run_cli("gen-rays --kind watertight --quick --case watertight/torus --out " + out + " --mesh-out " + mesh);
     ASSERT_EQ(c.status, 0) << c.output;
-    const CliRun t = run("trace --scene " + mesh + " --rays " + out + " --out " + (dir_ / "f.hits").string());
+    const CliRun t = run_cli("trace --scene " + mesh + " --rays " + out + " --out " + (dir_ / "f.hits").string());
     ASSERT_EQ(t.status, 0) << t.output;
     for (const Hit& h : scene::read_hits(dir_ / "f.hits")) ASSERT_TRUE(h.hit()) << "watertight rays must hit";
 }

@@ -1,5 +1,7 @@
 #include "support/cli.h"
 
+#include <gtest/gtest.h>
+
 #include <sys/wait.h>
 
 #include <cstdio>
@@ -12,6 +14,7 @@ CliRun run_cli(const std::string& args, const std::string& prefix) {
     const char* cli = std::getenv("SIMDBVH_CLI");
     if (!cli) {
         r.output = "SIMDBVH_CLI is not set";
+        ADD_FAILURE() << r.output;
         return r;
     }
     const std::string cmd = prefix + std::string(cli) + " " + args + " 2>&1";
@@ -22,6 +25,7 @@ CliRun run_cli(const std::string& args, const std::string& prefix) {
     while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
     const int st = pclose(p);
     r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+    EXPECT_NE(r.status, -1) << "simdbvh did not exit normally: " << r.output;
     return r;
 }
 

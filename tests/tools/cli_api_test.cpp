@@ -22,12 +22,7 @@ namespace simdbvh {
 namespace {
 
 using test::CliRun;
-
-CliRun run(const std::string& args, const std::string& prefix = "") {
-    CliRun r = test::run_cli(args, prefix);
-    EXPECT_NE(r.status, -1) << r.output;
-    return r;
-}
+using test::run_cli;
 
 class Cli : public testing::Test {
 protected:
@@ -45,9 +40,9 @@ TEST_F(Cli, RoundTripMatchesTheApi) {
     for (const char* method : {"bvh2", "bvh8", "brute"}) {
         for (const char* kind : {"primary", "incoherent", "diffuse"}) {
             const std::string rays = path(std::string(kind) + ".bin"), hits = path(std::string(method) + kind + ".hits");
-            CliRun g = run("gen-rays --scene icosphere-3 --kind " + std::string(kind) + " --count 3000 --seed 5 --out " + rays);
+            CliRun g = run_cli("gen-rays --scene icosphere-3 --kind " + std::string(kind) + " --count 3000 --seed 5 --out " + rays);
             ASSERT_EQ(g.status, 0) << g.output;
-            CliRun t = run("trace --scene icosphere-3 --rays " + rays + " --out " + hits + " --method " + method);
+            CliRun t = run_cli("trace --scene icosphere-3 --rays " + rays + " --out " + hits + " --method " + method);
             ASSERT_EQ(t.status, 0) << t.output;
             EXPECT_NE(t.output.find("isa"), std::string::npos) << "the output names the ISA";
             const Mesh mesh = scene::load_scene("icosphere-3");
@@ -70,9 +65,9 @@ TEST_F(Cli, RoundTripMatchesTheApi) {
 
 TEST_F(Cli, AnyHitAgreesOnHitOrMiss) {
     const std::string rays = path("r.bin"), a = path("a.hits"), c = path("c.hits");
-    ASSERT_EQ(run("gen-rays --scene soup-2000 --kind incoherent --count 2000 --out " + rays).status, 0);
-    ASSERT_EQ(run("trace --scene soup-2000 --rays " + rays + " --out " + c).status, 0);
-    ASSERT_EQ(run("trace --scene soup-2000 --rays " + rays + " --out " + a + " --any-hit --method bvh8").status, 0);
+    ASSERT_EQ(run_cli("gen-rays --scene soup-2000 --kind incoherent --count 2000 --out " + rays).status, 0);
+    ASSERT_EQ(run_cli("trace --scene soup-2000 --rays " + rays + " --out " + c).status, 0);
+    ASSERT_EQ(run_cli("trace --scene soup-2000 --rays " + rays + " --out " + a + " --any-hit --method bvh8").status, 0);
     const auto hc = scene::read_hits(c), ha = scene::read_hits(a);
     ASSERT_EQ(hc.size(), ha.size());
     for (std::size_t i = 0; i < hc.size(); ++i) ASSERT_EQ(hc[i].hit(), ha[i].hit()) << "ray " << i;
@@ -81,7 +76,7 @@ TEST_F(Cli, AnyHitAgreesOnHitOrMiss) {
 TEST_F(Cli, BadRayFileExits2WithNoOutput) {
     const std::string rays = path("bad.bin"), out = path("out.hits");
     std::ofstream(rays, std::ios::binary) << std::string(100, 'x');  // not a multiple of 32
-    CliRun t = run("trace --scene icosphere-2 --rays " + rays + " --out " + out);
+    CliRun t = run_cli("trace --scene icosphere-2 --rays " + rays + " --out " + out);
     EXPECT_EQ(t.status, 2);
     EXPECT_NE(t.output.find(rays), std::string::npos) << t.output;
     EXPECT_NE(t.output.find("32"), std::string::npos) << t.output;
@@ -90,12 +85,12 @@ TEST_F(Cli, BadRayFileExits2WithNoOutput) {
 }
 
 TEST_F(Cli, UnknownOptionAndCommandExit2) {
-    CliRun a = run("trace --scene icosphere-2 --frobnicate 3");
+    CliRun a = run_cli("trace --scene icosphere-2 --frobnicate 3");
     EXPECT_EQ(a.status, 2);
     EXPECT_NE(a.output.find("--frobnicate"), std::string::npos) << a.output;
-    CliRun b = run("fly");
+    CliRun b = run_cli("fly");
     EXPECT_EQ(b.status, 2);
-    CliRun c = run("trace --scene icosphere-2 --rays x --out y --method magic");
+    CliRun c = run_cli("trace --scene icosphere-2 --rays x --out y --method magic");
     EXPECT_EQ(c.status, 2);
     EXPECT_NE(c.output.find("magic"), std::string::npos) << c.output;
 }
@@ -103,19 +98,19 @@ TEST_F(Cli, UnknownOptionAndCommandExit2) {
 TEST_F(Cli, MalformedMeshNamesTheFile) {
     const std::string mesh = path("broken.obj"), rays = path("r.bin"), out = path("o.hits");
     std::ofstream(mesh) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n";  // index out of range
-    ASSERT_EQ(run("gen-rays --scene icosphere-2 --kind incoherent --count 10 --out " + rays).status, 0);
-    CliRun t = run("trace --scene " + mesh + " --rays " + rays + " --out " + out);
+    ASSERT_EQ(run_cli("gen-rays --scene icosphere-2 --kind incoherent --count 10 --out " + rays).status, 0);
+    CliRun t = run_cli("trace --scene " + mesh + " --rays " + rays + " --out " + out);
     EXPECT_EQ(t.status, 2);
     EXPECT_NE(t.output.find("broken.obj"), std::string::npos) << t.output;
     EXPECT_FALSE(fs::exists(out));
     std::ofstream(mesh) << "v 0 0 nan\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
-    CliRun n = run("info --scene " + mesh);
+    CliRun n = run_cli("info --scene " + mesh);
     EXPECT_EQ(n.status, 2);
     EXPECT_NE(n.output.find("broken.obj"), std::string::npos) << n.output;
 }
 
 TEST_F(Cli, UnsupportedIsaIsAClearError) {
-    CliRun t = run("info --scene icosphere-1 --isa avx9000");
+    CliRun t = run_cli("info --scene icosphere-1 --isa avx9000");
     EXPECT_EQ(t.status, 2);
     EXPECT_NE(t.output.find("avx9000"), std::string::npos) << t.output;
 }

@@ -128,6 +128,17 @@ SIMDBVH_FORCE_INLINE bool lane_result(const RayPack<Arch>& r, const Tri8& b, con
     return true;
 }
 
+// Spills the lanes' t and barycentric numerators (and the watertight
+// denominator) for the per-lane loop; nothing when only exact lanes remain.
+template <class Arch, TriangleTest kTest>
+SIMDBVH_FORCE_INLINE void store_lanes(const Tri8Lanes<Arch>& l, float* t, float* un, float* vn, float* den) {
+    if (l.hits == 0) return;
+    l.t.store_aligned(t);
+    l.u_num.store_aligned(un);
+    l.v_num.store_aligned(vn);
+    if constexpr (kTest == TriangleTest::watertight) l.den.store_aligned(den);
+}
+
 // Closest hit: updates `best` (interval [tmin, best.t], tie rule closer())
 // with the block's closest lane; returns whether `best` changed.
 template <class Arch, TriangleTest kTest>
@@ -137,12 +148,7 @@ SIMDBVH_FORCE_INLINE bool intersect_tri8(const RayPack<Arch>& r, const Tri8& b, 
     std::uint32_t m = l.hits | l.exact;
     if (m == 0) return false;
     alignas(32) float t[8], un[8], vn[8], den[8];
-    if (l.hits != 0) {  // only exact lanes: nothing to store
-        l.t.store_aligned(t);
-        l.u_num.store_aligned(un);
-        l.v_num.store_aligned(vn);
-        if constexpr (kTest == TriangleTest::watertight) l.den.store_aligned(den);
-    }
+    store_lanes<Arch, kTest>(l, t, un, vn, den);
     bool changed = false;
     for (; m != 0; m &= m - 1) {
         const int i = __builtin_ctz(m);
@@ -165,12 +171,7 @@ SIMDBVH_FORCE_INLINE bool occluded_tri8(const RayPack<Arch>& r, const Tri8& b, f
     std::uint32_t m = l.hits | l.exact;
     if (m == 0) return false;
     alignas(32) float t[8], un[8], vn[8], den[8];
-    if (l.hits != 0) {  // only exact lanes: nothing to store
-        l.t.store_aligned(t);
-        l.u_num.store_aligned(un);
-        l.v_num.store_aligned(vn);
-        if constexpr (kTest == TriangleTest::watertight) l.den.store_aligned(den);
-    }
+    store_lanes<Arch, kTest>(l, t, un, vn, den);
     for (; m != 0; m &= m - 1) {
         const int i = __builtin_ctz(m);
         float tt, uu, vv;
