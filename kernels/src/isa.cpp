@@ -121,8 +121,8 @@ std::vector<Isa> supported_isas() {
 
 void require(Isa isa) {
     if (supported(isa)) return;
-    if (!parse_isa(name(isa))) throw Error("simdbvh: invalid ISA value " + std::to_string(int(isa)));
-    throw Error("simdbvh: this CPU (" + std::string(cpu_name()) + ") or its OS does not support the " +
+    if (!parse_isa(name(isa))) throw Error("invalid ISA value " + std::to_string(int(isa)));
+    throw Error("this CPU (" + std::string(cpu_name()) + ") or its OS does not support the " +
                 std::string(name(isa)) + " code path; the best supported is " + std::string(name(detected_isa())));
 }
 
@@ -136,9 +136,9 @@ Isa isa_from_request(std::string_view request, std::span<const Isa> available) {
     if (request.empty()) return best;
     const std::optional<Isa> isa = parse_isa(request);
     if (!isa)
-        throw Error("simdbvh: SIMDBVH_ISA='" + std::string(request) + "' is not one of scalar, avx2, avx512");
+        throw Error("SIMDBVH_ISA='" + std::string(request) + "' is not one of scalar, avx2, avx512");
     if (!has(*isa))
-        throw Error("simdbvh: SIMDBVH_ISA=" + std::string(request) + " but this CPU (" + std::string(cpu_name()) +
+        throw Error("SIMDBVH_ISA=" + std::string(request) + " but this CPU (" + std::string(cpu_name()) +
                     ") or its OS lacks it; the best supported is " + std::string(name(best)));
     return *isa;
 }
