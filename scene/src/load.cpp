@@ -1,16 +1,16 @@
-// load_mesh: reads the file (gzip via zlib), picks the parser by extension,
-// then applies the shared finiteness checks.
-#include <zlib.h>
-
+// load_mesh: picks the parser and size limit by extension, reads the file
+// (read_file.cpp), then applies the shared finiteness checks.
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <new>
+#include <stdexcept>
 #include <system_error>
 
-#include "text.h"
+#include "size_limit.h"
 
 namespace simdbvh::scene::detail {
 
@@ -35,43 +35,6 @@ std::string quote(std::string_view s) {
     }
     if (s.size() > n) out += "...";
     return out + "'";
-}
-
-std::vector<char> read_file(const std::filesystem::path& path) {
-    const std::string file = path.string();
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) fail(file, 0, "is a directory");
-    errno = 0;
-    gzFile gz = gzopen(file.c_str(), "rb");
-    if (!gz) fail(file, 0, std::string("cannot open: ") + (errno ? std::strerror(errno) : "out of memory"));
-    gzbuffer(gz, 1u << 18);
-    std::vector<char> data;
-    const auto fsize = std::filesystem::file_size(path, ec);
-    if (!ec && fsize < (std::uintmax_t(1) << 32)) data.reserve(std::size_t(fsize));
-    constexpr unsigned kChunk = 1u << 20;
-    std::size_t used = 0;
-    for (;;) {
-        data.resize(used + kChunk);
-        const int n = gzread(gz, data.data() + used, kChunk);
-        if (n < 0) {
-            int err = 0;
-            std::string msg = gzerror(gz, &err);
-            gzclose(gz);
-            fail(file, 0, "read error: " + msg);
-        }
-        used += std::size_t(n);
-        if (n == 0) break;
-    }
-    data.resize(used);
-    int err = Z_OK;
-    const char* msg = gzerror(gz, &err);
-    if (err != Z_OK) {
-        std::string m = msg ? msg : "";
-        gzclose(gz);
-        fail(file, 0, "truncated or corrupt gzip data: " + m);
-    }
-    gzclose(gz);
-    return data;
 }
 
 static bool strip_plus(std::string_view& tok) {
@@ -114,6 +77,19 @@ bool parse_double(std::string_view tok, double& out) {
     }
     out = v;
     return true;
+}
+
+std::string bad_number(std::string_view tok) {
+    double d = 0;
+    std::string_view t = tok;
+    if (strip_plus(t)) {
+        auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), d, std::chars_format::general);
+        const bool whole = ptr == t.data() + t.size();
+        const bool huge = ec == std::errc::result_out_of_range ? std::isinf(std::strtod(std::string(t).c_str(), nullptr))
+                                                               : ec == std::errc() && std::isinf(float(d)) && std::isfinite(d);
+        if (whole && huge) return "number " + quote(tok) + " is out of float range";
+    }
+    return "bad number " + quote(tok);
 }
 
 bool parse_int(std::string_view tok, std::int64_t& out) {
@@ -164,28 +140,46 @@ void finish(const std::string& file, Mesh& mesh, const LoadOptions& opts, LoadRe
 
 namespace simdbvh::scene {
 
-Mesh load_mesh(const std::filesystem::path& path, const LoadOptions& opts, LoadReport* report) {
+namespace {
+
+struct Format {
+    Mesh (*parse)(const std::string&, const std::vector<char>&);
+    detail::SizeLimit limit;
+};
+
+Format format_of(const std::filesystem::path& path) {
     using namespace detail;
-    const std::string file = path.string();
     auto lower = [](std::string s) {
         for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
         return s;
     };
     std::string ext = lower(path.extension().string());
     if (ext == ".gz") ext = lower(path.stem().extension().string());
-    Mesh (*parse)(const std::string&, const std::vector<char>&) = nullptr;
-    if (ext == ".ply") parse = load_ply;
-    else if (ext == ".obj") parse = load_obj;
-    else if (ext == ".stl") parse = load_stl;
-    else if (ext == ".off") parse = load_off;
-    else
-        fail(file, 0, "unknown mesh format " + quote(ext.empty() ? std::string("(none)") : ext) +
-                          " (expected .ply, .obj, .stl or .off, optionally .gz)");
-    const std::vector<char> data = read_file(path);
-    if (data.empty()) fail(file, 0, "file is empty (0 bytes)");
-    Mesh mesh = parse(file, data);
-    finish(file, mesh, opts, report);
-    return mesh;
+    if (ext == ".ply") return {load_ply, ply_limit};
+    if (ext == ".obj") return {load_obj, obj_limit};
+    if (ext == ".stl") return {load_stl, stl_limit};
+    if (ext == ".off") return {load_off, off_limit};
+    fail(path.string(), 0, "unknown mesh format " + quote(ext.empty() ? std::string("(none)") : ext) +
+                               " (expected .ply, .obj, .stl or .off, optionally .gz)");
+}
+
+}  // namespace
+
+Mesh load_mesh(const std::filesystem::path& path, const LoadOptions& opts, LoadReport* report) {
+    using namespace detail;
+    const std::string file = path.string();
+    const Format format = format_of(path);
+    try {
+        const std::vector<char> data = read_file(path, format.limit);
+        if (data.empty()) fail(file, 0, "file is empty (0 bytes)");
+        Mesh mesh = format.parse(file, data);
+        finish(file, mesh, opts, report);
+        return mesh;
+    } catch (const std::bad_alloc&) {
+        fail(file, 0, "out of memory while loading (the file or the mesh it declares does not fit)");
+    } catch (const std::length_error&) {
+        fail(file, 0, "out of memory while loading (the file or the mesh it declares does not fit)");
+    }
 }
 
 }  // namespace simdbvh::scene

@@ -23,7 +23,7 @@ Mesh load_obj(const std::string& file, const std::vector<char>& data) {
             std::string_view tok;
             for (float& x : c) {
                 if (!tk.next(tok)) fail(file, lines.line, "vertex needs 3 coordinates");
-                if (!parse_float(tok, x)) fail(file, lines.line, "bad number " + quote(tok));
+                if (!parse_float(tok, x)) fail(file, lines.line, bad_number(tok));
             }
             int extra = 0;
             while (tk.next(tok)) {
@@ -67,7 +67,7 @@ Mesh load_obj(const std::string& file, const std::vector<char>& data) {
                 poly.push_back(std::uint32_t(abs));
             }
             if (poly.size() < 3)
-                fail(file, lines.line, "face " + std::to_string(face_id) + " has " + std::to_string(poly.size()) + " < 3 vertices");
+                fail(file, lines.line, "face " + std::to_string(face_id) + " has " + std::to_string(poly.size()) + " vertices; at least 3 needed");
             for (std::size_t k = 1; k + 1 < poly.size(); ++k) {
                 if (mesh.triangles.size() >= kMaxTriangles - 1) fail(file, lines.line, "too many triangles");
                 mesh.triangles.push_back(Triangle{poly[0], poly[k], poly[k + 1]});

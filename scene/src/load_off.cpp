@@ -1,6 +1,8 @@
 // OFF (also COFF/NOFF/CNOFF headers): "OFF", then "nv nf ne", nv vertex lines
 // (x y z, extra numbers such as colours allowed), nf face lines
 // ("n i0 .. in-1", optional colour numbers). '#' starts a comment.
+#include <algorithm>
+
 #include "text.h"
 
 namespace simdbvh::scene::detail {
@@ -44,24 +46,25 @@ Mesh load_off(const std::string& file, const std::vector<char>& data) {
     }
     if (have < 2) fail(file, lines.line, "expected vertex and face counts");
     const std::uint64_t nv = std::uint64_t(counts[0]), nf = std::uint64_t(counts[1]);
-    // Each vertex line needs at least 6 bytes ("0 0 0\n"), each face line 8 ("3 0 0 0\n"); the
-    // last line may lack its newline. Checked before allocating.
+    // Each vertex line needs at least 6 bytes ("0 0 0\n"), each face line 2 ("3\n": a bad face is
+    // reported by the face loop, with its line); the last line may lack its newline. Checked
+    // before allocating; the reservations never exceed the bytes present.
     const std::uint64_t body = std::uint64_t(lines.end - lines.p) + 1;
-    if (nv > body / 6 || nf > (body - nv * 6) / 8)
+    if (nv > body / 6 || nf > (body - nv * 6) / 2)
         fail(file, lines.line,
              "counts (" + std::to_string(nv) + " vertices, " + std::to_string(nf) + " faces) are larger than the " +
                  std::to_string(body - 1) + " bytes that follow");
     if (nv > 0xFFFFFFFFull) fail(file, lines.line, "too many vertices");
     Mesh mesh;
-    mesh.positions.reserve(std::size_t(nv));
-    mesh.triangles.reserve(std::size_t(nf));
+    mesh.positions.reserve(std::size_t(nv));  // <= 2 x body (6 bytes per 12-byte vertex)
+    mesh.triangles.reserve(std::size_t(std::min<std::uint64_t>(nf, (body - nv * 6) / 8)));
     for (std::uint64_t i = 0; i < nv; ++i) {
         line = next_nonempty("a vertex");
         Tokens t(line);
         Vec3 p;
         for (int k = 0; k < 3; ++k) {
             if (!t.next(tok)) fail(file, lines.line, "vertex " + std::to_string(i) + " needs 3 coordinates");
-            if (!parse_float(tok, (k == 0 ? p.x : k == 1 ? p.y : p.z))) fail(file, lines.line, "bad number " + quote(tok));
+            if (!parse_float(tok, (k == 0 ? p.x : k == 1 ? p.y : p.z))) fail(file, lines.line, bad_number(tok));
         }
         while (t.next(tok)) {
             double d;
@@ -76,7 +79,7 @@ Mesh load_off(const std::string& file, const std::vector<char>& data) {
         std::int64_t n;
         t.next(tok);
         if (!parse_int(tok, n) || n < 0) fail(file, lines.line, "bad face vertex count " + quote(tok));
-        if (n < 3) fail(file, lines.line, "face " + std::to_string(f) + " has " + std::to_string(n) + " < 3 vertices");
+        if (n < 3) fail(file, lines.line, "face " + std::to_string(f) + " has " + std::to_string(n) + " vertices; at least 3 needed");
         poly.clear();
         for (std::int64_t k = 0; k < n; ++k) {
             std::int64_t idx;

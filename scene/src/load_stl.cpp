@@ -51,7 +51,9 @@ float read_le_float(const unsigned char* p) {
 
 Mesh load_binary(const std::string& file, const std::vector<char>& data, std::uint64_t n) {
     Mesh mesh;
-    if (n >= kMaxTriangles) fail(file, 0, std::to_string(n) + " triangles > max " + std::to_string(kMaxTriangles - 1));
+    if (3 * n > 0xFFFFFFFFull)  // vertex indices are uint32
+        fail(file, 0, std::to_string(n) + " triangles: their " + std::to_string(3 * n) + " vertices do not fit 32-bit indices (max " +
+                          std::to_string(0xFFFFFFFFull / 3) + " triangles)");
     mesh.positions.reserve(std::size_t(n) * 3);
     mesh.triangles.reserve(std::size_t(n));
     const auto* p = reinterpret_cast<const unsigned char*>(data.data()) + 84;
@@ -66,8 +68,8 @@ Mesh load_binary(const std::string& file, const std::vector<char>& data, std::ui
     return mesh;
 }
 
-Mesh load_ascii(const std::string& file, const std::vector<char>& data) {
-    Stream s{data.data(), data.data() + data.size()};
+Mesh load_ascii(const std::string& file, const std::vector<char>& data, std::size_t start) {
+    Stream s{data.data() + start, data.data() + data.size()};
     Mesh mesh;
     std::string_view tok;
     auto expect = [&](std::string_view word) {
@@ -77,7 +79,7 @@ Mesh load_ascii(const std::string& file, const std::vector<char>& data) {
     auto number = [&]() {
         float f;
         if (!s.next(tok)) fail(file, s.line, "unexpected end of file: expected a number");
-        if (!parse_float(tok, f)) fail(file, s.line, "bad number " + quote(tok));
+        if (!parse_float(tok, f)) fail(file, s.line, bad_number(tok));
         return f;
     };
     int solids = 0;
@@ -96,7 +98,9 @@ Mesh load_ascii(const std::string& file, const std::vector<char>& data) {
             for (int k = 0; k < 3; ++k) number();
             expect("outer");
             expect("loop");
-            if (mesh.triangles.size() >= kMaxTriangles - 1) fail(file, s.line, "too many triangles");
+            if (mesh.positions.size() + 3 > 0xFFFFFFFFull)  // vertex indices are uint32
+                fail(file, s.line, "too many triangles: more than " + std::to_string(0xFFFFFFFFull / 3) +
+                                       " (3 vertices each must fit 32-bit indices)");
             const auto b = std::uint32_t(mesh.positions.size());
             for (int v = 0; v < 3; ++v) {
                 expect("vertex");
@@ -115,8 +119,9 @@ Mesh load_ascii(const std::string& file, const std::vector<char>& data) {
     return mesh;
 }
 
-bool all_text(const std::vector<char>& data) {
-    for (char ch : data) {
+bool all_text(const std::vector<char>& data, std::size_t start) {
+    for (std::size_t i = start; i < data.size(); ++i) {
+        const char ch = data[i];
         const auto c = static_cast<unsigned char>(ch);
         if (c < 0x20 && c != '\n' && c != '\r' && c != '\t' && c != '\f' && c != '\v') return false;
         if (c >= 0x7f) return false;
@@ -128,14 +133,15 @@ bool all_text(const std::vector<char>& data) {
 
 Mesh load_stl(const std::string& file, const std::vector<char>& data) {
     const std::size_t size = data.size();
-    std::size_t i = 0;
+    const std::size_t bom = size >= 3 && std::string_view(data.data(), 3) == "\xEF\xBB\xBF" ? 3 : 0;  // UTF-8 BOM
+    std::size_t i = bom;
     while (i < size && (is_space(data[i]) || data[i] == '\r' || data[i] == '\n')) ++i;
     const bool solid = size - i >= 5 && iequal(std::string_view(data.data() + i, 5), "solid");
     if (size >= 84) {
         const auto* u = reinterpret_cast<const unsigned char*>(data.data());
         const std::uint64_t n =
             std::uint64_t(u[80]) | std::uint64_t(u[81]) << 8 | std::uint64_t(u[82]) << 16 | std::uint64_t(u[83]) << 24;
-        if (84 + 50 * n == size && !(solid && all_text(data))) return load_binary(file, data, n);
+        if (84 + 50 * n == size && !(solid && all_text(data, bom))) return load_binary(file, data, n);
         if (!solid)
             fail(file, 0,
                  "binary STL header says " + std::to_string(n) + " triangles (" + std::to_string(84 + 50 * n) +
@@ -143,8 +149,7 @@ Mesh load_stl(const std::string& file, const std::vector<char>& data) {
     } else if (!solid) {
         fail(file, 0, "not an STL file (" + std::to_string(size) + " bytes, too small for binary, no 'solid')");
     }
-    check_text(file, data);
-    return load_ascii(file, data);
+    return load_ascii(file, data, check_text(file, data));
 }
 
 }  // namespace simdbvh::scene::detail

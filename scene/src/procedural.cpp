@@ -102,7 +102,10 @@ Mesh icosphere(int level, float radius, Vec3 center) {
 }
 
 Mesh random_soup(std::size_t triangles, std::uint64_t seed) {
-    if (triangles >= kMaxTriangles) throw Error("soup of " + std::to_string(triangles) + " triangles > max");
+    // 3 new vertices per triangle: 3 n must fit the uint32 vertex indices (checked before allocating).
+    if (triangles > 0xFFFFFFFFull / 3)
+        throw Error("soup of " + std::to_string(triangles) + " triangles: its " + std::to_string(3 * std::uint64_t(triangles)) +
+                    " vertices do not fit 32-bit indices (max " + std::to_string(0xFFFFFFFFull / 3) + " triangles)");
     Rng rng(seed);
     Mesh mesh;
     mesh.positions.reserve(triangles * 3);

@@ -1,4 +1,6 @@
 // Ray and hit files (raw little-endian records) and atomic writes.
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -26,21 +28,29 @@ std::uint32_t get_u32(const unsigned char* p) {
 void put_f32(unsigned char* p, float f) { put_u32(p, std::bit_cast<std::uint32_t>(f)); }
 float get_f32(const unsigned char* p) { return std::bit_cast<float>(get_u32(p)); }
 
+// Regular files only (symlinks followed): a device such as /dev/zero has no
+// size to check and would read forever.
 std::vector<unsigned char> read_records(const std::filesystem::path& file, std::size_t record, const char* what) {
     const std::string name = file.string();
-    std::error_code ec;
-    if (std::filesystem::is_directory(file, ec)) throw Error(name + ": is a directory");
-    std::ifstream in(file, std::ios::binary);
-    if (!in) throw Error(name + ": cannot open: " + std::strerror(errno));
-    in.seekg(0, std::ios::end);
-    const std::streamoff size = in.tellg();
-    if (size < 0) throw Error(name + ": cannot determine the size");
-    if (std::uint64_t(size) % record != 0)
+    const int fd = ::open(name.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);  // a FIFO would block in open
+    if (fd < 0) throw Error(name + ": cannot open: " + std::strerror(errno));
+    struct Closer { int fd; ~Closer() { ::close(fd); } } closer{fd};
+    struct stat st {};
+    if (::fstat(fd, &st) != 0) throw Error(name + ": cannot determine the size: " + std::strerror(errno));
+    if (S_ISDIR(st.st_mode)) throw Error(name + ": is a directory");
+    if (!S_ISREG(st.st_mode)) throw Error(name + ": is not a regular file (a device, FIFO or socket)");
+    const auto size = std::uint64_t(st.st_size);
+    if (size % record != 0)
         throw Error(name + ": size " + std::to_string(size) + " is not a multiple of " + std::to_string(record) +
                     " bytes (" + what + " records)");
-    in.seekg(0, std::ios::beg);
     std::vector<unsigned char> bytes(static_cast<std::size_t>(size));
-    if (size && !in.read(reinterpret_cast<char*>(bytes.data()), size)) throw Error(name + ": read error");
+    for (std::size_t got = 0; got < bytes.size();) {
+        const ssize_t r = ::pread(fd, bytes.data() + got, bytes.size() - got, off_t(got));
+        if (r < 0 && errno == EINTR) continue;
+        if (r < 0) throw Error(name + ": read error: " + std::strerror(errno));
+        if (r == 0) throw Error(name + ": read error: the file shrank while reading");
+        got += std::size_t(r);
+    }
     return bytes;
 }
 

@@ -1,6 +1,5 @@
 #pragma once
-// Private helpers shared by the loaders: whole-file reading (gzip through
-// zlib), a line/token cursor that tracks line numbers, exact number parsing
+// Private helpers shared by the loaders: a line/token cursor that tracks line numbers, exact number parsing
 // (std::from_chars) and error construction.
 #include <charconv>
 #include <cstdint>
@@ -14,10 +13,6 @@
 #include "simdbvh/scene/load.h"
 
 namespace simdbvh::scene::detail {
-
-// Reads the whole file; gzip data (by magic bytes, whatever the name) is
-// decompressed in memory. Throws Error naming the file.
-std::vector<char> read_file(const std::filesystem::path& file);
 
 // Errors: "<file>:<line>: <problem>" or "<file>: <problem>" (line 0).
 [[noreturn]] void fail(const std::string& file, std::size_t line, const std::string& problem);
@@ -74,6 +69,9 @@ struct Tokens {
 // number or whose value overflows float; underflow gives strtof's result.
 bool parse_float(std::string_view tok, float& out);
 bool parse_double(std::string_view tok, double& out);
+// "bad number '<tok>'", or "number '<tok>' is out of float range" for a
+// number too large for float (e.g. 1e300).
+std::string bad_number(std::string_view tok);
 // Whole-token integer parse (a leading '+' is accepted).
 bool parse_int(std::string_view tok, std::int64_t& out);
 

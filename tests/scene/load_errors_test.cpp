@@ -93,7 +93,7 @@ TEST(LoadErrors, PlyTruncatedAndJunk) {
     EXPECT_ERROR(dir, "f.ply", kPlyHead + "0 0 0\n1 0 0\n0 1 0\n3 0 1\n", ":13:", "fewer than");
     EXPECT_ERROR(dir, "x.ply", kPlyHead + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n4 5 6\n", ":14:", "after");
     EXPECT_ERROR(dir, "n.ply", kPlyHead + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2.5\n", ":13:", "'2.5'");
-    EXPECT_ERROR(dir, "o.ply", kPlyHead + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n" + std::string(3, '\0'), "after");
+    EXPECT_ERROR(dir, "o.ply", kPlyHead + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n" + std::string(3, '\0'), ":14:", "NUL byte");
     EXPECT_ERROR(dir, "h.ply", kPlyHead + "0 0 1e39\n1 0 0\n0 1 0\n3 0 1 2\n", ":10:", "1e39");
     // Binary, truncated in the middle of the face list.
     std::string bin =
@@ -142,7 +142,7 @@ TEST(LoadErrors, ObjJunk) {
     EXPECT_ERROR(dir, "a.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0 junk\n", ":3:", "'junk'");
     EXPECT_ERROR(dir, "b.obj", "v 0 0\n", ":1:");
     EXPECT_ERROR(dir, "c.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n", ":4:", "'x'");
-    EXPECT_ERROR(dir, "d.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n", ":4:", "< 3");
+    EXPECT_ERROR(dir, "d.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n", ":4:", "2 vertices; at least 3 needed");
     EXPECT_ERROR(dir, "e.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/a 2 3\n", ":4:");
     EXPECT_ERROR(dir, "f.obj", "v 3.1+e2 0 0\n", ":1:");
     EXPECT_ERROR(dir, "g.obj", std::string("\xFF\xFEv\0 \0", 6), "UTF-16");
@@ -157,7 +157,7 @@ TEST(LoadErrors, StlAndOff) {
     EXPECT_ERROR(dir, "c.stl", bin, "16 triangles");
     EXPECT_ERROR(dir, "d.stl", "hello", "not an STL");
     EXPECT_ERROR(dir, "a.off", "OFF\n353535235358 6 0\n0 0 0\n", ":2:", "353535235358");
-    EXPECT_ERROR(dir, "b.off", "OFF\n3 4\n0.1 0.2 0.3\n0.2 0.3 0.4\n0.3 0.4 0.5\n", ":2:", "larger than");
+    EXPECT_ERROR(dir, "b.off", "OFF\n3 4\n0.1 0.2 0.3\n0.2 0.3 0.4\n0.3 0.4 0.5\n", "end of file", "expected a face");
     EXPECT_ERROR(dir, "b2.off", "OFF\n3 1\n0 0 0\n1 0 0\n0 1 0\n" + std::string(20, ' ') + "\n", "end of file");
     EXPECT_ERROR(dir, "c.off", "NOT\n", "not an OFF");
     EXPECT_ERROR(dir, "d.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n9 9 9\n", ":7:", "after");
