@@ -94,6 +94,7 @@ std::optional<Allowance> stl_limit(const std::string& file, std::string_view pre
 }
 
 std::optional<Allowance> off_limit(const std::string&, std::string_view prefix, bool complete) {
+    if (prefix.find('\0') != std::string_view::npos) return text_allowance();  // read_file reports the NUL now
     const std::string_view text = whole_lines(prefix.substr(bom_size(prefix)), complete);
     Lines lines(text.data(), text.data() + text.size());
     std::string_view line, tok;
