@@ -13,6 +13,7 @@
 
 #include "common.h"
 #include "methods.h"
+#include "outputs.h"
 #include "simdbvh/compare/classify.h"
 #include "simdbvh/compare/reference.h"
 #include "simdbvh/kernels/error.h"
@@ -228,6 +229,10 @@ int cmd_accuracy(const std::vector<std::string>& args) {
         fams.assign(std::begin(scene::kAllFamilies), std::end(scene::kAllFamilies));
     }
     // Fail on unwritable outputs before the long run.
+    NamedPaths outputs;
+    if (o.has("json")) outputs.emplace_back("--json", o.get("json"));
+    if (o.has("report")) outputs.emplace_back("--report", (fs::path(o.get("report")) / "accuracy.md").string());
+    check_outputs(outputs, {{"--scene", o.get("scene")}}, /*create_parent=*/true);
     if (o.has("report")) fs::create_directories(o.get("report"));
     const std::vector<Variant> methods = variants(!o.has("no-embree"));
     const double min_seconds = quick ? 0.01 : 0.05;
@@ -316,6 +321,7 @@ int cmd_accuracy(const std::vector<std::string>& args) {
     js << "\n  ]\n}\n";
     const std::string jtext = js.str();
     auto write_json = [&](const fs::path& p) {
+        if (p.has_parent_path()) fs::create_directories(p.parent_path());
         scene::write_file_atomic(p, std::span(reinterpret_cast<const unsigned char*>(jtext.data()), jtext.size()));
         std::cout << "wrote " << p.string() << "\n";
     };

@@ -15,6 +15,7 @@
 #include "common.h"
 #include "image.h"
 #include "methods.h"
+#include "outputs.h"
 #include "simdbvh/kernels/topology.h"
 #include "simdbvh/scene/rays.h"
 
@@ -76,6 +77,11 @@ int cmd_bench(const std::vector<std::string>& args) {
     const auto nsample = std::size_t(o.get_int("sample", quick ? 300 : 1000, 16, 1 << 20));
     const std::string report_dir = o.get("report", "out");
     const std::string json_file = o.get("json", report_dir + "/bench.json");
+    // Outputs are checked before the long run; the command creates the report folder.
+    NamedPaths outputs{{"--json", json_file}};
+    if (!o.has("no-report")) outputs.emplace_back("--report", report_dir + "/report.md");
+    if (o.has("readme")) outputs.emplace_back("--readme", o.get("readme"));
+    check_outputs(outputs, {{"--scene", scene_name}}, /*create_parent=*/true);
     const std::string machine = machine_line();
 
     progress("scene: " + scene_name + (why.empty() ? "" : " (" + why + ")"), true);

@@ -16,6 +16,7 @@
 
 #include "common.h"
 #include "methods.h"
+#include "outputs.h"
 #include "options.h"
 #include "simdbvh/bvh2/spheres.h"
 #include "simdbvh/bvh8/bvh8.h"
@@ -190,6 +191,9 @@ int cmd_panel(const std::vector<std::string>& args) {
     const auto nstats = std::size_t(o.get_int("stats-rays", quick ? 8192 : 32768, 256, 1 << 24));
     const std::string report_dir = o.get("report", "out");
     const std::string json_file = o.get("json", report_dir + "/panel.json");
+    NamedPaths outputs{{"--json", json_file}};
+    if (!o.has("no-report")) outputs.emplace_back("--report", report_dir + "/panel.md");
+    check_outputs(outputs, {{"--scene", scene_name}}, /*create_parent=*/true);
     const std::string machine = machine_line();
     const Isa isa = active_isa();
     std::string command = "simdbvh panel";

@@ -5,6 +5,7 @@
 
 #include "common.h"
 #include "methods.h"
+#include "outputs.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/scene/families.h"
 #include "simdbvh/scene/load.h"
@@ -25,6 +26,10 @@ int gen_family_rays(const Options& o, scene::Family fam) {
     fo.seed = std::uint64_t(o.get_int("seed", 1, 0, (1LL << 62)));
     fo.random_scene = o.get("scene");
     const std::string out = o.require("out");
+    NamedPaths outputs;
+    if (o.has("mesh-out")) outputs.emplace_back("--mesh-out", o.get("mesh-out"));
+    outputs.emplace_back("--out", out);
+    check_outputs(outputs, {{"--scene", o.get("scene")}});
     progress("generating the " + kind_s + " family ...");
     auto cases = scene::make_family(fam, fo);
     const std::string want = o.get("case", cases.front().name);
@@ -37,8 +42,16 @@ int gen_family_rays(const Options& o, scene::Family fam) {
     if (!c) throw UsageError("unknown --case '" + want + "' (" + names + ")");
     std::vector<Ray> rays = c->rays;
     if (o.has("count")) rays.resize(std::min(rays.size(), std::size_t(o.get_int("count", 0, 1, 1LL << 31))));
-    if (o.has("mesh-out")) scene::write_ply(o.get("mesh-out"), c->mesh);
-    scene::write_rays(out, rays);
+    // Both files or neither: the mesh is not left behind when the rays cannot be written.
+    const auto ray_bytes = scene::encode_rays(rays);
+    std::vector<unsigned char> mesh_bytes;
+    std::vector<scene::OutputFile> files;
+    if (o.has("mesh-out")) {
+        mesh_bytes = scene::encode_ply(c->mesh);
+        files.push_back({o.get("mesh-out"), mesh_bytes});
+    }
+    files.push_back({out, ray_bytes});
+    scene::write_files_atomic(files);
     std::cout << "wrote " << rays.size() << " rays of case " << c->name << " (seed " << fo.seed << ") to " << out;
     if (o.has("mesh-out")) std::cout << " and its " << c->mesh.size() << "-triangle mesh to " << o.get("mesh-out");
     std::cout << "\ncases: " << names << "\n";
@@ -74,11 +87,27 @@ int cmd_gen_rays(const std::vector<std::string>& args) {
     if (!o.has("count")) throw UsageError("'gen-rays': missing --count");
     const auto seed = std::uint64_t(o.get_int("seed", 1, 0, (1LL << 62)));
     const std::string out = o.require("out");
+    check_outputs({{"--out", out}}, {{"--scene", scene_name}});
+    // Rays and their encoded bytes; diffuse rays also hold the primary rays and hits.
+    const std::string count_opt = "--count " + std::to_string(count);
+    const std::uint64_t per_ray = *kind == scene::RayKind::diffuse ? 32 + 32 + 16 + 32 : 32 + 32;
+    check_memory(count_opt, std::uint64_t(count) * per_ray);
     const Mesh mesh = load_scene_with_progress(scene_name);
     progress("generating " + std::to_string(count) + " " + kind_s + " rays ...");
-    const auto rays = scene::generate_rays(mesh, *kind, count, seed);
-    scene::write_rays(out, rays);
-    std::cout << "wrote " << rays.size() << " " << kind_s << " rays (seed " << seed << ") to " << out << "\n";
+    try {
+        const auto rays = scene::generate_rays(mesh, *kind, count, seed);
+        // Diffuse rays bounce off primary hits: none when the camera sees no triangle. The user asked for
+        // `count` rays, so an empty (or short) file is an error, not a success.
+        if (rays.size() < count)
+            throw Error(scene_name + ": cannot generate " + std::to_string(count) + " " + kind_s + " rays: got " +
+                        std::to_string(rays.size()) + " (the mesh has " + std::to_string(mesh.size()) +
+                        " triangles; diffuse rays need primary rays from the default camera to hit it)");
+        scene::write_file_atomic(out, scene::encode_rays(rays));
+    } catch (const std::bad_alloc&) {
+        throw Error(count_opt + ": out of memory (needs about " + format_bytes(std::uint64_t(count) * per_ray) +
+                    "); ask for fewer rays");
+    }
+    std::cout << "wrote " << count << " " << kind_s << " rays (seed " << seed << ") to " << out << "\n";
     return 0;
 }
 
@@ -90,6 +119,7 @@ int cmd_trace(const std::vector<std::string>& args) {
     const std::string rays_file = o.require("rays");
     const std::string out = o.require("out");
     const MethodSpec spec = parse_method(o);
+    check_outputs({{"--out", out}}, {{"--scene", scene_name}, {"--rays", rays_file}});
     // Read the rays first: a bad ray file fails before any expensive work.
     const auto rays = scene::read_rays(rays_file);
     const Mesh mesh = load_for_trace(scene_name, o.has("drop-invalid"));

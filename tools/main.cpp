@@ -3,45 +3,40 @@
 #include <cstdio>
 #include <exception>
 #include <iostream>
+#include <new>
 #include <string>
 #include <vector>
 
 #include "common.h"
 #include "options.h"
+#include "outputs.h"
 #include "simdbvh/kernels/error.h"
-
-namespace {
-
-constexpr const char* kUsage = R"(usage: simdbvh <command> [options]
-commands:
-  info     --scene S [--builder B] [--bins N] [--collapse sah|greedy]   triangles, bounds, both trees' statistics
-  gen-rays --scene S --kind K --count N [--seed K] --out RAYS.bin
-           K: primary | incoherent | diffuse, or a ray family with its own mesh (--mesh-out MESH.ply
-              [--case C] [--quick]; --scene only for random): watertight | offsets | axis-aligned |
-              surface-start | grazing | needles | degenerate | random
-  trace    --scene S --rays RAYS.bin --out HITS.bin [--method M] [--any-hit] [--stats] [--threads N]
-           [--isa I] [--builder B] [--bins N] [--collapse C] [--test watertight|moller]
-           [--box conservative|plain] [--quality medium|high] [--robust] [--drop-invalid]
-           M: brute | bvh2 | bvh8 | embree | spheres
-  bench    [--scene S] [--quick] [--threads N] [--json FILE] [--report DIR] [--readme README.md]
-           every method: build, Mrays/s (1 thread, all cores), accuracy; report with charts and pictures
-  render   --scene S --out IMG.png [--method M] [--heatmap] [--width W] [--height H]
-  panel    [--scene S] [--quick] [--json FILE] [--report DIR]          build quality per builder
-  accuracy [--quick] [--family F] [--report DIR] [--json FILE] [--no-embree]   ray families x method variants
-S is a scene name (dragon, dragon-res2..4, bunny, teapot, icosphere[-N], soup[-N], terrain) or a mesh file
-(.ply .obj .stl .off, optionally .gz). SIMDBVH_ISA=scalar|avx2|avx512 or --isa forces the ISA.
-)";
-
-}  // namespace
+#include "usage.h"
 
 int main(int argc, char** argv) {
     using namespace simdbvh::cli;
-    if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "help") {
-        std::fputs(kUsage, argc < 2 ? stderr : stdout);
+    if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h" ||
+        std::string(argv[1]) == "help") {
+        std::fputs(usage().c_str(), argc < 2 ? stderr : stdout);
         return argc < 2 ? 2 : 0;
     }
     const std::string cmd = argv[1];
+    if (cmd == "--version" || cmd == "version") {
+        std::cout << version_line() << "\n";
+        return 0;
+    }
     const std::vector<std::string> args(argv + 2, argv + argc);
+    const std::string cmd_usage = command_usage(cmd);
+    if (cmd_usage.empty()) {
+        std::cerr << "simdbvh: unknown command '" << cmd << "'\n" << usage();
+        return 2;
+    }
+    for (const std::string& a : args)
+        if (a == "--help" || a == "-h") {
+            std::cout << cmd_usage;
+            return 0;
+        }
+    install_cleanup_handlers();
     try {
         if (cmd == "info") return cmd_info(args);
         if (cmd == "gen-rays") return cmd_gen_rays(args);
@@ -50,13 +45,15 @@ int main(int argc, char** argv) {
         if (cmd == "render") return cmd_render(args);
         if (cmd == "accuracy") return cmd_accuracy(args);
         if (cmd == "panel") return cmd_panel(args);
-        std::cerr << "simdbvh: unknown command '" << cmd << "'\n" << kUsage;
         return 2;
     } catch (const UsageError& e) {
         std::cerr << "simdbvh: " << e.what() << "\n";
         return 2;
     } catch (const simdbvh::Error& e) {
         std::cerr << "simdbvh: " << e.what() << "\n";
+        return 2;
+    } catch (const std::bad_alloc&) {
+        std::cerr << "simdbvh: " << cmd << ": out of memory (ask for fewer rays, a smaller image or scene)\n";
         return 2;
     } catch (const std::exception& e) {
         std::cerr << "simdbvh: error: " << e.what() << "\n";

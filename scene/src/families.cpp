@@ -564,7 +564,7 @@ Vec3 offset_ray_origin(Vec3 p, Vec3 n) {
     return out;
 }
 
-void write_ply(const std::filesystem::path& file, const Mesh& mesh) {
+std::vector<unsigned char> encode_ply(const Mesh& mesh) {
     const std::string head = "ply\nformat binary_little_endian 1.0\ncomment simdbvh ray family\nelement vertex " +
                              std::to_string(mesh.positions.size()) +
                              "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
@@ -583,7 +583,9 @@ void write_ply(const std::filesystem::path& file, const Mesh& mesh) {
         put(&three, 1);
         put(t.data(), 12);
     }
-    write_file_atomic(file, bytes);
+    return bytes;
 }
+
+void write_ply(const std::filesystem::path& file, const Mesh& mesh) { write_file_atomic(file, encode_ply(mesh)); }
 
 }  // namespace simdbvh::scene

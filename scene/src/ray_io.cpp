@@ -1,9 +1,8 @@
-// Ray and hit files (raw little-endian records) and atomic writes.
+// Ray and hit files (raw little-endian records).
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include <atomic>
 #include <bit>
 #include <cerrno>
 #include <cstdio>
@@ -11,6 +10,7 @@
 #include <fstream>
 
 #include "simdbvh/kernels/error.h"
+#include "simdbvh/scene/output.h"
 #include "simdbvh/scene/rays.h"
 
 namespace simdbvh::scene {
@@ -56,33 +56,6 @@ std::vector<unsigned char> read_records(const std::filesystem::path& file, std::
 
 }  // namespace
 
-void write_file_atomic(const std::filesystem::path& file, std::span<const unsigned char> bytes) {
-    static std::atomic<unsigned> counter{0};
-    const std::string name = file.string();
-    std::filesystem::path dir = file.parent_path();
-    if (dir.empty()) dir = ".";
-    const std::filesystem::path tmp =
-        dir / ("." + file.filename().string() + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++));
-    std::FILE* f = std::fopen(tmp.c_str(), "wbx");
-    if (!f) throw Error(name + ": cannot create temporary file " + tmp.string() + ": " + std::strerror(errno));
-    bool ok = bytes.empty() || std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
-    int err = ok ? 0 : errno;
-    if (ok && std::fflush(f) != 0) { ok = false; err = errno; }
-    if (ok && ::fsync(::fileno(f)) != 0) { ok = false; err = errno; }
-    if (std::fclose(f) != 0 && ok) { ok = false; err = errno; }
-    std::error_code ec;
-    if (!ok) {
-        std::filesystem::remove(tmp, ec);
-        throw Error(name + ": write failed: " + std::strerror(err));
-    }
-    std::filesystem::rename(tmp, file, ec);
-    if (ec) {
-        std::error_code ec2;
-        std::filesystem::remove(tmp, ec2);
-        throw Error(name + ": cannot rename the temporary file into place: " + ec.message());
-    }
-}
-
 std::vector<Ray> read_rays(const std::filesystem::path& file) {
     const auto bytes = read_records(file, sizeof(Ray), "32-byte ray");
     std::vector<Ray> rays(bytes.size() / 32);
@@ -96,7 +69,7 @@ std::vector<Ray> read_rays(const std::filesystem::path& file) {
     return rays;
 }
 
-void write_rays(const std::filesystem::path& file, std::span<const Ray> rays) {
+std::vector<unsigned char> encode_rays(std::span<const Ray> rays) {
     std::vector<unsigned char> bytes(rays.size() * 32);
     for (std::size_t i = 0; i < rays.size(); ++i) {
         unsigned char* p = bytes.data() + 32 * i;
@@ -104,8 +77,10 @@ void write_rays(const std::filesystem::path& file, std::span<const Ray> rays) {
         const float v[8] = {r.org.x, r.org.y, r.org.z, r.tmin, r.dir.x, r.dir.y, r.dir.z, r.tmax};
         for (int k = 0; k < 8; ++k) put_f32(p + 4 * k, v[k]);
     }
-    write_file_atomic(file, bytes);
+    return bytes;
 }
+
+void write_rays(const std::filesystem::path& file, std::span<const Ray> rays) { write_file_atomic(file, encode_rays(rays)); }
 
 std::vector<Hit> read_hits(const std::filesystem::path& file) {
     const auto bytes = read_records(file, sizeof(Hit), "16-byte hit");
@@ -120,7 +95,7 @@ std::vector<Hit> read_hits(const std::filesystem::path& file) {
     return hits;
 }
 
-void write_hits(const std::filesystem::path& file, std::span<const Hit> hits) {
+std::vector<unsigned char> encode_hits(std::span<const Hit> hits) {
     std::vector<unsigned char> bytes(hits.size() * 16);
     for (std::size_t i = 0; i < hits.size(); ++i) {
         unsigned char* p = bytes.data() + 16 * i;
@@ -129,7 +104,9 @@ void write_hits(const std::filesystem::path& file, std::span<const Hit> hits) {
         put_f32(p + 8, hits[i].v);
         put_u32(p + 12, hits[i].prim);
     }
-    write_file_atomic(file, bytes);
+    return bytes;
 }
+
+void write_hits(const std::filesystem::path& file, std::span<const Hit> hits) { write_file_atomic(file, encode_hits(hits)); }
 
 }  // namespace simdbvh::scene

@@ -75,7 +75,8 @@ Mesh torus(int n, int m, float major_radius = 1.0f, float minor_radius = 0.35f, 
 // The float offset point of Wachter and Binder (RT Gems ch. 6) for a hit point p with normal n.
 Vec3 offset_ray_origin(Vec3 p, Vec3 n);
 
-// Binary little-endian PLY (float x y z, uchar/uint faces), written atomically.
+// Binary little-endian PLY (float x y z, uchar/uint faces), written atomically; encode_ply: its bytes.
+std::vector<unsigned char> encode_ply(const Mesh& mesh);
 void write_ply(const std::filesystem::path& file, const Mesh& mesh);
 
 }  // namespace simdbvh::scene

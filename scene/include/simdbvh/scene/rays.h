@@ -10,6 +10,7 @@
 #include "simdbvh/kernels/hit.h"
 #include "simdbvh/kernels/ray.h"
 #include "simdbvh/mesh.h"
+#include "simdbvh/scene/output.h"
 
 namespace simdbvh::scene {
 
@@ -38,13 +39,14 @@ std::vector<Ray> generate_rays(const Mesh& mesh, RayKind kind, std::size_t count
 // Ray file: raw little-endian records of 8 float32 (ox oy oz tmin dx dy dz tmax).
 // Hit file: records of float32 t, u, v and uint32 prim. Readers check the size
 // (a multiple of the record size) and throw simdbvh::Error naming the file.
-// Writers write a temporary file in the same folder and rename it; on failure
-// nothing is left behind and earlier files are untouched.
+// Writers go through write_file_atomic (output.h): on failure nothing is left
+// behind and earlier files are untouched. encode_*: the file's bytes, for
+// write_files_atomic (several outputs all or nothing).
 std::vector<Ray> read_rays(const std::filesystem::path& file);
+std::vector<unsigned char> encode_rays(std::span<const Ray> rays);
 void write_rays(const std::filesystem::path& file, std::span<const Ray> rays);
 std::vector<Hit> read_hits(const std::filesystem::path& file);
+std::vector<unsigned char> encode_hits(std::span<const Hit> hits);
 void write_hits(const std::filesystem::path& file, std::span<const Hit> hits);
-// Writes bytes atomically (temp file + rename).
-void write_file_atomic(const std::filesystem::path& file, std::span<const unsigned char> bytes);
 
 }  // namespace simdbvh::scene

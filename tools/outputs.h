@@ -1,0 +1,31 @@
+#pragma once
+// The CLI's output files: config-time checks (each output can be created, none
+// is also an input or another output), the signal handlers that remove
+// temporary files of a killed run, and memory estimates of large requests.
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace simdbvh::cli {
+
+// (option, path) pairs, e.g. {"--out", "hits.bin"}.
+using NamedPaths = std::vector<std::pair<std::string, std::string>>;
+
+// Throws simdbvh::Error unless every output can be written (scene::check_writable; with create_parent for
+// files in a folder the command creates) and no output is the same file as an input or another output
+// (existing files: same device and inode; otherwise the paths with symlinks resolved). Inputs that are not
+// files (named scenes) are ignored.
+void check_outputs(const NamedPaths& outputs, const NamedPaths& inputs, bool create_parent = false);
+
+// SIGINT, SIGTERM, SIGHUP, SIGPIPE: remove live temporary files, then die of the signal (or, where the
+// default action does nothing, as PID 1 in a container, exit 128 + signal).
+void install_cleanup_handlers();
+
+// Throws simdbvh::Error naming `what` (e.g. "--count 2147483648") when `bytes` exceeds the memory this
+// process can use: MemAvailable (/proc/meminfo), or the address-space limit (ulimit -v) when lower.
+void check_memory(const std::string& what, std::uint64_t bytes);
+// "12.3 GB"
+std::string format_bytes(std::uint64_t bytes);
+
+}  // namespace simdbvh::cli

@@ -1,0 +1,90 @@
+#include "usage.h"
+
+#include <iterator>
+
+#include "simdbvh/kernels/error.h"
+#include "simdbvh/kernels/isa.h"
+
+namespace simdbvh::cli {
+namespace {
+
+struct CommandText {
+    const char* name;
+    const char* text;  // lines after "usage: simdbvh "
+};
+
+constexpr CommandText kCommands[] = {
+    {"info", R"(info     --scene S [--builder B] [--bins N] [--collapse sah|greedy]   triangles, bounds, both trees' statistics
+)"},
+    {"gen-rays", R"(gen-rays --scene S --kind K --count N [--seed K] --out RAYS.bin
+           K: primary | incoherent | diffuse, or a ray family with its own mesh (--mesh-out MESH.ply
+              [--case C] [--quick]; --scene only for random): watertight | offsets | axis-aligned |
+              surface-start | grazing | needles | degenerate | random
+           diffuse rays bounce off primary hits: a scene the camera does not hit is an error
+)"},
+    {"trace", R"(trace    --scene S --rays RAYS.bin --out HITS.bin [--method M] [--any-hit] [--stats] [--threads N]
+           [--isa I] [--builder B] [--bins N] [--collapse C] [--test watertight|moller]
+           [--box conservative|plain] [--quality medium|high] [--robust] [--drop-invalid]
+           M: brute | bvh2 | bvh8 | embree | spheres
+)"},
+    {"bench", R"(bench    [--scene S] [--quick] [--threads N] [--json FILE] [--report DIR] [--readme README.md]
+           [--reps N] [--rays N] [--sample N] [--no-report]
+           every method: build, Mrays/s (1 thread, all cores), accuracy; report with charts and pictures
+)"},
+    {"render", R"(render   --scene S --out IMG.png [--method M] [--heatmap] [--width W] [--height H]
+)"},
+    {"panel", R"(panel    [--scene S] [--quick] [--json FILE] [--report DIR]          build quality per builder
+           [--threads N] [--reps N] [--rays N] [--stats-rays N] [--no-report]
+)"},
+    {"accuracy", R"(accuracy [--quick] [--family F] [--report DIR] [--json FILE] [--no-embree]   ray families x method variants
+           [--seed K] [--threads N] [--scene S (for the random family)]
+)"},
+};
+
+constexpr const char* kFooter = R"(S is a scene name (dragon, dragon-res2..4, bunny, teapot, icosphere[-N], soup[-N], terrain) or a mesh file
+(.ply .obj .stl .off, optionally .gz). SIMDBVH_ISA=scalar|avx2|avx512 or --isa forces the ISA.
+Outputs (--out, --mesh-out, --json, --report) are checked before any work, must not be an input, and are
+replaced only when complete (symlinks written through, devices and FIFOs written directly).
+)";
+
+}  // namespace
+
+std::string usage() {
+    std::string s = "usage: simdbvh <command> [options]     (simdbvh <command> --help, simdbvh --version)\ncommands:\n";
+    for (const CommandText& c : kCommands) {
+        s += "  ";
+        s += c.text;
+    }
+    return s + kFooter;
+}
+
+std::string command_usage(const std::string& command) {
+    for (const CommandText& c : kCommands)
+        if (command == c.name) {
+            std::string s = "usage: simdbvh ";
+            s += c.text;
+            return s + kFooter;
+        }
+    return {};
+}
+
+std::string version_line() {
+    std::string s = "simdbvh " SIMDBVH_VERSION;
+    try {
+        s += " (isa ";
+        s += name(active_isa());
+        s += "; supported:";
+        for (Isa isa : supported_isas()) {
+            s += ' ';
+            s += name(isa);
+        }
+        s += ')';
+    } catch (const Error& e) {
+        s += " (isa: ";
+        s += e.what();
+        s += ')';
+    }
+    return s;
+}
+
+}  // namespace simdbvh::cli
