@@ -8,6 +8,7 @@
 #include <string>
 
 #include "support/cli.h"
+#include "support/sanitizer.h"
 #include "support/scene.h"
 
 namespace fs = std::filesystem;
@@ -43,6 +44,7 @@ TEST_F(BadInputLimits, DevZeroIsNotARayFile) {
 
 // An honest OBJ of 512 MiB (gzip members of "v 0 0 0" lines) under a 384 MiB address-space limit.
 TEST_F(BadInputLimits, OutOfMemoryNamesTheFile) {
+    SIMDBVH_SKIP_ADDRESS_LIMIT_UNDER_SANITIZER();
     std::string lines;
     for (int i = 0; i < (8 << 20) / 8; ++i) lines += "v 0 0 0\n";
     const fs::path mesh = dir_ / "big.obj.gz";

@@ -20,6 +20,7 @@
 #include <thread>
 
 #include "support/cli.h"
+#include "support/sanitizer.h"
 #include "support/scene.h"
 
 namespace fs = std::filesystem;
@@ -185,6 +186,7 @@ TEST_F(Outputs, StaleTemporaryNameDoesNotBlock) {
 
 // Item 9: sizes the options allow but memory does not are named, not a bare std::bad_alloc.
 TEST_F(Outputs, TooManyRaysNamesTheOption) {
+    SIMDBVH_SKIP_ADDRESS_LIMIT_UNDER_SANITIZER();
     const CliRun r = run_cli("gen-rays --scene icosphere-2 --kind incoherent --count 2147483648 --out " + p("r.bin"),
                              "ulimit -v 4000000; ");
     EXPECT_EQ(r.status, 2) << r.output;
@@ -195,6 +197,7 @@ TEST_F(Outputs, TooManyRaysNamesTheOption) {
 }
 
 TEST_F(Outputs, TooLargeImageNamesTheOptions) {
+    SIMDBVH_SKIP_ADDRESS_LIMIT_UNDER_SANITIZER();
     const CliRun r = run_cli("render --scene icosphere-2 --width 16384 --height 16384 --out " + p("i.png"),
                              "ulimit -v 4000000; ");
     EXPECT_EQ(r.status, 2) << r.output;
