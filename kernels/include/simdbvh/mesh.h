@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "simdbvh/kernels/error.h"  // simdbvh::Error, thrown by everything declared here
 #include "simdbvh/kernels/aabb.h"
 
 namespace simdbvh {

@@ -7,6 +7,7 @@
 #include <optional>
 #include <vector>
 
+#include "simdbvh/kernels/error.h"  // simdbvh::Error, thrown by everything declared here
 #include "simdbvh/bvh2/node.h"
 #include "simdbvh/kernels/aabb.h"
 

@@ -5,6 +5,7 @@
 #include <span>
 #include <vector>
 
+#include "simdbvh/kernels/error.h"  // simdbvh::Error, thrown by everything declared here
 #include "simdbvh/bvh2/build.h"
 #include "simdbvh/kernels/hit.h"
 #include "simdbvh/kernels/ray.h"
