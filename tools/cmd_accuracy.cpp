@@ -222,7 +222,7 @@ int cmd_accuracy(const std::vector<std::string>& args) {
         std::string f;
         while (std::getline(ss, f, ',')) {
             const auto p = scene::parse_family(f);
-            if (!p) throw UsageError("unknown --family '" + f + "' (watertight, offsets, axis-aligned, surface-start, grazing, needles, degenerate, random)");
+            if (!p) throw UsageError("unknown --family '" + f + "' (watertight, offsets, axis-aligned, surface-start, grazing, needles, degenerate, random, direction-scale)");
             fams.push_back(*p);
         }
     } else {

@@ -82,7 +82,7 @@ int cmd_gen_rays(const std::vector<std::string>& args) {
     if (!kind)
         throw UsageError("unknown --kind '" + kind_s +
                          "' (primary, incoherent, diffuse, or a family: watertight, offsets, axis-aligned, "
-                         "surface-start, grazing, needles, degenerate, random)");
+                         "surface-start, grazing, needles, degenerate, random, direction-scale)");
     const auto count = std::size_t(o.get_int("count", 0, 1, 1LL << 31));
     if (!o.has("count")) throw UsageError("'gen-rays': missing --count");
     const auto seed = std::uint64_t(o.get_int("seed", 1, 0, (1LL << 62)));

@@ -19,7 +19,8 @@ constexpr CommandText kCommands[] = {
     {"gen-rays", R"(gen-rays --scene S --kind K --count N [--seed K] --out RAYS.bin
            K: primary | incoherent | diffuse, or a ray family with its own mesh (--mesh-out MESH.ply
               [--case C] [--quick]; --scene only for random): watertight | offsets | axis-aligned |
-              surface-start | grazing | needles | degenerate | random
+              surface-start | grazing | needles | degenerate | random |
+              direction-scale
            diffuse rays bounce off primary hits: a scene the camera does not hit is an error
 )"},
     {"trace", R"(trace    --scene S --rays RAYS.bin --out HITS.bin [--method M] [--any-hit] [--stats] [--threads N]

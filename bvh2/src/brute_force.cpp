@@ -19,11 +19,11 @@ Hit brute(const Mesh& mesh, const Ray& ray) {
         float t, u, v;
         if (intersect_triangle<kTest>(r, mesh.positions[tri[0]], mesh.positions[tri[1]], mesh.positions[tri[2]],
                                       best.t, &t, &u, &v)) {
-            if (kAnyHit) return Hit{t, u, v, std::uint32_t(i)};
+            if (kAnyHit) return to_caller(r, Hit{t, u, v, std::uint32_t(i)});
             if (closer(t, std::uint32_t(i), best)) best = {t, u, v, std::uint32_t(i)};
         }
     }
-    return best.hit() ? best : Hit{};
+    return best.hit() ? to_caller(r, best) : Hit{};
 }
 
 }  // namespace

@@ -197,13 +197,13 @@ Hit traverse(const SphereBvh& bvh, const Ray& ray, TraceStats* stats) {
                 if (kStats) stats->triangle_tests++;
                 if (intersect_triangle<kTest>(r, tv.v0, tv.v1, tv.v2, best.t, &t, &u, &v)) {
                     const std::uint32_t prim = ids[i];
-                    if (kAnyHit) return Hit{t, u, v, prim};
+                    if (kAnyHit) return to_caller(r, Hit{t, u, v, prim});
                     if (closer(t, prim, best)) best = {t, u, v, prim};
                 }
             }
         }
         for (;;) {
-            if (sp == 0) return best.hit() ? best : Hit{};
+            if (sp == 0) return best.hit() ? to_caller(r, best) : Hit{};
             const StackEntry& s = stack[--sp];
             if (!(s.entry > best.t * kCullWiden)) {
                 idx = s.node;

@@ -72,6 +72,7 @@ struct RayState {
     Hit best;   // closest hit so far; best.t = current tmax (any hit: the ray's tmax, then the hit)
     Child8 cur; // next node or leaf to visit
     int sp;
+    int t_exp;        // PreparedRay::t_exp: the caller's t is ldexp(best.t, t_exp)
     std::size_t ray;  // index in the batch
     StackEntry stack[kStackSize];
 };
@@ -180,6 +181,7 @@ inline __attribute__((always_inline)) bool start(RayState<K>& s, const Ray& ray,
     s.best.t = r.tmax;
     s.cur = Child8{0, 0};
     s.sp = 0;
+    s.t_exp = r.t_exp;
     s.ray = i;
     return true;
 }
@@ -218,7 +220,7 @@ inline __attribute__((always_inline)) void trace_span(const Bvh8& bvh, std::span
             if (!step<K, kTest, kAnyHit, kStats>(nodes, blocks, s, stats)) {
                 prefetch_child(nodes, blocks, s.cur);
             } else {
-                hits[s.ray] = s.best;
+                hits[s.ray] = to_caller(s.t_exp, s.best);
                 if (!refill(live[k])) {
                     live[k] = live[--nlive];
                     continue;

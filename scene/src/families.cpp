@@ -152,6 +152,36 @@ std::vector<FamilyCase> family_offsets(const FamilyOptions& o) {
     return out;
 }
 
+// The icosphere's aimed rays with the direction (target - origin, in double)
+// scaled by 2^e and rounded once to float: from 2^-149 (the smallest subnormal:
+// most components round to zero, the ray turns axis-aligned) to 2^127 (the
+// largest component near FLT_MAX). The origin is inside the closed sphere, so
+// every ray must hit; where t exceeds FLT_MAX the hit is reported with t = +inf
+// (kernels/ray.h).
+std::vector<FamilyCase> family_direction_scale(const FamilyOptions& o) {
+    const WatertightMeshes w = watertight_meshes(o);
+    const Aimed& a = w.sphere_rays;
+    std::vector<FamilyCase> out;
+    for (int e : {-149, -145, -140, -130, -127, -120, -100, -64, -33, 0, 33, 64, 100, 120, 127}) {
+        FamilyCase c;
+        c.family = Family::direction_scale;
+        c.name = "direction-scale/2^" + std::to_string(e);
+        c.mesh = w.sphere;
+        for (std::size_t i = 0; i < a.targets.size(); ++i) {
+            const Vec3 org = a.origins[i], t = a.targets[i];
+            Ray r;
+            r.org = org;
+            r.dir = {float(std::ldexp(double(t.x) - double(org.x), e)), float(std::ldexp(double(t.y) - double(org.y), e)),
+                     float(std::ldexp(double(t.z) - double(org.z), e))};
+            if (r.dir == Vec3{}) continue;  // every component rounded to zero
+            c.rays.push_back(r);
+            c.expect.push_back(RayExpect{Expect::hit});
+        }
+        out.push_back(std::move(c));
+    }
+    return out;
+}
+
 void append_quad(Mesh& m, Vec3 a, Vec3 b, Vec3 c, Vec3 d) {  // a b c d counter-clockwise
     const auto i = std::uint32_t(m.positions.size());
     m.positions.insert(m.positions.end(), {a, b, c, d});
@@ -495,6 +525,7 @@ std::string_view name(Family f) {
     case Family::needles: return "needles";
     case Family::degenerate: return "degenerate";
     case Family::random: return "random";
+    case Family::direction_scale: return "direction-scale";
     }
     return "?";
 }
@@ -525,6 +556,7 @@ std::vector<FamilyCase> make_family(Family f, const FamilyOptions& o) {
     case Family::needles: return family_needles(o);
     case Family::degenerate: return family_degenerate(o);
     case Family::random: return family_random(o);
+    case Family::direction_scale: return family_direction_scale(o);
     }
     throw Error("unknown ray family");
 }

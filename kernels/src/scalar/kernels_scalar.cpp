@@ -27,7 +27,7 @@ void intersect_box1(std::span<const Ray> rays, std::span<const Aabb> boxes, std:
         float e = std::numeric_limits<float>::infinity();
         const bool h = r.valid && intersect_box(r, boxes[i], r.tmax, &e);
         hits[i] = h ? 1 : 0;
-        entries[i] = r.valid ? e : std::numeric_limits<float>::infinity();
+        entries[i] = r.valid ? to_caller_t(r, e) : std::numeric_limits<float>::infinity();
     }
 }
 
@@ -40,7 +40,7 @@ void intersect_tri1(std::span<const Ray> rays, std::span<const Tri1> tris, Trian
         if (r.valid && (test == TriangleTest::watertight ? intersect_watertight(r, tri.v0, tri.v1, tri.v2, r.tmax, &t, &u, &v)
                                                         : intersect_moller(r, tri.v0, tri.v1, tri.v2, r.tmax, &t, &u, &v)))
             h = Hit{t, u, v, tri.prim};
-        hits[i] = h;
+        hits[i] = to_caller(r, h);
     }
 }
 
@@ -85,7 +85,7 @@ void closest(std::span<const Ray> rays, std::span<const Tri8> blocks, Hit* hits)
             for (const Tri8& b : blocks) tri8_closest<kTest>(r, b, best);
             if (!best.hit()) best = Hit{};
         }
-        hits[i] = best;
+        hits[i] = to_caller(r, best);
     }
 }
 
@@ -99,7 +99,7 @@ void any(std::span<const Ray> rays, std::span<const Tri8> blocks, std::uint8_t* 
             for (const Tri8& b : blocks)
                 if ((found = tri8_any<kTest>(r, b, r.tmax, h))) break;
         occluded[i] = found ? 1 : 0;
-        if (first_hits) first_hits[i] = found ? h : Hit{};
+        if (first_hits) first_hits[i] = found ? to_caller(r, h) : Hit{};
     }
 }
 
@@ -115,7 +115,7 @@ void intersect_box8(std::span<const Ray> rays, const Box8& boxes, std::uint8_t* 
         for (int j = 0; j < 8; ++j) {
             float e = std::numeric_limits<float>::infinity();
             if (r.valid && intersect_box(r, boxes.get(j), r.tmax, &e)) m |= 1u << j;
-            entries[8 * i + j] = e;
+            entries[8 * i + j] = r.valid ? to_caller_t(r, e) : e;
         }
         masks[i] = static_cast<std::uint8_t>(m);
     }

@@ -22,6 +22,8 @@ struct BatchLoops {
             }
             const RayPack<Arch> p = pack_ray<Arch>(r);
             masks[i] = static_cast<std::uint8_t>(intersect_box8<Arch>(p, boxes, r.tmax, entries + 8 * i));
+            if (r.t_exp != 0)
+                for (int j = 0; j < 8; ++j) entries[8 * i + j] = to_caller_t(r, entries[8 * i + j]);
         }
     }
 
@@ -51,7 +53,7 @@ struct BatchLoops {
                 for (const Tri8& b : blocks) intersect_tri8<Arch, kTest>(p, b, best);
                 if (!best.hit()) best = Hit{};
             }
-            hits[i] = best;
+            hits[i] = to_caller(r, best);
         }
     }
 
@@ -68,7 +70,7 @@ struct BatchLoops {
                     if ((found = occluded_tri8<Arch, kTest>(p, b, r.tmax, h))) break;
             }
             occluded[i] = found ? 1 : 0;
-            if (first_hits) first_hits[i] = found ? h : Hit{};
+            if (first_hits) first_hits[i] = found ? to_caller(r, h) : Hit{};
         }
     }
 };

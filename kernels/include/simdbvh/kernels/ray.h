@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "simdbvh/kernels/hit.h"
 #include "simdbvh/kernels/vec.h"
 
 namespace simdbvh {
@@ -18,9 +19,23 @@ static_assert(sizeof(Ray) == 32);
 
 // Everything the box and triangle kernels need, computed once per ray in
 // ISA-neutral code so every path starts from identical values.
+//
+// Tiny and huge directions. A direction whose largest component is below
+// 2^-32 or above 2^32 is rescaled by an exact power of two 2^t_exp so that the
+// largest component lies in [1, 2), and tmin/tmax by 2^-t_exp: the same ray,
+// parameterised differently (1/d no longer overflows for |d| < 2^-128, and the
+// slab distances stay finite). Components below FLT_MIN (after any rescaling)
+// are flushed to a zero of the same sign, on every path, so the box test (which
+// needs 1/d) and the triangle test see the same direction. Kernels work in the
+// rescaled parameter; to_caller() maps a hit's t back by 2^t_exp. Where that t
+// exceeds FLT_MAX (say |d| = 2^-149 and a triangle at distance 1) the hit is
+// reported with t = +inf and its triangle, u and v; where it falls below
+// FLT_MIN it is rounded as ldexp() rounds. Power-of-two rescalings of a
+// direction give the same triangle, u and v, and t scaled exactly (until it
+// overflows or becomes subnormal).
 struct PreparedRay {
     Vec3 org;
-    Vec3 dir;
+    Vec3 dir;          // the direction the kernels use (rescaled, subnormals flushed)
     Vec3 rdir;         // 1/d, +-inf for +-0 components (sign kept)
     float tmin = 0.0f;
     float tmax = 0.0f;
@@ -31,7 +46,12 @@ struct PreparedRay {
     int kx = 0, ky = 1, kz = 2;  // watertight permutation (Woop et al. 2013)
     float sx = 0.0f, sy = 0.0f, sz = 0.0f;  // watertight shear constants
     bool valid = false;  // false: zero/NaN/Inf direction, NaN/Inf origin, NaN or empty interval
+    int t_exp = 0;       // a caller's t = ldexp(kernel t, t_exp)
 };
+
+// Directions with a largest component outside [kRescaleBelow, kRescaleAbove] are rescaled.
+inline constexpr float kRescaleBelow = 0x1p-32f;
+inline constexpr float kRescaleAbove = 0x1p32f;
 
 // Ize 2013 ("Robust BVH Ray Traversal"): widen the far distance by 1 + 2*gamma(3),
 // gamma(n) = n*u / (1 - n*u), u = 2^-24.
@@ -51,25 +71,49 @@ inline PreparedRay prepare(const Ray& r) {
     p.tmax = r.tmax;
     const bool dir_ok = is_finite(r.dir) && (r.dir.x != 0.0f || r.dir.y != 0.0f || r.dir.z != 0.0f);
     p.valid = dir_ok && is_finite(r.org) && !std::isnan(r.tmin) && !std::isnan(r.tmax) && r.tmin <= r.tmax;
+    if (dir_ok) {
+        const float m = std::fmax(std::fabs(r.dir.x), std::fmax(std::fabs(r.dir.y), std::fabs(r.dir.z)));
+        if (m < kRescaleBelow || m > kRescaleAbove) {
+            const int k = -std::ilogb(m);  // m * 2^k in [1, 2)
+            p.dir = {std::ldexp(r.dir.x, k), std::ldexp(r.dir.y, k), std::ldexp(r.dir.z, k)};
+            p.tmin = std::ldexp(r.tmin, -k);
+            p.tmax = std::ldexp(r.tmax, -k);
+            p.t_exp = k;
+        }
+        auto flush = [](float d) { return std::fabs(d) < std::numeric_limits<float>::min() ? std::copysign(0.0f, d) : d; };
+        p.dir = {flush(p.dir.x), flush(p.dir.y), flush(p.dir.z)};
+    }
+    const Vec3 d = p.dir;
     // 1/(+-0) = +-inf, written without dividing by zero (UBSan's float-divide-by-zero).
     auto rcp = [](float d) { return d != 0.0f ? 1.0f / d : std::copysign(std::numeric_limits<float>::infinity(), d); };
-    p.rdir = {rcp(r.dir.x), rcp(r.dir.y), rcp(r.dir.z)};
+    p.rdir = {rcp(d.x), rcp(d.y), rcp(d.z)};
     p.near_x = std::signbit(p.rdir.x) ? 1 : 0;
     p.near_y = std::signbit(p.rdir.y) ? 1 : 0;
     p.near_z = std::signbit(p.rdir.z) ? 1 : 0;
     p.octant = p.near_x | (p.near_y << 1) | (p.near_z << 2);
-    const Vec3 a{std::fabs(r.dir.x), std::fabs(r.dir.y), std::fabs(r.dir.z)};
+    const Vec3 a{std::fabs(d.x), std::fabs(d.y), std::fabs(d.z)};
     int kz = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
     int kx = kz == 2 ? 0 : kz + 1;
     int ky = kx == 2 ? 0 : kx + 1;
-    if (r.dir[kz] < 0.0f) { int t = kx; kx = ky; ky = t; }  // keep the winding
+    if (d[kz] < 0.0f) { int t = kx; kx = ky; ky = t; }  // keep the winding
     p.kx = kx; p.ky = ky; p.kz = kz;
     if (p.valid) {
-        p.sx = r.dir[kx] / r.dir[kz];
-        p.sy = r.dir[ky] / r.dir[kz];
-        p.sz = 1.0f / r.dir[kz];
+        p.sx = d[kx] / d[kz];
+        p.sy = d[ky] / d[kz];
+        p.sz = 1.0f / d[kz];
     }
     return p;
 }
+
+// A kernel's t (in the prepared ray's parameter) as the caller's t.
+inline float to_caller_t(int t_exp, float t) { return t_exp == 0 ? t : std::ldexp(t, t_exp); }
+inline float to_caller_t(const PreparedRay& p, float t) { return to_caller_t(p.t_exp, t); }
+
+// A kernel's hit as the caller's hit (misses pass through).
+inline Hit to_caller(int t_exp, Hit h) {
+    if (t_exp != 0 && h.hit()) h.t = std::ldexp(h.t, t_exp);
+    return h;
+}
+inline Hit to_caller(const PreparedRay& p, const Hit& h) { return to_caller(p.t_exp, h); }
 
 }  // namespace simdbvh

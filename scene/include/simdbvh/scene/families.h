@@ -27,11 +27,13 @@ enum class Family : std::uint8_t {
     needles,        // fans of very thin triangles, aspect 1e1..1e7
     degenerate,     // duplicates, zero-area triangles, equal centroids
     random,         // incoherent rays on a real mesh (or a procedural stand-in)
+    direction_scale,  // the watertight icosphere rays with directions scaled by 2^-149 .. 2^127
 };
 inline constexpr Family kAllFamilies[] = {Family::watertight, Family::offsets,  Family::axis_aligned,
                                           Family::surface_start, Family::grazing, Family::needles,
-                                          Family::degenerate, Family::random};
-// "watertight", "offsets", "axis-aligned", "surface-start", "grazing", "needles", "degenerate", "random".
+                                          Family::degenerate, Family::random,   Family::direction_scale};
+// "watertight", "offsets", "axis-aligned", "surface-start", "grazing", "needles", "degenerate", "random",
+// "direction-scale".
 std::string_view name(Family f);
 std::optional<Family> parse_family(std::string_view s);
 
