@@ -22,5 +22,7 @@ int cmd_bench(const std::vector<std::string>& args);
 int cmd_render(const std::vector<std::string>& args);
 int cmd_accuracy(const std::vector<std::string>& args);
 int cmd_panel(const std::vector<std::string>& args);
+int cmd_gen_points(const std::vector<std::string>& args);
+int cmd_distance(const std::vector<std::string>& args);
 
 }  // namespace simdbvh::cli

@@ -45,6 +45,8 @@ int main(int argc, char** argv) {
         if (cmd == "render") return cmd_render(args);
         if (cmd == "accuracy") return cmd_accuracy(args);
         if (cmd == "panel") return cmd_panel(args);
+        if (cmd == "gen-points") return cmd_gen_points(args);
+        if (cmd == "distance") return cmd_distance(args);
         return 2;
     } catch (const UsageError& e) {
         std::cerr << "simdbvh: " << e.what() << "\n";

@@ -28,6 +28,11 @@ constexpr CommandText kCommands[] = {
            [--box conservative|plain] [--quality medium|high] [--robust] [--drop-invalid]
            M: brute | bvh2 | bvh8 | embree | spheres
 )"},
+    {"gen-points", R"(gen-points --scene S --count N [--seed K] --out POINTS.bin   uniform in the bounds + 10% per side
+)"},
+    {"distance", R"(distance --scene S --points POINTS.bin --out DIST.bin [--threads N] [--max-distance R] [--stats]
+           closest point on the mesh per point: 20-byte records (distance, triangle, x y z)
+)"},
     {"bench", R"(bench    [--scene S] [--quick] [--threads N] [--json FILE] [--report DIR] [--readme README.md]
            [--reps N] [--rays N] [--sample N] [--no-report]
            every method: build, Mrays/s (1 thread, all cores), accuracy; report with charts and pictures

@@ -1,60 +1,15 @@
 // Ray and hit files (raw little-endian records).
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
-#include <bit>
-#include <cerrno>
-#include <cstdio>
-#include <cstring>
-#include <fstream>
-
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/scene/output.h"
 #include "simdbvh/scene/rays.h"
+#include "records.h"
 
 namespace simdbvh::scene {
-namespace {
-
-void put_u32(unsigned char* p, std::uint32_t v) {
-    p[0] = static_cast<unsigned char>(v);
-    p[1] = static_cast<unsigned char>(v >> 8);
-    p[2] = static_cast<unsigned char>(v >> 16);
-    p[3] = static_cast<unsigned char>(v >> 24);
-}
-std::uint32_t get_u32(const unsigned char* p) {
-    return std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16 | std::uint32_t(p[3]) << 24;
-}
-void put_f32(unsigned char* p, float f) { put_u32(p, std::bit_cast<std::uint32_t>(f)); }
-float get_f32(const unsigned char* p) { return std::bit_cast<float>(get_u32(p)); }
-
-// Regular files only (symlinks followed): a device such as /dev/zero has no
-// size to check and would read forever.
-std::vector<unsigned char> read_records(const std::filesystem::path& file, std::size_t record, const char* what) {
-    const std::string name = file.string();
-    const int fd = ::open(name.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);  // a FIFO would block in open
-    if (fd < 0) throw Error(name + ": cannot open: " + std::strerror(errno));
-    struct Closer { int fd; ~Closer() { ::close(fd); } } closer{fd};
-    struct stat st {};
-    if (::fstat(fd, &st) != 0) throw Error(name + ": cannot determine the size: " + std::strerror(errno));
-    if (S_ISDIR(st.st_mode)) throw Error(name + ": is a directory");
-    if (!S_ISREG(st.st_mode)) throw Error(name + ": is not a regular file (a device, FIFO or socket)");
-    const auto size = std::uint64_t(st.st_size);
-    if (size % record != 0)
-        throw Error(name + ": size " + std::to_string(size) + " is not a multiple of " + std::to_string(record) +
-                    " bytes (" + what + " records)");
-    std::vector<unsigned char> bytes(static_cast<std::size_t>(size));
-    for (std::size_t got = 0; got < bytes.size();) {
-        const ssize_t r = ::pread(fd, bytes.data() + got, bytes.size() - got, off_t(got));
-        if (r < 0 && errno == EINTR) continue;
-        if (r < 0) throw Error(name + ": read error: " + std::strerror(errno));
-        if (r == 0) throw Error(name + ": read error: the file shrank while reading");
-        got += std::size_t(r);
-    }
-    return bytes;
-}
-
-}  // namespace
+using detail::get_f32;
+using detail::get_u32;
+using detail::put_f32;
+using detail::put_u32;
+using detail::read_records;
 
 std::vector<Ray> read_rays(const std::filesystem::path& file) {
     const auto bytes = read_records(file, sizeof(Ray), "32-byte ray");

@@ -33,10 +33,15 @@ struct ClosestPoint {
 };
 static_assert(sizeof(ClosestPoint) == 40);
 
+struct PointQueryStats {  // summed over a batch
+    std::uint64_t points = 0, nodes_visited = 0, triangle_tests = 0, exact_tests = 0;
+};
+
 struct PointQueryOptions {
     // Only triangles within this distance (inclusive) are considered.
     float max_distance = std::numeric_limits<float>::infinity();
-    int threads = 1;  // batched calls: split the points over this many threads
+    int threads = 1;                   // batched calls: split the points over this many threads
+    PointQueryStats* stats = nullptr;  // non-null: count (forces one thread)
 };
 
 // One triangle in double: the closest point of (v0, v1, v2) to p.

@@ -1,0 +1,36 @@
+#pragma once
+// Query points and closest-point results on disk, and random query points.
+//
+// Points file: raw little-endian float32 x y z records (12 bytes, no header).
+// Distance file: 20-byte records float32 distance, uint32 prim, float32 x y z
+// (the closest point); no triangle within reach: distance +inf, prim
+// 0xFFFFFFFF, point 0 0 0. The distance is unsigned today; the sign (negative
+// inside a closed mesh) comes with the exact inside test.
+// Readers check the size (a multiple of the record size) and throw
+// simdbvh::Error naming the file; writers go through write_file_atomic.
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <vector>
+
+#include "simdbvh/bvh2/closest_point.h"
+#include "simdbvh/kernels/aabb.h"
+
+namespace simdbvh::scene {
+
+std::vector<Vec3> read_points(const std::filesystem::path& file);
+std::vector<unsigned char> encode_points(std::span<const Vec3> points);
+
+struct DistanceRecord {
+    float distance = 0;
+    std::uint32_t prim = 0;
+    Vec3 point;
+};
+std::vector<DistanceRecord> read_distances(const std::filesystem::path& file);
+std::vector<unsigned char> encode_distances(std::span<const ClosestPoint> results);
+
+// count points uniform in `bounds` grown by `margin` times its extent on every
+// side (deterministic for a seed on every machine).
+std::vector<Vec3> random_points(const Aabb& bounds, std::size_t count, std::uint64_t seed, float margin = 0.1f);
+
+}  // namespace simdbvh::scene

@@ -1,0 +1,113 @@
+// simdbvh gen-points and distance: the records against the brute-force
+// closest point, the file layout, and bad input (exit 2, no output, nothing
+// existing destroyed).
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "simdbvh/bvh2/closest_point.h"
+#include "simdbvh/scene/output.h"
+#include "simdbvh/scene/points.h"
+#include "simdbvh/scene/scenes.h"
+#include "support/cli.h"
+#include "support/scene.h"
+
+namespace fs = std::filesystem;
+
+namespace simdbvh {
+namespace {
+
+using test::CliRun;
+using test::run_cli;
+
+class DistanceCli : public testing::Test {
+protected:
+    std::string path(const std::string& name) const { return (dir_ / name).string(); }
+    test::TempDir dir_;
+};
+
+TEST_F(DistanceCli, RecordsMatchTheBruteForce) {
+    const std::string pts = path("p.bin"), out = path("d.bin");
+    CliRun g = run_cli("gen-points --scene icosphere-3 --count 2000 --seed 3 --out " + pts);
+    ASSERT_EQ(g.status, 0) << g.output;
+    ASSERT_EQ(fs::file_size(pts), 2000u * 12);
+    CliRun d = run_cli("distance --scene icosphere-3 --points " + pts + " --out " + out + " --threads 2");
+    ASSERT_EQ(d.status, 0) << d.output;
+    EXPECT_NE(d.output.find("points 2000"), std::string::npos) << d.output;
+    ASSERT_EQ(fs::file_size(out), 2000u * 20);
+    const Mesh mesh = scene::load_scene("icosphere-3");
+    const auto points = scene::read_points(pts);
+    const auto recs = scene::read_distances(out);
+    ASSERT_EQ(points.size(), 2000u);
+    ASSERT_EQ(recs.size(), 2000u);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        const ClosestPoint want = brute_force_closest_point(mesh, points[i]);
+        ASSERT_EQ(recs[i].prim, want.prim) << "point " << i;
+        ASSERT_EQ(std::memcmp(&recs[i].distance, &want.distance, 4), 0) << "point " << i;
+        ASSERT_EQ(std::memcmp(&recs[i].point, &want.point, 12), 0) << "point " << i;
+        // The unit icosphere: a point's distance is about | |p| - 1 |.
+        const double r = std::sqrt(double(points[i].x) * points[i].x + double(points[i].y) * points[i].y +
+                                   double(points[i].z) * points[i].z);
+        ASSERT_NEAR(recs[i].distance, std::fabs(r - 1.0), 0.02) << "point " << i;
+    }
+}
+
+TEST_F(DistanceCli, MaxDistanceAndNonFinitePoints) {
+    const std::string pts = path("p.bin"), out = path("d.bin");
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const std::vector<Vec3> p = {{0, 0, 0}, {0, 0, 1.01f}, {nan, 0, 0}, {0, 0, 3}};
+    scene::write_file_atomic(pts, scene::encode_points(p));
+    CliRun d = run_cli("distance --scene icosphere-3 --points " + pts + " --out " + out + " --max-distance 0.5");
+    ASSERT_EQ(d.status, 0) << d.output;
+    const auto recs = scene::read_distances(out);
+    ASSERT_EQ(recs.size(), 4u);
+    EXPECT_EQ(recs[0].prim, kInvalidPrim) << "the centre is about 1 away, beyond 0.5";
+    EXPECT_NE(recs[1].prim, kInvalidPrim);
+    EXPECT_NEAR(recs[1].distance, 0.01f, 0.01f);
+    for (int k : {0, 2, 3}) {
+        EXPECT_EQ(recs[k].prim, kInvalidPrim) << k;
+        EXPECT_TRUE(std::isinf(recs[k].distance)) << k;
+    }
+}
+
+TEST_F(DistanceCli, BadInputExitsTwoAndLeavesNothing) {
+    const std::string pts = path("p.bin"), out = path("d.bin"), keep = path("keep.bin");
+    test::write_text(pts, std::string(100, 'x'));  // not a multiple of 12
+    CliRun d = run_cli("distance --scene icosphere-3 --points " + pts + " --out " + out);
+    EXPECT_EQ(d.status, 2) << d.output;
+    EXPECT_NE(d.output.find(pts), std::string::npos) << d.output;
+    EXPECT_NE(d.output.find("12"), std::string::npos) << d.output;
+    EXPECT_FALSE(fs::exists(out));
+    // An existing output survives a failed run.
+    test::write_text(keep, "precious");
+    d = run_cli("distance --scene icosphere-3 --points " + pts + " --out " + keep);
+    EXPECT_EQ(d.status, 2);
+    EXPECT_EQ(test::read_bytes(keep), "precious");
+    scene::write_file_atomic(pts, scene::encode_points(std::vector<Vec3>{{0, 0, 0}}));
+    for (const std::string& bad : {std::string("--max-distance -1"), std::string("--max-distance abc"),
+                                   std::string("--threads 0"), std::string("--bogus 1")}) {
+        d = run_cli("distance --scene icosphere-3 --points " + pts + " --out " + out + " " + bad);
+        EXPECT_EQ(d.status, 2) << bad << ": " << d.output;
+        EXPECT_FALSE(fs::exists(out)) << bad;
+    }
+    d = run_cli("distance --scene icosphere-3 --points " + path("missing.bin") + " --out " + out);
+    EXPECT_EQ(d.status, 2);
+    EXPECT_NE(d.output.find("missing.bin"), std::string::npos) << d.output;
+    d = run_cli("gen-points --scene icosphere-3 --out " + out);
+    EXPECT_EQ(d.status, 2);
+    EXPECT_NE(d.output.find("--count"), std::string::npos) << d.output;
+    EXPECT_FALSE(fs::exists(out));
+    d = run_cli("distance --help");
+    EXPECT_EQ(d.status, 0);
+    EXPECT_NE(d.output.find("--max-distance"), std::string::npos) << d.output;
+}
+
+}  // namespace
+}  // namespace simdbvh
