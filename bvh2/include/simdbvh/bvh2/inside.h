@@ -1,0 +1,55 @@
+#pragma once
+// Inside/outside of points against a closed triangle mesh, from one ray per
+// point, exactly (docs/exact_crossings.md): the ray from p along +z, the
+// crossings decided with exact predicates on the float coordinates and a
+// symbolic perturbation of p, so a ray through an edge or a vertex counts each
+// crossing of the surface exactly once.
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "simdbvh/bvh2/bvh2.h"
+#include "simdbvh/kernels/error.h"
+#include "simdbvh/mesh.h"
+
+namespace simdbvh {
+
+// Whether a mesh bounds a volume: its edges after welding vertices with equal
+// coordinates. Closed: every edge is shared by exactly two triangles;
+// consistently oriented: they use it in opposite directions. Triangles with
+// two equal corners are ignored.
+struct MeshClosure {
+    std::size_t edges = 0;
+    std::size_t boundary_edges = 0;      // used by one triangle
+    std::size_t nonmanifold_edges = 0;   // used by three or more
+    std::size_t misoriented_edges = 0;   // used twice in the same direction
+    bool closed() const { return boundary_edges == 0 && nonmanifold_edges == 0; }
+    bool consistently_oriented() const { return closed() && misoriented_edges == 0; }
+};
+MeshClosure mesh_closure(const Mesh& mesh);
+
+enum class Side : std::uint8_t { outside = 0, inside = 1, surface = 2 };
+
+struct PointSide {
+    Side side = Side::outside;
+    std::int32_t winding = 0;     // sum over crossings of the sign of the triangle's normal z (+1 leaving)
+    std::uint32_t crossings = 0;  // crossings of the ray from p along +z
+};
+
+struct InsideOptions {
+    // How crossings decide inside: nonzero winding (right for closed, consistently
+    // oriented meshes, overlapping parts included) or odd crossing count.
+    enum class Rule : std::uint8_t { winding, parity } rule = Rule::winding;
+    int threads = 1;
+};
+
+// surface: p lies on a triangle that the ray's perturbed line meets (points on
+// faces parallel to z are classified as inside or outside, see the docs page).
+// A non-finite point is outside with no crossings.
+PointSide classify_point(const Bvh2& bvh, const Vec3& p, const InsideOptions& opts = {});
+void classify_points(const Bvh2& bvh, std::span<const Vec3> points, std::span<PointSide> out,
+                     const InsideOptions& opts = {});
+// O(triangles) per point, the same predicates.
+PointSide brute_force_classify_point(const Mesh& mesh, const Vec3& p, const InsideOptions& opts = {});
+
+}  // namespace simdbvh
