@@ -6,9 +6,11 @@
 #include <new>
 
 #include "common.h"
+#include "point_queries.h"
 #include "options.h"
 #include "outputs.h"
 #include "simdbvh/bvh2/closest_point.h"
+#include "simdbvh/bvh2/inside.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/scene/output.h"
 #include "simdbvh/scene/points.h"
@@ -52,7 +54,8 @@ int cmd_gen_points(const std::vector<std::string>& args) {
 }
 
 int cmd_distance(const std::vector<std::string>& args) {
-    const Options o("distance", args, {"scene", "points", "out", "threads", "max-distance"}, {"stats"});
+    const Options o("distance", args, {"scene", "points", "out", "threads", "max-distance", "rule"},
+                    {"stats", "unsigned"});
     const std::string scene_name = o.require("scene");
     const std::string points_file = o.require("points");
     const std::string out = o.require("out");
@@ -64,7 +67,12 @@ int cmd_distance(const std::vector<std::string>& args) {
     check_outputs({{"--out", out}}, {{"--scene", scene_name}, {"--points", points_file}});
     const auto points = scene::read_points(points_file);  // a bad points file fails before the build
     check_memory("--points " + points_file, std::uint64_t(points.size()) * (sizeof(ClosestPoint) + 20));
+    InsideOptions io;
+    io.threads = q.threads;
+    io.rule = parse_rule(o);
+    const bool is_signed = !o.has("unsigned");
     const Mesh mesh = load_scene_with_progress(scene_name);
+    if (is_signed) report_closure(scene_name, mesh);
     progress("building bvh2 ...");
     const auto t0 = std::chrono::steady_clock::now();
     const Bvh2 bvh = Bvh2::build(mesh);
@@ -72,6 +80,19 @@ int cmd_distance(const std::vector<std::string>& args) {
     std::vector<ClosestPoint> results(points.size());
     const auto t1 = std::chrono::steady_clock::now();
     closest_point(bvh, points, results, q);
+    std::size_t inside = 0;
+    if (is_signed) {  // the sign from the exact inside test
+        std::vector<PointSide> sides(points.size());
+        classify_points(bvh, points, sides, io);
+        for (std::size_t i = 0; i < points.size(); ++i) {
+            if (!results[i].found()) continue;
+            if (sides[i].side == Side::surface) results[i].distance = 0.0f;
+            if (sides[i].side == Side::inside) {
+                results[i].distance = -results[i].distance;
+                ++inside;
+            }
+        }
+    }
     const double query_s = seconds_since(t1);
     scene::write_file_atomic(out, scene::encode_distances(results));
     std::size_t found = 0;
@@ -79,11 +100,12 @@ int cmd_distance(const std::vector<std::string>& args) {
     for (const ClosestPoint& c : results)
         if (c.found()) {
             ++found;
-            sum += c.distance;
-            worst = std::max(worst, double(c.distance));
+            sum += std::fabs(c.distance);
+            worst = std::max(worst, double(std::fabs(c.distance)));
         }
-    std::cout << "method bvh2  threads " << q.threads << "  max-distance " << q.max_distance << "\n"
-              << "points " << points.size() << "  found " << found << "  mean distance "
+    std::cout << "method bvh2  threads " << q.threads << "  max-distance " << q.max_distance << "  "
+              << (is_signed ? "signed" : "unsigned") << "\n"
+              << "points " << points.size() << "  found " << found << "  inside " << inside << "  mean |distance| "
               << (found ? sum / double(found) : 0.0) << "  max " << worst << "\n"
               << "build " << build_s * 1e3 << " ms  query " << query_s * 1e3 << " ms  "
               << (query_s > 0 ? double(points.size()) / query_s / 1e6 : 0.0) << " Mpoints/s\n";

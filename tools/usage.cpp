@@ -31,7 +31,11 @@ constexpr CommandText kCommands[] = {
     {"gen-points", R"(gen-points --scene S --count N [--seed K] --out POINTS.bin   uniform in the bounds + 10% per side
 )"},
     {"distance", R"(distance --scene S --points POINTS.bin --out DIST.bin [--threads N] [--max-distance R] [--stats]
-           closest point on the mesh per point: 20-byte records (distance, triangle, x y z)
+           [--unsigned] [--rule winding|parity]
+           closest point per point: 20-byte records (signed distance, triangle, x y z); negative inside
+)"},
+    {"inside", R"(inside   --scene S --points POINTS.bin --out SIDES.bin [--threads N] [--rule winding|parity]
+           exact inside/outside per point: one byte (0 outside, 1 inside, 2 on the surface)
 )"},
     {"bench", R"(bench    [--scene S] [--quick] [--threads N] [--json FILE] [--report DIR] [--readme README.md]
            [--reps N] [--rays N] [--sample N] [--no-report]

@@ -1,6 +1,7 @@
 // Points and distance files (raw little-endian records), random query points.
 #include "records.h"
 #include "rng.h"
+#include <string>
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/scene/points.h"
 
@@ -46,6 +47,24 @@ std::vector<unsigned char> encode_distances(std::span<const ClosestPoint> result
         put_u32(p + 4, c.prim);
         for (int k = 0; k < 3; ++k) put_f32(p + 8 + 4 * k, c.point[k]);
     }
+    return bytes;
+}
+
+std::vector<Side> read_sides(const std::filesystem::path& file) {
+    const auto bytes = detail::read_records(file, 1, "1-byte side");
+    std::vector<Side> out(bytes.size());
+    for (std::size_t i = 0; i < bytes.size(); ++i) {
+        if (bytes[i] > 2)
+            throw Error(file.string() + ": byte " + std::to_string(i) + " is " + std::to_string(bytes[i]) +
+                        " (a side is 0 outside, 1 inside, 2 on the surface)");
+        out[i] = Side(bytes[i]);
+    }
+    return out;
+}
+
+std::vector<unsigned char> encode_sides(std::span<const PointSide> sides) {
+    std::vector<unsigned char> bytes(sides.size());
+    for (std::size_t i = 0; i < sides.size(); ++i) bytes[i] = static_cast<unsigned char>(sides[i].side);
     return bytes;
 }
 

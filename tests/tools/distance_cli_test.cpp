@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "simdbvh/bvh2/closest_point.h"
+#include "simdbvh/bvh2/inside.h"
 #include "simdbvh/scene/output.h"
 #include "simdbvh/scene/points.h"
 #include "simdbvh/scene/scenes.h"
@@ -47,16 +48,65 @@ TEST_F(DistanceCli, RecordsMatchTheBruteForce) {
     const auto recs = scene::read_distances(out);
     ASSERT_EQ(points.size(), 2000u);
     ASSERT_EQ(recs.size(), 2000u);
+    std::size_t inside = 0;
     for (std::size_t i = 0; i < points.size(); ++i) {
         const ClosestPoint want = brute_force_closest_point(mesh, points[i]);
+        const PointSide side = brute_force_classify_point(mesh, points[i]);
+        const float signed_want = side.side == Side::inside ? -want.distance : want.distance;
+        ASSERT_NE(side.side, Side::surface) << "point " << i;
         ASSERT_EQ(recs[i].prim, want.prim) << "point " << i;
-        ASSERT_EQ(std::memcmp(&recs[i].distance, &want.distance, 4), 0) << "point " << i;
+        ASSERT_EQ(std::memcmp(&recs[i].distance, &signed_want, 4), 0) << "point " << i;
         ASSERT_EQ(std::memcmp(&recs[i].point, &want.point, 12), 0) << "point " << i;
         // The unit icosphere: a point's distance is about | |p| - 1 |.
         const double r = std::sqrt(double(points[i].x) * points[i].x + double(points[i].y) * points[i].y +
                                    double(points[i].z) * points[i].z);
-        ASSERT_NEAR(recs[i].distance, std::fabs(r - 1.0), 0.02) << "point " << i;
+        ASSERT_NEAR(recs[i].distance, r - 1.0, 0.02) << "point " << i << ": negative inside";
+        inside += recs[i].distance < 0;
     }
+    EXPECT_GT(inside, 100u);
+    EXPECT_NE(d.output.find("closed and consistently oriented"), std::string::npos) << d.output;
+    // --unsigned: the same records with the sign dropped.
+    CliRun u = run_cli("distance --scene icosphere-3 --points " + pts + " --out " + path("u.bin") + " --unsigned");
+    ASSERT_EQ(u.status, 0) << u.output;
+    const auto unsigned_recs = scene::read_distances(path("u.bin"));
+    for (std::size_t i = 0; i < recs.size(); ++i) ASSERT_EQ(unsigned_recs[i].distance, std::fabs(recs[i].distance));
+}
+
+TEST_F(DistanceCli, InsideWritesOneBytePerPointAndWarnsOnOpenMeshes) {
+    const std::string pts = path("p.bin"), out = path("s.bin");
+    // A mesh file: the unit cube, and the cube with one face removed (4 boundary edges).
+    Mesh open = test::unit_cube();
+    const Mesh closed = open;
+    open.triangles.resize(open.triangles.size() - 2);
+    std::string obj;
+    for (const Vec3& v : closed.positions) obj += "v " + std::to_string(v.x) + " " + std::to_string(v.y) + " " + std::to_string(v.z) + "\n";
+    std::string closed_obj = obj, open_obj = obj;
+    for (const Triangle& t : closed.triangles)
+        closed_obj += "f " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " + std::to_string(t[2] + 1) + "\n";
+    for (const Triangle& t : open.triangles)
+        open_obj += "f " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " + std::to_string(t[2] + 1) + "\n";
+    test::write_text(path("cube.obj"), closed_obj);
+    test::write_text(path("open.obj"), open_obj);
+    const std::vector<Vec3> q = {{0.5f, 0.5f, 0.5f}, {0.5f, 0.5f, 1.5f}, {1.0f, 0.5f, 0.5f}, {0.25f, 0.75f, -1.0f}};
+    scene::write_file_atomic(pts, scene::encode_points(q));
+    CliRun r = run_cli("inside --scene " + path("cube.obj") + " --points " + pts + " --out " + out);
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("closed and consistently oriented"), std::string::npos) << r.output;
+    EXPECT_EQ(test::read_bytes(out), std::string("\x01\x00\x02\x00", 4));
+    const auto sides = scene::read_sides(out);
+    ASSERT_EQ(sides.size(), 4u);
+    EXPECT_EQ(sides[2], Side::surface);
+    r = run_cli("inside --scene " + path("open.obj") + " --points " + pts + " --out " + out + " --rule parity");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("warning"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("4 boundary"), std::string::npos) << r.output;
+    for (const std::string& bad : {std::string("--rule majority"), std::string("--threads 0")}) {
+        r = run_cli("inside --scene icosphere-3 --points " + pts + " --out " + path("x.bin") + " " + bad);
+        EXPECT_EQ(r.status, 2) << bad << ": " << r.output;
+        EXPECT_FALSE(fs::exists(path("x.bin")));
+    }
+    test::write_text(path("bad.sides"), std::string("\x00\x07", 2));
+    EXPECT_THROW(scene::read_sides(path("bad.sides")), Error);
 }
 
 TEST_F(DistanceCli, MaxDistanceAndNonFinitePoints) {

@@ -1,0 +1,30 @@
+// Shared by the point query commands (see point_queries.h).
+#include "point_queries.h"
+
+#include <iostream>
+
+#include "simdbvh/bvh2/inside.h"
+
+namespace simdbvh::cli {
+
+bool report_closure(const std::string& scene_name, const Mesh& mesh) {
+    const MeshClosure c = mesh_closure(mesh);
+    if (c.consistently_oriented()) {
+        std::cout << "mesh " << scene_name << ": closed and consistently oriented (" << c.edges << " edges)\n";
+        return true;
+    }
+    std::cout << "warning: mesh " << scene_name << " is not a closed, consistently oriented surface ("
+              << c.boundary_edges << " boundary, " << c.nonmanifold_edges << " non-manifold, "
+              << c.misoriented_edges << " misoriented of " << c.edges
+              << " edges): inside/outside follows the crossing rule and may be wrong near those edges\n";
+    return false;
+}
+
+InsideOptions::Rule parse_rule(const Options& o) {
+    const std::string r = o.get("rule", "winding");
+    if (r == "winding") return InsideOptions::Rule::winding;
+    if (r == "parity") return InsideOptions::Rule::parity;
+    throw UsageError("unknown --rule '" + r + "' (winding, parity)");
+}
+
+}  // namespace simdbvh::cli
