@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "simdbvh/bvh2/closest_point.h"
+#include "simdbvh/bvh2/signed_distance.h"
 #include "simdbvh/scene/scenes.h"
 #include "support/scene.h"
 
@@ -173,6 +174,28 @@ TEST(ClosestPoint, MaxDistanceBadPointsAndEmptyMeshes) {
     std::vector<Vec3> pts(3);
     std::vector<ClosestPoint> out(2);
     EXPECT_THROW(closest_point(bvh, pts, out), Error);
+}
+
+}  // namespace
+}  // namespace simdbvh
+
+namespace simdbvh {
+namespace {
+
+// Signed distance on the unit cube: -(distance to the nearest face) inside,
+// the analytic distance outside, 0 on the surface.
+TEST(SignedDistance, UnitCube) {
+    const Bvh2 bvh = Bvh2::build(test::unit_cube());
+    const std::vector<Vec3> pts = {{0.5f, 0.5f, 0.25f}, {0.5f, 0.5f, 3.0f}, {1.0f, 0.5f, 0.5f}, {2.0f, 2.0f, 0.5f}};
+    std::vector<SignedDistance> out(pts.size());
+    signed_distance(bvh, pts, out);
+    EXPECT_EQ(out[0].signed_distance(), -0.25f);
+    EXPECT_EQ(out[1].signed_distance(), 2.0f);
+    EXPECT_EQ(out[2].signed_distance(), 0.0f);
+    EXPECT_EQ(out[2].side.side, Side::surface);
+    EXPECT_FLOAT_EQ(out[3].signed_distance(), std::sqrt(2.0f));
+    std::vector<SignedDistance> small(1);
+    EXPECT_THROW(signed_distance(bvh, pts, small), Error);
 }
 
 }  // namespace
