@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <cmath>
 #include <future>
 #include <thread>
 
@@ -86,6 +87,12 @@ Bounds range_bounds(const BuildContext& ctx, std::uint32_t begin, std::uint32_t 
     return b;
 }
 
+bool costs_fit_float(const Aabb& root, std::size_t prims, const BuildOptions& opts) {
+    const double area = double(root.half_area_float());  // NaN or +inf when an extent or a product overflows
+    const double factor = 1.0 + std::fabs(double(opts.traversal_cost)) + std::fabs(double(opts.intersection_cost));
+    return std::isfinite(area) && area * double(prims) * factor < 1e37;  // FLT_MAX ~ 3.4e38
+}
+
 Bvh2Topology build_top_down(BuildContext& ctx, SplitFn split, std::uint32_t leaf_size) {
     Bvh2Topology topo;
     if (ctx.refs.empty()) return topo;
@@ -94,7 +101,9 @@ Bvh2Topology build_top_down(BuildContext& ctx, SplitFn split, std::uint32_t leaf
     topo.nodes.resize(1);
     Builder b{ctx, split, std::max<std::uint32_t>(1, leaf_size)};
     const auto n = std::uint32_t(ctx.refs.size());
-    b.build(topo.nodes, 0, 0, n, 0, range_bounds(ctx, 0, n));
+    const Bounds root = range_bounds(ctx, 0, n);
+    ctx.float_costs = costs_fit_float(root.box, n, ctx.opts);
+    b.build(topo.nodes, 0, 0, n, 0, root);
     topo.prim_ids.resize(ctx.refs.size());
     for (std::size_t i = 0; i < ctx.refs.size(); ++i) topo.prim_ids[i] = ctx.refs[i].id;
     return topo;
