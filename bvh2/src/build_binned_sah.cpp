@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <future>
 #include <limits>
 #include <memory>
@@ -185,7 +186,12 @@ SplitResult split_binned_sah(BuildContext& ctx, std::uint32_t begin, std::uint32
             const std::uint32_t b = std::min(end, begin + chunk * std::uint32_t(w));
             const std::uint32_t e = std::min(end, b + chunk);
             Bins3* out = parts[std::size_t(w - 1)].get();
-            futs.push_back(std::async(std::launch::async, [&, b, e, out] { bin_range(ctx, b, e, binner, *out); }));
+            auto task = [&, b, e, out] { bin_range(ctx, b, e, binner, *out); };
+            try {  // no thread (a process or memory limit): bin this chunk here
+                futs.push_back(std::async(std::launch::async, task));
+            } catch (const std::exception&) {
+                task();
+            }
         }
         bin_range(ctx, begin, std::min(end, begin + chunk), binner, *bins);
         for (auto& f : futs) f.get();

@@ -1,7 +1,8 @@
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <future>
-#include <thread>
+#include <utility>
 
 #include "build_common.h"
 
@@ -14,6 +15,17 @@ namespace {
 // sequential recursion would have put it, so any thread count gives the same
 // tree bit for bit.
 constexpr std::uint32_t kTaskMin = 32 * 1024;
+
+// Runs `f` on a new thread; an invalid future when no thread can start (a
+// process or memory limit): the caller then builds that subtree itself.
+template <class F>
+std::future<void> start_task(F&& f) {
+    try {
+        return std::async(std::launch::async, std::forward<F>(f));
+    } catch (const std::exception&) {
+        return {};
+    }
+}
 
 struct Builder {
     BuildContext& ctx;
@@ -48,17 +60,19 @@ struct Builder {
         nodes[at].count = 0;
         nodes.resize(nodes.size() + 2);
         const std::uint32_t mid = r.mid;
+        std::vector<Node2> right_nodes;
+        std::future<void> fut;
         if (n >= kTaskMin && ctx.spare_threads.fetch_sub(1) > 0) {
-            std::vector<Node2> right_nodes(1);
-            auto fut = std::async(std::launch::async,
-                                  [&] { build(right_nodes, 0, mid, end, depth + 1, r.right); });
-            build(nodes, left, begin, mid, depth + 1, r.left);
+            right_nodes.resize(1);
+            fut = start_task([&] { build(right_nodes, 0, mid, end, depth + 1, r.right); });
+        }
+        if (n >= kTaskMin && !fut.valid()) ctx.spare_threads.fetch_add(1);
+        build(nodes, left, begin, mid, depth + 1, r.left);
+        if (fut.valid()) {
             fut.get();
             ctx.spare_threads.fetch_add(1);
             splice(nodes, left + 1, right_nodes);
         } else {
-            if (n >= kTaskMin) ctx.spare_threads.fetch_add(1);
-            build(nodes, left, begin, mid, depth + 1, r.left);
             build(nodes, left + 1, mid, end, depth + 1, r.right);
         }
     }
