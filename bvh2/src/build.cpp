@@ -1,4 +1,5 @@
 #include <chrono>
+#include <cmath>
 #include <string>
 
 #include "build_common.h"
@@ -64,11 +65,14 @@ Bvh2Topology build_topology(const Mesh& mesh, const BuildOptions& opts) {
 
 double sah_cost(const Bvh2Topology& topo, float ct, float ci) {
     if (topo.nodes.empty()) return 0.0;
-    const double root = topo.nodes[0].box.half_area();
+    // The areas the builders use: float while the root's float area is
+    // finite (the same numbers as ever), else double (finite for any finite mesh).
+    const bool fa = std::isfinite(topo.nodes[0].box.half_area_float());
+    auto area = [&](const Aabb& b) { return fa ? double(b.half_area_float()) : b.half_area(); };
+    const double root = area(topo.nodes[0].box);
     if (!(root > 0)) return ci * double(topo.prim_ids.size());
     double cost = 0;
-    for (const Node2& n : topo.nodes)
-        cost += (n.is_leaf() ? ci * double(n.count) : ct) * double(n.box.half_area()) / root;
+    for (const Node2& n : topo.nodes) cost += (n.is_leaf() ? ci * double(n.count) : ct) * area(n.box) / root;
     return cost;
 }
 

@@ -6,9 +6,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <future>
 #include <limits>
 #include <memory>
+#include <type_traits>
 #include <vector>
 
 #include "build_common.h"
@@ -35,13 +37,24 @@ struct Box4 {  // lo, hi as 4-lane vectors; lane 3 is ignored
     }
 };
 
-// Half the surface area, (xy + yz) + zx as Aabb::half_area; for non-empty boxes only.
-inline float half_area(const Box4& b) {
-    const __m128 e = _mm_sub_ps(b.hi, b.lo);
-    const __m128 p = _mm_mul_ps(e, _mm_shuffle_ps(e, e, _MM_SHUFFLE(3, 0, 2, 1)));  // xy, yz, zx, -
-    alignas(16) float v[4];
-    _mm_store_ps(v, p);
-    return (v[0] + v[1]) + v[2];
+// Half the surface area, (xy + yz) + zx as Aabb::half_area_float (T = float)
+// and Aabb::half_area (T = double, from double extents); non-empty boxes only.
+template <class T>
+T half_area(const Box4& b) {
+    if constexpr (std::is_same_v<T, float>) {
+        const __m128 e = _mm_sub_ps(b.hi, b.lo);
+        const __m128 p = _mm_mul_ps(e, _mm_shuffle_ps(e, e, _MM_SHUFFLE(3, 0, 2, 1)));  // xy, yz, zx, -
+        alignas(16) float v[4];
+        _mm_store_ps(v, p);
+        return (v[0] + v[1]) + v[2];
+    } else {
+        alignas(16) float l[4], h[4];
+        _mm_store_ps(l, b.lo);
+        _mm_store_ps(h, b.hi);
+        const double ex = double(h[0]) - double(l[0]), ey = double(h[1]) - double(l[1]),
+                     ez = double(h[2]) - double(l[2]);
+        return (ex * ey + ey * ez) + ez * ex;
+    }
 }
 
 struct Bin {
@@ -54,9 +67,9 @@ struct Bins3 {
 };
 
 struct Split {
-    int axis = -1;
-    int bin = 0;  // primitives with bin index < bin go left
-    float cost = 0;
+    int axis = -1;      // -1: no usable split
+    int bin = 0;        // primitives with bin index < bin go left
+    bool leaf = false;  // the SAH prefers a leaf
 };
 
 inline __m128 load_lo(const PrimRef& r) { return _mm_load_ps(&r.lo.x); }
@@ -96,18 +109,68 @@ void bin_range(const BuildContext& ctx, std::uint32_t begin, std::uint32_t end, 
 // (min/max and integer counts), so the result does not depend on the count.
 constexpr std::uint32_t kParallelBinMin = 128 * 1024;
 
+// The SAH sweep over the bins, costs in T (BuildContext::float_costs).
+// The minimum needs only the numerator A_L N_L + A_R N_R: the cost is
+// Ct + Ci * numerator / A, monotonic in it. Only boundaries between
+// non-empty bins give distinct partitions, so the sweeps visit the
+// non-empty bins only (small nodes have few); the chosen split is the
+// first minimal bin boundary, as a sweep over every bin would pick.
+template <class T>
+Split best_split(const BuildContext& ctx, const Bins3& bins, int nbins, const float scale[3], const Aabb& node_box,
+                 std::uint32_t n) {
+    Split best;
+    T best_num = std::numeric_limits<T>::infinity();
+    T right_area[kMaxBins];
+    std::uint32_t right_count[kMaxBins];
+    int used[kMaxBins];
+    for (int axis = 0; axis < 3; ++axis) {
+        if (scale[axis] == 0.0f) continue;
+        const Bin* bn = bins.bins[axis];
+        int k = 0;
+        for (int b = 0; b < nbins; ++b)
+            if (bn[b].count) used[k++] = b;
+        if (k < 2) continue;
+        Box4 acc;
+        std::uint32_t cnt = 0;
+        for (int j = k - 1; j > 0; --j) {
+            acc.grow(bn[used[j]].box);
+            cnt += bn[used[j]].count;
+            right_area[j] = half_area<T>(acc);
+            right_count[j] = cnt;
+        }
+        acc = Box4{};
+        cnt = 0;
+        for (int j = 1; j < k; ++j) {
+            acc.grow(bn[used[j - 1]].box);
+            cnt += bn[used[j - 1]].count;
+            const T num = half_area<T>(acc) * T(cnt) + right_area[j] * T(right_count[j]);
+            if (num < best_num) {
+                best_num = num;
+                best.axis = axis;
+                best.bin = used[j - 1] + 1;
+            }
+        }
+    }
+    // A flat parent (zero area: collinear or coincident boxes) makes every split cost the same.
+    const T parent_area = sah_area<T>(node_box);
+    const T ct = T(ctx.opts.traversal_cost), ci = T(ctx.opts.intersection_cost);
+    const T cost = parent_area > T(0) ? ct + ci * best_num / parent_area : ct;
+    best.leaf = cost >= ci * T(n) && n <= std::uint32_t(ctx.opts.max_leaf_size);
+    return best;
+}
+
 }  // namespace
 
 SplitResult split_binned_sah(BuildContext& ctx, std::uint32_t begin, std::uint32_t end, const Aabb& node_box,
                              const Aabb& centroid_box, int /*depth*/) {
     const int nbins = std::clamp(ctx.opts.bins, 2, kMaxBins);
     const std::uint32_t n = end - begin;
-    const float leaf_cost = ctx.opts.intersection_cost * float(n);
-    const float parent_area = node_box.half_area();
     float scale[3];
     for (int a = 0; a < 3; ++a) {
         const float extent = centroid_box.hi[a] - centroid_box.lo[a];
         scale[a] = extent > 0.0f ? float(nbins) / extent : 0.0f;
+        if (extent == std::numeric_limits<float>::infinity())  // finite centroids more than FLT_MAX apart
+            scale[a] = float(double(nbins) / (double(centroid_box.hi[a]) - double(centroid_box.lo[a])));
         if (!std::isfinite(scale[a])) scale[a] = 0.0f;
     }
     const Binner binner(centroid_box, nbins, scale);
@@ -123,7 +186,12 @@ SplitResult split_binned_sah(BuildContext& ctx, std::uint32_t begin, std::uint32
             const std::uint32_t b = std::min(end, begin + chunk * std::uint32_t(w));
             const std::uint32_t e = std::min(end, b + chunk);
             Bins3* out = parts[std::size_t(w - 1)].get();
-            futs.push_back(std::async(std::launch::async, [&, b, e, out] { bin_range(ctx, b, e, binner, *out); }));
+            auto task = [&, b, e, out] { bin_range(ctx, b, e, binner, *out); };
+            try {  // no thread (a process or memory limit): bin this chunk here
+                futs.push_back(std::async(std::launch::async, task));
+            } catch (const std::exception&) {
+                task();
+            }
         }
         bin_range(ctx, begin, std::min(end, begin + chunk), binner, *bins);
         for (auto& f : futs) f.get();
@@ -137,50 +205,11 @@ SplitResult split_binned_sah(BuildContext& ctx, std::uint32_t begin, std::uint32
         bin_range(ctx, begin, end, binner, *bins);
     }
 
-    // The SAH minimum needs only the numerator A_L N_L + A_R N_R: the cost is
-    // Ct + Ci * numerator / A, monotonic in it. Only boundaries between
-    // non-empty bins give distinct partitions, so the sweeps visit the
-    // non-empty bins only (small nodes have few); the chosen split is the
-    // first minimal bin boundary, as a sweep over every bin would pick.
-    Split best;
-    float best_num = std::numeric_limits<float>::infinity();
-    float right_area[kMaxBins];
-    std::uint32_t right_count[kMaxBins];
-    int used[kMaxBins];
-    for (int axis = 0; axis < 3; ++axis) {
-        if (scale[axis] == 0.0f) continue;
-        const Bin* bn = bins->bins[axis];
-        int k = 0;
-        for (int b = 0; b < nbins; ++b)
-            if (bn[b].count) used[k++] = b;
-        if (k < 2) continue;
-        Box4 acc;
-        std::uint32_t cnt = 0;
-        for (int j = k - 1; j > 0; --j) {
-            acc.grow(bn[used[j]].box);
-            cnt += bn[used[j]].count;
-            right_area[j] = half_area(acc);
-            right_count[j] = cnt;
-        }
-        acc = Box4{};
-        cnt = 0;
-        for (int j = 1; j < k; ++j) {
-            acc.grow(bn[used[j - 1]].box);
-            cnt += bn[used[j - 1]].count;
-            const float num = half_area(acc) * float(cnt) + right_area[j] * float(right_count[j]);
-            if (num < best_num) {
-                best_num = num;
-                best.axis = axis;
-                best.bin = used[j - 1] + 1;
-            }
-        }
-    }
-    // A flat parent (zero area: collinear or coincident boxes) makes every split cost the same.
-    best.cost = parent_area > 0.0f ? ctx.opts.traversal_cost + ctx.opts.intersection_cost * best_num / parent_area
-                                   : ctx.opts.traversal_cost;
+    const Split best = ctx.float_costs ? best_split<float>(ctx, *bins, nbins, scale, node_box, n)
+                                       : best_split<double>(ctx, *bins, nbins, scale, node_box, n);
     SplitResult r;
     if (best.axis < 0) return r;  // no usable split: the caller falls back
-    r.make_leaf = best.cost >= leaf_cost && n <= std::uint32_t(ctx.opts.max_leaf_size);
+    r.make_leaf = best.leaf;
     if (r.make_leaf) return r;
 
     // Partition in place, gathering both children's bounds on the way.

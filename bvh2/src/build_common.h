@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cstdint>
 #include <span>
+#include <type_traits>
 #include <vector>
 
 #include "simdbvh/bvh2/build.h"
@@ -26,7 +27,20 @@ struct BuildContext {
     std::vector<PrimRef> refs;  // partitioned in place
     BuildOptions opts;
     std::atomic<int> spare_threads{0};
+    bool float_costs = true;  // SAH costs in float (see sah_area); set by build_top_down
 };
+
+// SAH costs of a whole tree are computed in float when they cannot overflow
+// (the root's float area times the primitive count and the cost factors stays
+// far below FLT_MAX): the trees are then bit-identical to the float builders'.
+// Otherwise in double, finite for any finite input (Aabb::half_area).
+bool costs_fit_float(const Aabb& root, std::size_t prims, const BuildOptions& opts);
+
+template <class T>
+T sah_area(const Aabb& b) {
+    if constexpr (std::is_same_v<T, float>) return b.half_area_float();
+    else return b.half_area();
+}
 
 struct Bounds {  // a range's box and centroid box
     Aabb box, cbox;

@@ -1,6 +1,8 @@
 #include <algorithm>
+#include <cmath>
+#include <exception>
 #include <future>
-#include <thread>
+#include <utility>
 
 #include "build_common.h"
 
@@ -13,6 +15,17 @@ namespace {
 // sequential recursion would have put it, so any thread count gives the same
 // tree bit for bit.
 constexpr std::uint32_t kTaskMin = 32 * 1024;
+
+// Runs `f` on a new thread; an invalid future when no thread can start (a
+// process or memory limit): the caller then builds that subtree itself.
+template <class F>
+std::future<void> start_task(F&& f) {
+    try {
+        return std::async(std::launch::async, std::forward<F>(f));
+    } catch (const std::exception&) {
+        return {};
+    }
+}
 
 struct Builder {
     BuildContext& ctx;
@@ -47,17 +60,19 @@ struct Builder {
         nodes[at].count = 0;
         nodes.resize(nodes.size() + 2);
         const std::uint32_t mid = r.mid;
+        std::vector<Node2> right_nodes;
+        std::future<void> fut;
         if (n >= kTaskMin && ctx.spare_threads.fetch_sub(1) > 0) {
-            std::vector<Node2> right_nodes(1);
-            auto fut = std::async(std::launch::async,
-                                  [&] { build(right_nodes, 0, mid, end, depth + 1, r.right); });
-            build(nodes, left, begin, mid, depth + 1, r.left);
+            right_nodes.resize(1);
+            fut = start_task([&] { build(right_nodes, 0, mid, end, depth + 1, r.right); });
+        }
+        if (n >= kTaskMin && !fut.valid()) ctx.spare_threads.fetch_add(1);
+        build(nodes, left, begin, mid, depth + 1, r.left);
+        if (fut.valid()) {
             fut.get();
             ctx.spare_threads.fetch_add(1);
             splice(nodes, left + 1, right_nodes);
         } else {
-            if (n >= kTaskMin) ctx.spare_threads.fetch_add(1);
-            build(nodes, left, begin, mid, depth + 1, r.left);
             build(nodes, left + 1, mid, end, depth + 1, r.right);
         }
     }
@@ -86,6 +101,12 @@ Bounds range_bounds(const BuildContext& ctx, std::uint32_t begin, std::uint32_t 
     return b;
 }
 
+bool costs_fit_float(const Aabb& root, std::size_t prims, const BuildOptions& opts) {
+    const double area = double(root.half_area_float());  // NaN or +inf when an extent or a product overflows
+    const double factor = 1.0 + std::fabs(double(opts.traversal_cost)) + std::fabs(double(opts.intersection_cost));
+    return std::isfinite(area) && area * double(prims) * factor < 1e37;  // FLT_MAX ~ 3.4e38
+}
+
 Bvh2Topology build_top_down(BuildContext& ctx, SplitFn split, std::uint32_t leaf_size) {
     Bvh2Topology topo;
     if (ctx.refs.empty()) return topo;
@@ -94,7 +115,9 @@ Bvh2Topology build_top_down(BuildContext& ctx, SplitFn split, std::uint32_t leaf
     topo.nodes.resize(1);
     Builder b{ctx, split, std::max<std::uint32_t>(1, leaf_size)};
     const auto n = std::uint32_t(ctx.refs.size());
-    b.build(topo.nodes, 0, 0, n, 0, range_bounds(ctx, 0, n));
+    const Bounds root = range_bounds(ctx, 0, n);
+    ctx.float_costs = costs_fit_float(root.box, n, ctx.opts);
+    b.build(topo.nodes, 0, 0, n, 0, root);
     topo.prim_ids.resize(ctx.refs.size());
     for (std::size_t i = 0; i < ctx.refs.size(); ++i) topo.prim_ids[i] = ctx.refs[i].id;
     return topo;

@@ -70,8 +70,16 @@ struct Collapser {
 
     bool leafable(std::uint32_t n) const { return prim_count[n] <= std::uint32_t(opts.max_leaf_size); }
 
+    // Areas as the float collapse computed them when the root's float area is
+    // finite (every box lies inside it: the same trees, bit for bit), else in
+    // double (finite for any finite mesh: no cost is +inf).
+    bool float_areas = true;
+    double area(std::uint32_t n) const {
+        return float_areas ? double(n2[n].box.half_area_float()) : n2[n].box.half_area();
+    }
+
     double leaf_cost(std::uint32_t n) const {
-        return double(opts.block_cost) * blocks_of(prim_count[n]) * double(n2[n].box.half_area());
+        return double(opts.block_cost) * blocks_of(prim_count[n]) * area(n);
     }
 
     void count_prims(const std::vector<std::uint32_t>& order) {
@@ -96,17 +104,21 @@ struct Collapser {
             }
             const auto& cl = cost[left(n)];
             const auto& cr = cost[right(n)];
+            // Costs are finite for finite boxes (areas in double), so a split is
+            // always recorded; should one not be (all +inf), k = 1 still names
+            // a valid partition of the j slots: resolve never sees slot 0.
             double dist[9];
             std::uint8_t split[9] = {};
             for (int j = 2; j <= 8; ++j) {
                 dist[j] = kInf;
+                split[j] = 1;
                 for (int k = 1; k < j; ++k) {
                     const double c = cl[k - 1] + cr[j - k - 1];
                     if (c < dist[j]) { dist[j] = c; split[j] = std::uint8_t(k); }
                 }
             }
             const double c_leaf = leafable(n) ? leaf_cost(n) : kInf;
-            const double c_inner = dist[8] + double(opts.node_cost) * double(n2[n].box.half_area());
+            const double c_inner = dist[8] + double(opts.node_cost) * area(n);
             leaf1[n] = c_leaf <= c_inner;
             cost[n][0] = std::min(c_leaf, c_inner);
             dist8[n] = split[8];
@@ -119,6 +131,7 @@ struct Collapser {
 
     // The BVH2 nodes that fill at most i slots for n's subtree (SAH tables).
     void resolve(std::uint32_t n, int i, std::vector<std::uint32_t>& out) const {
+        if (i < 1 || i > 8) throw Error("BVH8 collapse: slot budget " + std::to_string(i) + " outside 1..8");
         while (i > 1 && from[n][i - 1] == 0) --i;
         if (i == 1) { out.push_back(n); return; }
         const int k = from[n][i - 1];
@@ -134,10 +147,10 @@ struct Collapser {
         out = {left(n), right(n)};
         while (out.size() < 8) {
             int best = -1;
-            float best_area = -1.0f;
+            double best_area = -1.0;
             for (int c = 0; c < int(out.size()); ++c) {
                 if (greedy_leaf(out[c])) continue;
-                const float a = n2[out[c]].box.half_area();
+                const double a = area(out[c]);
                 if (a > best_area) { best_area = a; best = c; }
             }
             if (best < 0) break;
@@ -184,6 +197,7 @@ struct Collapser {
     void build() {
         const std::vector<std::uint32_t> order = preorder();
         count_prims(order);
+        float_areas = std::isfinite(n2[0].box.half_area_float());
         if (opts.collapse == Collapse::sah) solve_sah(order);
         topo.nodes.reserve(n2.size() / 4 + 1);
         topo.prims.reserve(bvh2.prim_ids().size());
@@ -256,16 +270,19 @@ WideTopology collapse(const Bvh2& bvh2, const Bvh8Options& opts) {
 
 double sah_cost(const WideTopology& topo, const Bvh8Options& opts) {
     if (topo.nodes.empty()) return 0.0;
-    double root = topo.nodes[0].box.half_area();
+    // The collapse's areas: float while the root's float area is finite, else double.
+    const bool fa = std::isfinite(topo.nodes[0].box.half_area_float());
+    auto area = [&](const Aabb& b) { return fa ? double(b.half_area_float()) : b.half_area(); };
+    double root = area(topo.nodes[0].box);
     const bool flat = !(root > 0);  // all areas zero: count tests instead
     if (flat) root = 1.0;
     double c = 0;
     for (const WideNode& n : topo.nodes) {
-        c += double(opts.node_cost) * (flat ? 1.0 : double(n.box.half_area())) / root;
+        c += double(opts.node_cost) * (flat ? 1.0 : area(n.box)) / root;
         for (int k = 0; k < n.child_count; ++k) {
             const WideChild& ch = n.children[k];
             if (ch.is_leaf())
-                c += double(opts.block_cost) * blocks_of(ch.count) * (flat ? 1.0 : double(ch.box.half_area())) / root;
+                c += double(opts.block_cost) * blocks_of(ch.count) * (flat ? 1.0 : area(ch.box)) / root;
         }
     }
     return c;

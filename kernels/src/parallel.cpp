@@ -45,9 +45,16 @@ void parallel_for(std::size_t n, int threads, const std::function<void(std::size
             if (!error) error = std::current_exception();
         }
     };
+    // A thread that cannot start (std::system_error at a process or memory
+    // limit, or std::bad_alloc) is not an error: the chunks are handed out
+    // dynamically, so the threads that did start, or the caller alone, finish
+    // the work. Never unwind with joinable threads (std::terminate).
     std::vector<std::thread> pool;
-    pool.reserve(std::size_t(workers - 1));
-    for (int k = 1; k < workers; ++k) pool.emplace_back(work, k);
+    try {
+        pool.reserve(std::size_t(workers - 1));
+        for (int k = 1; k < workers; ++k) pool.emplace_back(work, k);
+    } catch (const std::exception&) {
+    }
     work(0);
     for (std::thread& t : pool) t.join();
     if (error) std::rethrow_exception(error);

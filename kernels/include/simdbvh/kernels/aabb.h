@@ -27,7 +27,18 @@ struct Aabb {
         return e.x >= e.y && e.x >= e.z ? 0 : (e.y >= e.z ? 1 : 2);
     }
     // Half the surface area (the SAH only needs ratios); 0 for an empty box.
-    constexpr float half_area() const {
+    // In double from double extents: finite for every finite box (a float
+    // extent overflows past 3.4e38, a float area past 1.8e19 per side).
+    constexpr double half_area() const {
+        if (is_empty()) return 0.0;
+        const double ex = double(hi.x) - double(lo.x), ey = double(hi.y) - double(lo.y),
+                     ez = double(hi.z) - double(lo.z);
+        return (ex * ey + ey * ez) + ez * ex;
+    }
+    // The same in float, as the builders computed it before: +inf (or NaN) once
+    // the box passes about 1.8e19 per side. Builders use it only when the
+    // whole tree's costs fit in float, so their trees keep the same bits.
+    constexpr float half_area_float() const {
         if (is_empty()) return 0.0f;
         Vec3 e = extent();
         return e.x * e.y + e.y * e.z + e.z * e.x;

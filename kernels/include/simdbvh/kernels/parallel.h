@@ -1,7 +1,9 @@
 #pragma once
 // Splits [0, n) over `threads` std::threads (the caller's thread is one of
 // them), in chunks handed out dynamically. threads <= 1 runs inline: the
-// library never starts a thread the caller did not ask for.
+// library never starts a thread the caller did not ask for. Threads that
+// cannot start (a process or memory limit) are done without: the ones that
+// started, or the caller alone, finish the work; the process never terminates.
 #include <cstddef>
 #include <functional>
 
