@@ -6,6 +6,7 @@
 #include "common.h"
 #include "methods.h"
 #include "outputs.h"
+#include "trace_crossings.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/scene/families.h"
 #include "simdbvh/scene/load.h"
@@ -112,21 +113,38 @@ int cmd_gen_rays(const std::vector<std::string>& args) {
 }
 
 int cmd_trace(const std::vector<std::string>& args) {
-    std::set<std::string> valued{"scene", "rays", "out"}, flags{"any-hit", "stats", "drop-invalid"};
+    std::set<std::string> valued{"scene", "rays", "out", "query", "max-hits"}, flags{"any-hit", "stats", "drop-invalid"};
     add_method_options(valued, flags);
     const Options o("trace", args, valued, flags);
     const std::string scene_name = o.require("scene");
     const std::string rays_file = o.require("rays");
     const std::string out = o.require("out");
     const MethodSpec spec = parse_method(o);
+    const std::string query = o.get("query", o.has("any-hit") ? "any" : "closest");
+    if (query != "closest" && query != "any" && query != "all" && query != "count")
+        throw UsageError("unknown --query '" + query + "' (closest, any, all, count)");
+    if (o.has("any-hit") && query != "any") throw UsageError("--any-hit and --query " + query + " contradict each other");
+    const bool crossings = query == "all" || query == "count";
+    if (crossings && spec.method != "bvh2" && spec.method != "brute")
+        throw UsageError("--query " + query + " runs on --method bvh2 or brute (not " + spec.method + ")");
+    if (crossings && o.has("stats")) throw UsageError("--stats applies to --query closest and any");
+    if (o.has("max-hits") && query != "all") throw UsageError("--max-hits applies to --query all");
     check_outputs({{"--out", out}}, {{"--scene", scene_name}, {"--rays", rays_file}});
     // Read the rays first: a bad ray file fails before any expensive work.
     const auto rays = scene::read_rays(rays_file);
     const Mesh mesh = load_for_trace(scene_name, o.has("drop-invalid"));
+    if (crossings) {
+        CrossingQuery q;
+        q.all = query == "all";
+        q.cap = std::size_t(o.get_int("max-hits", 1024, 1, 1LL << 20));
+        progress("tracing " + query + " ...");
+        trace_crossings(mesh, rays, spec, q, out);
+        return 0;
+    }
     progress("building " + spec.label() + " ...");
     auto tracer = make_tracer(mesh, spec);
     std::vector<Hit> hits(rays.size());
-    const bool any = o.has("any-hit");
+    const bool any = query == "any";
     TraceStats stats;
     const auto t0 = std::chrono::steady_clock::now();
     tracer->trace(rays, hits, any, o.has("stats") ? &stats : nullptr);

@@ -23,10 +23,12 @@ constexpr CommandText kCommands[] = {
               direction-scale
            diffuse rays bounce off primary hits: a scene the camera does not hit is an error
 )"},
-    {"trace", R"(trace    --scene S --rays RAYS.bin --out HITS.bin [--method M] [--any-hit] [--stats] [--threads N]
+    {"trace", R"(trace    --scene S --rays RAYS.bin --out HITS.bin [--method M] [--query Q] [--any-hit] [--stats] [--threads N]
            [--isa I] [--builder B] [--bins N] [--collapse C] [--test watertight|moller]
            [--box conservative|plain] [--quality medium|high] [--robust] [--drop-invalid]
            M: brute | bvh2 | bvh8 | embree | spheres
+           Q: closest | any (= --any-hit) | count (int32 winding per ray) | all [--max-hits N] (20-byte
+              records: ray, t, u, v, prim); count and all run on bvh2 or brute, every crossing once
 )"},
     {"gen-points", R"(gen-points --scene S --count N [--seed K] --out POINTS.bin   uniform in the bounds + 10% per side
 )"},
