@@ -1,0 +1,14 @@
+"""simdbvh: exact, fast ray and point queries against triangle meshes.
+
+    import numpy as np, simdbvh
+    mesh = simdbvh.Mesh(vertices, faces)          # or simdbvh.load("bunny.ply")
+    bvh = simdbvh.BVH(mesh)                       # method="bvh8" | "bvh2" | "brute", isa=None | "avx2" | ...
+    hits = bvh.intersect(origins, directions)     # dict: hit, t, prim, u, v
+    inside = bvh.contains(points)                 # exact, one ray per point
+    d = bvh.signed_distance(points)               # negative inside
+
+Errors raise simdbvh.Error (a ValueError) with the library's message.
+"""
+from ._simdbvh import BVH, Error, Mesh, isas, load
+
+__all__ = ["BVH", "Error", "Mesh", "isas", "load"]

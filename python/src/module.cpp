@@ -1,0 +1,358 @@
+// simdbvh for Python: meshes from numpy arrays, batched ray and point queries
+// on numpy arrays with the GIL released. Errors raise simdbvh.Error (a
+// ValueError) with the library's message.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "arrays.h"
+#include "simdbvh/bvh2/closest_point.h"
+#include "simdbvh/bvh2/crossings.h"
+#include "simdbvh/bvh2/inside.h"
+#include "simdbvh/bvh8/bvh8.h"
+#include "simdbvh/kernels/isa.h"
+#include "simdbvh/kernels/parallel.h"
+#include "simdbvh/scene/scenes.h"
+
+namespace simdbvh::python {
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+int check_threads(int threads) {
+    if (threads < 1 || threads > 1024) throw Error("threads must be 1..1024 (got " + std::to_string(threads) + ")");
+    return threads;
+}
+
+Mesh mesh_from_arrays(const py::handle& vertices, const py::handle& faces) {
+    const F32 v = as_points(vertices, "vertices");
+    using I64 = py::array_t<long long, py::array::c_style | py::array::forcecast>;
+    const I64 f = I64::ensure(faces);
+    if (!f || f.ndim() != 2 || f.shape(1) != 3) throw Error("faces: expected an integer array of shape (m, 3)");
+    Mesh m;
+    m.positions.assign(vec3s(v), vec3s(v) + v.shape(0));
+    m.triangles.resize(std::size_t(f.shape(0)));
+    const long long* idx = f.data();
+    const auto nv = static_cast<long long>(m.positions.size());
+    for (std::size_t t = 0; t < m.triangles.size(); ++t)
+        for (int k = 0; k < 3; ++k) {
+            const long long i = idx[3 * t + k];
+            if (i < 0 || i >= nv)
+                throw Error("faces: triangle " + std::to_string(t) + " has vertex index " + std::to_string(i) +
+                            " out of range (" + std::to_string(nv) + " vertices)");
+            m.triangles[t][k] = std::uint32_t(i);
+        }
+    validate(m);
+    return m;
+}
+
+InsideOptions::Rule parse_rule(const std::string& r) {
+    if (r == "winding") return InsideOptions::Rule::winding;
+    if (r == "parity") return InsideOptions::Rule::parity;
+    throw Error("rule must be 'winding' or 'parity' (got '" + r + "')");
+}
+
+class Bvh {
+public:
+    Bvh(Mesh mesh, const std::string& method, const std::optional<std::string>& isa)
+        : mesh_(std::move(mesh)), method_(method) {
+        if (method_ != "bvh8" && method_ != "bvh2" && method_ != "brute")
+            throw Error("method must be 'bvh8', 'bvh2' or 'brute' (got '" + method_ + "')");
+        if (isa) {
+            const auto parsed = parse_isa(*isa);
+            if (!parsed) throw Error("isa must be 'scalar', 'avx2' or 'avx512' (got '" + *isa + "')");
+            require(*parsed);
+            isa_ = *parsed;
+        } else {
+            isa_ = active_isa();
+        }
+        py::gil_scoped_release nogil;
+        bvh2_ = Bvh2::build(mesh_);
+        if (method_ == "bvh8") bvh8_ = Bvh8::build(bvh2_);
+    }
+
+    py::dict intersect(const py::handle& o, const py::handle& d, const py::handle& tmin, const py::handle& tmax,
+                       int threads, bool any) const {
+        const std::vector<Ray> rays = make_rays(o, d, tmin, tmax);
+        std::vector<Hit> hits(rays.size());
+        {
+            py::gil_scoped_release nogil;
+            TraceOptions opts;
+            opts.threads = check_threads(threads);
+            if (method_ == "bvh8") {
+                if (any) occluded(*bvh8_, rays, hits, opts, isa_);
+                else simdbvh::intersect(*bvh8_, rays, hits, opts, isa_);
+            } else if (method_ == "bvh2") {
+                if (any) simdbvh::occluded(bvh2_, rays, hits, opts);
+                else simdbvh::intersect(bvh2_, rays, hits, opts);
+            } else {
+                parallel_for(rays.size(), opts.threads, [&](std::size_t b, std::size_t e) {
+                    for (std::size_t i = b; i < e; ++i)
+                        hits[i] = any ? brute_force_occluded(mesh_, rays[i]) : brute_force_intersect(mesh_, rays[i]);
+                });
+            }
+        }
+        auto t = empty_array<float>(hits.size()), u = empty_array<float>(hits.size()), v = empty_array<float>(hits.size());
+        auto prim = empty_array<std::int64_t>(hits.size());
+        auto hit = empty_array<bool>(hits.size());
+        for (std::size_t i = 0; i < hits.size(); ++i) {
+            t.mutable_data()[i] = hits[i].t;
+            u.mutable_data()[i] = hits[i].u;
+            v.mutable_data()[i] = hits[i].v;
+            prim.mutable_data()[i] = hits[i].hit() ? std::int64_t(hits[i].prim) : -1;
+            hit.mutable_data()[i] = hits[i].hit();
+        }
+        py::dict out;
+        out["hit"] = hit;
+        out["t"] = t;
+        out["prim"] = prim;
+        out["u"] = u;
+        out["v"] = v;
+        return out;
+    }
+
+    py::dict closest(const py::handle& points, float max_distance, int threads) const {
+        const F32 p = as_points(points, "points");
+        const auto n = std::size_t(p.shape(0));
+        std::vector<ClosestPoint> res(n);
+        {
+            py::gil_scoped_release nogil;
+            PointQueryOptions o;
+            o.max_distance = max_distance;
+            o.threads = check_threads(threads);
+            if (method_ == "brute") {
+                for (std::size_t i = 0; i < n; ++i) res[i] = brute_force_closest_point(mesh_, vec3s(p)[i], o);
+            } else {
+                closest_point(bvh2_, std::span<const Vec3>(vec3s(p), n), res, o);
+            }
+        }
+        auto dist = empty_array<float>(n), u = empty_array<float>(n), v = empty_array<float>(n);
+        auto prim = empty_array<std::int64_t>(n);
+        auto pts = empty_points(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            dist.mutable_data()[i] = res[i].distance;
+            prim.mutable_data()[i] = res[i].found() ? std::int64_t(res[i].prim) : -1;
+            u.mutable_data()[i] = res[i].u;
+            v.mutable_data()[i] = res[i].v;
+            for (int k = 0; k < 3; ++k) pts.mutable_data()[3 * i + k] = res[i].point[k];
+        }
+        py::dict out;
+        out["distance"] = dist;
+        out["prim"] = prim;
+        out["points"] = pts;
+        out["u"] = u;
+        out["v"] = v;
+        return out;
+    }
+
+    std::vector<PointSide> side_list(const py::handle& points, const std::string& rule, int threads) const {
+        const F32 p = as_points(points, "points");
+        const auto n = std::size_t(p.shape(0));
+        InsideOptions o;
+        o.rule = parse_rule(rule);
+        o.threads = check_threads(threads);
+        std::vector<PointSide> res(n);
+        py::gil_scoped_release nogil;
+        if (method_ == "brute") {
+            for (std::size_t i = 0; i < n; ++i) res[i] = brute_force_classify_point(mesh_, vec3s(p)[i], o);
+        } else {
+            classify_points(bvh2_, std::span<const Vec3>(vec3s(p), n), res, o);
+        }
+        return res;
+    }
+
+    py::array_t<std::uint8_t> sides(const py::handle& points, const std::string& rule, int threads) const {
+        const auto res = side_list(points, rule, threads);
+        auto out = empty_array<std::uint8_t>(res.size());
+        for (std::size_t i = 0; i < res.size(); ++i) out.mutable_data()[i] = std::uint8_t(res[i].side);
+        return out;
+    }
+
+    py::array_t<bool> contains(const py::handle& points, const std::string& rule, int threads) const {
+        const auto res = side_list(points, rule, threads);
+        auto out = empty_array<bool>(res.size());
+        for (std::size_t i = 0; i < res.size(); ++i) out.mutable_data()[i] = res[i].side == Side::inside;
+        return out;
+    }
+
+    py::array_t<float> signed_distance(const py::handle& points, const std::string& rule, int threads) const {
+        py::dict near = closest(points, kInf, threads);
+        const auto res = side_list(points, rule, threads);
+        auto d = near["distance"].cast<py::array_t<float>>();
+        auto out = empty_array<float>(res.size());
+        for (std::size_t i = 0; i < res.size(); ++i) {
+            const float v = d.data()[i];
+            out.mutable_data()[i] = res[i].side == Side::surface ? 0.0f : (res[i].side == Side::inside ? -v : v);
+        }
+        return out;
+    }
+
+    py::dict count(const py::handle& o, const py::handle& d, const py::handle& tmin, const py::handle& tmax,
+                   int threads) const {
+        const std::vector<Ray> rays = make_rays(o, d, tmin, tmax);
+        std::vector<CrossingCount> res(rays.size());
+        {
+            py::gil_scoped_release nogil;
+            if (method_ == "brute") {
+                for (std::size_t i = 0; i < rays.size(); ++i) res[i] = brute_force_count_crossings(mesh_, rays[i]);
+            } else {
+                count_crossings(bvh2_, rays, res, check_threads(threads));
+            }
+        }
+        auto w = empty_array<std::int32_t>(res.size());
+        auto c = empty_array<std::uint32_t>(res.size());
+        for (std::size_t i = 0; i < res.size(); ++i) {
+            w.mutable_data()[i] = res[i].winding;
+            c.mutable_data()[i] = res[i].crossings;
+        }
+        py::dict out;
+        out["winding"] = w;
+        out["crossings"] = c;
+        return out;
+    }
+
+    py::dict all(const py::handle& o, const py::handle& d, const py::handle& tmin, const py::handle& tmax,
+                 std::size_t max_hits) const {
+        if (max_hits < 1) throw Error("max_hits must be >= 1");
+        const std::vector<Ray> rays = make_rays(o, d, tmin, tmax);
+        std::vector<AllHits> res(rays.size());
+        {
+            py::gil_scoped_release nogil;
+            for (std::size_t i = 0; i < rays.size(); ++i)
+                res[i] = method_ == "brute" ? brute_force_intersect_all(mesh_, rays[i], max_hits)
+                                            : intersect_all(bvh2_, rays[i], max_hits);
+        }
+        std::size_t total = 0;
+        for (const AllHits& a : res) total += a.hits.size();
+        auto ray = empty_array<std::int64_t>(total), prim = empty_array<std::int64_t>(total);
+        auto t = empty_array<float>(total), u = empty_array<float>(total), v = empty_array<float>(total);
+        auto facing = empty_array<std::int8_t>(total);
+        auto dropped = empty_array<std::int64_t>(res.size());
+        std::size_t k = 0;
+        for (std::size_t i = 0; i < res.size(); ++i) {
+            dropped.mutable_data()[i] = std::int64_t(res[i].dropped);
+            for (const Crossing& c : res[i].hits) {
+                ray.mutable_data()[k] = std::int64_t(i);
+                prim.mutable_data()[k] = c.prim;
+                t.mutable_data()[k] = c.t;
+                u.mutable_data()[k] = c.u;
+                v.mutable_data()[k] = c.v;
+                facing.mutable_data()[k] = std::int8_t(c.facing);
+                ++k;
+            }
+        }
+        py::dict out;
+        out["ray"] = ray;
+        out["t"] = t;
+        out["prim"] = prim;
+        out["u"] = u;
+        out["v"] = v;
+        out["facing"] = facing;
+        out["dropped"] = dropped;
+        return out;
+    }
+
+    const Mesh& mesh() const { return mesh_; }
+    const std::string& method() const { return method_; }
+    std::string isa() const { return std::string(name(method_ == "bvh8" ? isa_ : Isa::scalar)); }
+
+private:
+    Mesh mesh_;
+    std::string method_;
+    Isa isa_ = Isa::scalar;
+    Bvh2 bvh2_;
+    std::optional<Bvh8> bvh8_;
+};
+
+py::array_t<float> vertices_of(const Mesh& m) {
+    auto a = empty_points(m.positions.size());
+    for (std::size_t i = 0; i < m.positions.size(); ++i)
+        for (int k = 0; k < 3; ++k) a.mutable_data()[3 * i + k] = m.positions[i][k];
+    return a;
+}
+
+py::array_t<std::int64_t> faces_of(const Mesh& m) {
+    py::array_t<std::int64_t> a({py::ssize_t(m.triangles.size()), py::ssize_t(3)});
+    for (std::size_t i = 0; i < m.triangles.size(); ++i)
+        for (int k = 0; k < 3; ++k) a.mutable_data()[3 * i + k] = m.triangles[i][k];
+    return a;
+}
+
+}  // namespace
+}  // namespace simdbvh::python
+
+PYBIND11_MODULE(_simdbvh, m) {
+    using namespace simdbvh;
+    using namespace simdbvh::python;
+    m.doc() = "simdbvh: exact, fast ray and point queries against triangle meshes";
+    py::register_exception<Error>(m, "Error", PyExc_ValueError);
+
+    py::class_<Mesh>(m, "Mesh", "A triangle mesh: float32 vertices (n, 3), int faces (m, 3).")
+        .def(py::init(&mesh_from_arrays), py::arg("vertices"), py::arg("faces"),
+             "Copies the arrays (vertices converted to float32, faces to uint32). Raises simdbvh.Error for a bad "
+             "shape, a non-finite vertex used by a face, or an out-of-range index.")
+        .def_property_readonly("vertices", &vertices_of, "The vertices, (n, 3) float32 (a copy).")
+        .def_property_readonly("faces", &faces_of, "The faces, (m, 3) int64 (a copy).")
+        .def("__len__", &Mesh::size, "The number of triangles.")
+        .def("closure", [](const Mesh& mesh) {
+            const MeshClosure c = mesh_closure(mesh);
+            py::dict d;
+            d["edges"] = c.edges;
+            d["boundary_edges"] = c.boundary_edges;
+            d["nonmanifold_edges"] = c.nonmanifold_edges;
+            d["misoriented_edges"] = c.misoriented_edges;
+            d["closed"] = c.closed();
+            d["consistently_oriented"] = c.consistently_oriented();
+            return d;
+        }, "Edge statistics after welding equal vertices: whether the mesh bounds a volume.");
+
+    m.def("load", [](const std::string& path) {
+        py::gil_scoped_release nogil;
+        return scene::load_scene(path);
+    }, py::arg("path"), "Loads a mesh file (.ply .obj .stl .off, optionally .gz) or a named scene.");
+
+    py::class_<Bvh>(m, "BVH", "A bounding volume hierarchy over a mesh, and its queries.")
+        .def(py::init<Mesh, const std::string&, const std::optional<std::string>&>(), py::arg("mesh"),
+             py::arg("method") = "bvh8", py::arg("isa") = py::none(),
+             "method: 'bvh8' (default, SIMD), 'bvh2' or 'brute'; isa: 'scalar', 'avx2', 'avx512' or None (best). "
+             "Point queries, crossing counts and all hits use the BVH2 (or brute force).")
+        .def_property_readonly("method", &Bvh::method)
+        .def_property_readonly("isa", &Bvh::isa)
+        .def("intersect", [](const Bvh& b, const py::handle& o, const py::handle& d, const py::handle& tmin,
+                             const py::handle& tmax, int threads) { return b.intersect(o, d, tmin, tmax, threads, false); },
+             py::arg("origins"), py::arg("directions"), py::arg("tmin") = 0.0f, py::arg("tmax") = kInf,
+             py::arg("threads") = 1,
+             "Closest hits: dict of hit (bool), t, prim (-1 for a miss), u, v. Ties at equal t go to the lower id.")
+        .def("occluded", [](const Bvh& b, const py::handle& o, const py::handle& d, const py::handle& tmin,
+                            const py::handle& tmax, int threads) {
+            return b.intersect(o, d, tmin, tmax, threads, true)["hit"];
+        }, py::arg("origins"), py::arg("directions"), py::arg("tmin") = 0.0f, py::arg("tmax") = kInf,
+             py::arg("threads") = 1, "Any hit: a bool per ray.")
+        .def("closest_point", &Bvh::closest, py::arg("points"), py::arg("max_distance") = kInf,
+             py::arg("threads") = 1,
+             "Closest points: dict of distance (inf when none within max_distance), prim (-1), points (n, 3), u, v.")
+        .def("sides", &Bvh::sides, py::arg("points"), py::arg("rule") = "winding", py::arg("threads") = 1,
+             "Exact inside/outside: uint8 per point, 0 outside, 1 inside, 2 on the surface.")
+        .def("contains", &Bvh::contains, py::arg("points"), py::arg("rule") = "winding", py::arg("threads") = 1,
+             "Exact inside test: True for points inside (not on the surface).")
+        .def("signed_distance", &Bvh::signed_distance, py::arg("points"), py::arg("rule") = "winding",
+             py::arg("threads") = 1, "Distance to the closest point, negative inside, 0 on the surface.")
+        .def("count_crossings", &Bvh::count, py::arg("origins"), py::arg("directions"), py::arg("tmin") = 0.0f,
+             py::arg("tmax") = kInf, py::arg("threads") = 1,
+             "Signed crossing counts: dict of winding (int32) and crossings (uint32); every crossing once.")
+        .def("intersect_all", &Bvh::all, py::arg("origins"), py::arg("directions"), py::arg("tmin") = 0.0f,
+             py::arg("tmax") = kInf, py::arg("max_hits") = 1024,
+             "Every hit: flat arrays ray, t, prim, u, v, facing sorted by ray, t, prim; dropped per ray.");
+
+    m.def("isas", [] {
+        std::vector<std::string> out;
+        for (Isa i : supported_isas()) out.emplace_back(name(i));
+        return out;
+    }, "The instruction sets this CPU supports.");
+}

@@ -1,0 +1,155 @@
+"""The Python module against the library's own rules and closed-form answers:
+a unit cube (inside, distances, hits known by hand), an icosphere (every path
+bit-identical), numpy dtype/layout handling, errors as simdbvh.Error."""
+import os
+
+import numpy as np
+import pytest
+
+import simdbvh
+
+CUBE_V = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0],
+                   [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]], dtype=np.float64)
+# Outward, counter-clockwise.
+CUBE_F = np.array([[0, 2, 1], [0, 3, 2], [4, 5, 6], [4, 6, 7], [0, 1, 5], [0, 5, 4],
+                   [1, 2, 6], [1, 6, 5], [2, 3, 7], [2, 7, 6], [3, 0, 4], [3, 4, 7]])
+
+
+@pytest.fixture(scope="module")
+def cube():
+    return simdbvh.Mesh(CUBE_V, CUBE_F)
+
+
+def sphere_mesh(n=24):
+    """A closed UV sphere of radius 1."""
+    verts = [[0, 0, 1], [0, 0, -1]]
+    for i in range(1, n):
+        th = np.pi * i / n
+        for j in range(2 * n):
+            ph = np.pi * j / n
+            verts.append([np.sin(th) * np.cos(ph), np.sin(th) * np.sin(ph), np.cos(th)])
+    faces = []
+    ring = lambda i, j: 2 + (i - 1) * 2 * n + (j % (2 * n))
+    for j in range(2 * n):
+        faces.append([0, ring(1, j), ring(1, j + 1)])
+        faces.append([1, ring(n - 1, j + 1), ring(n - 1, j)])
+    for i in range(1, n - 1):
+        for j in range(2 * n):
+            faces.append([ring(i, j), ring(i + 1, j), ring(i + 1, j + 1)])
+            faces.append([ring(i, j), ring(i + 1, j + 1), ring(i, j + 1)])
+    return simdbvh.Mesh(np.array(verts), np.array(faces))
+
+
+def test_mesh_round_trip_and_closure(cube):
+    assert len(cube) == 12
+    assert cube.vertices.dtype == np.float32 and cube.vertices.shape == (8, 3)
+    np.testing.assert_array_equal(cube.faces, CUBE_F)
+    c = cube.closure()
+    assert c["closed"] and c["consistently_oriented"] and c["edges"] == 18
+    open_cube = simdbvh.Mesh(CUBE_V, CUBE_F[:-2])
+    assert open_cube.closure()["boundary_edges"] == 4
+
+
+def test_hits_on_the_cube(cube):
+    for method in ("bvh8", "bvh2", "brute"):
+        bvh = simdbvh.BVH(cube, method=method)
+        o = np.array([[0.25, 0.5, -1.0], [0.5, 0.5, 0.5], [2.0, 2.0, 2.0]], dtype=np.float32)
+        d = np.array([[0, 0, 1], [1, 0, 0], [1, 0, 0]], dtype=np.float32)
+        h = bvh.intersect(o, d)
+        assert h["hit"].tolist() == [True, True, False]
+        assert h["t"][0] == 1.0 and h["t"][1] == 0.5 and np.isinf(h["t"][2])
+        assert h["prim"][2] == -1
+        assert bvh.occluded(o, d).tolist() == [True, True, False]
+        assert not bvh.occluded(o, d, tmax=0.25)[0]
+        assert bvh.intersect(o, d, tmin=np.array([2.0, 0.0, 0.0]))["t"][0] == 2.0  # the top face
+
+
+def test_every_path_and_isa_bit_identical():
+    mesh = sphere_mesh()
+    rng = np.random.default_rng(1)
+    o = rng.uniform(-2, 2, (5000, 3))
+    d = rng.uniform(-1, 1, (5000, 3)) - 0.3 * o
+    ref = simdbvh.BVH(mesh, method="brute").intersect(o, d)
+    assert ref["hit"].sum() > 1000
+    runs = [simdbvh.BVH(mesh, method="bvh2")] + [simdbvh.BVH(mesh, isa=i) for i in simdbvh.isas()]
+    for bvh in runs:
+        for threads in (1, 2):
+            h = bvh.intersect(o, d, threads=threads)
+            for k in ("t", "u", "v", "prim"):
+                np.testing.assert_array_equal(h[k], ref[k], err_msg=f"{bvh.method}/{bvh.isa} {k}")
+
+
+def test_inside_distance_and_signed_distance(cube):
+    bvh = simdbvh.BVH(cube)
+    p = np.array([[0.5, 0.5, 0.25], [0.5, 0.5, 3.0], [1.0, 0.5, 0.5], [2.0, 2.0, 0.5], [0.0, 0.0, 0.0]])
+    assert bvh.sides(p).tolist() == [1, 0, 2, 0, 2]
+    assert bvh.contains(p).tolist() == [True, False, False, False, False]
+    sd = bvh.signed_distance(p)
+    assert sd[0] == -0.25 and sd[1] == 2.0 and sd[2] == 0.0 and sd[4] == 0.0
+    assert sd[3] == pytest.approx(np.sqrt(2.0))
+    c = bvh.closest_point(p)
+    np.testing.assert_allclose(c["points"][1], [0.5, 0.5, 1.0])
+    assert c["distance"][1] == 2.0
+    far = bvh.closest_point(p, max_distance=0.5)
+    assert far["prim"][1] == -1 and np.isinf(far["distance"][1])
+    # A grid through the cube's vertices and edges: exact, against the closed box.
+    g = np.stack(np.meshgrid(*[np.arange(-2, 7) * 0.25] * 3, indexing="ij"), -1).reshape(-1, 3)
+    on = np.all((g >= 0) & (g <= 1), axis=1) & np.any((g == 0) | (g == 1), axis=1)
+    inside = np.all((g > 0) & (g < 1), axis=1)
+    s = bvh.sides(g, threads=2)
+    np.testing.assert_array_equal(s == 2, on)
+    np.testing.assert_array_equal(s == 1, inside)
+
+
+def test_crossings_and_all_hits(cube):
+    bvh = simdbvh.BVH(cube)
+    # Rays 0 and 1 pass exactly through the diagonals splitting the bottom and top
+    # faces (two triangles each): each face is crossed once. Ray 2 passes
+    # through face interiors.
+    o = np.array([[0.5, 0.5, -1.0], [0.5, 0.5, 0.5], [0.25, 0.75, -1.0]])
+    d = np.array([[0, 0, 1], [0, 0, 1], [0, 0, 1]])
+    c = bvh.count_crossings(o, d)
+    assert c["winding"].tolist() == [0, 1, 0]
+    assert c["crossings"].tolist() == [2, 1, 2]
+    a = bvh.intersect_all(o, d, max_hits=1)
+    assert a["ray"].tolist() == [0, 1, 2]
+    assert a["dropped"].tolist() == [1, 0, 1]
+    assert a["t"].tolist() == [1.0, 0.5, 1.0]
+
+
+def test_dtypes_layouts_and_errors(cube):
+    bvh = simdbvh.BVH(cube)
+    p64 = np.asfortranarray(np.array([[0.5, 0.5, 0.25]] * 4, dtype=np.float64))
+    assert bvh.contains(p64).all()
+    assert bvh.contains([0.5, 0.5, 0.5]).tolist() == [True]  # a single point
+    with pytest.raises(simdbvh.Error, match="shape"):
+        bvh.contains(np.zeros((3, 2)))
+    with pytest.raises(simdbvh.Error, match="out of range"):
+        simdbvh.Mesh(CUBE_V, CUBE_F + 10)
+    with pytest.raises(simdbvh.Error, match="out of range"):
+        simdbvh.Mesh(CUBE_V, -CUBE_F - 1)
+    bad = CUBE_V.copy()
+    bad[3, 1] = np.nan
+    with pytest.raises(simdbvh.Error):
+        simdbvh.Mesh(bad, CUBE_F)
+    with pytest.raises(ValueError):  # simdbvh.Error is a ValueError
+        simdbvh.BVH(cube, method="octree")
+    with pytest.raises(simdbvh.Error, match="differ in length"):
+        bvh.intersect(np.zeros((2, 3)), np.ones((3, 3)))
+    with pytest.raises(simdbvh.Error, match="threads"):
+        bvh.contains(p64, threads=0)
+    with pytest.raises(simdbvh.Error, match="rule"):
+        bvh.sides(p64, rule="majority")
+    with pytest.raises(simdbvh.Error):
+        simdbvh.load("/nonexistent/mesh.ply")
+    with pytest.raises(simdbvh.Error, match="isa"):
+        simdbvh.BVH(cube, isa="sse9")
+
+
+def test_load_a_file(tmp_path):
+    path = tmp_path / "tri.obj"
+    path.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    m = simdbvh.load(str(path))
+    assert len(m) == 1
+    h = simdbvh.BVH(m).intersect([[0.2, 0.2, 1.0]], [[0, 0, -1]])
+    assert h["prim"][0] == 0 and h["t"][0] == 1.0
