@@ -153,3 +153,83 @@ def test_load_a_file(tmp_path):
     assert len(m) == 1
     h = simdbvh.BVH(m).intersect([[0.2, 0.2, 1.0]], [[0, 0, -1]])
     assert h["prim"][0] == 0 and h["t"][0] == 1.0
+
+
+def test_gil_is_released_during_a_long_trace():
+    """A second Python thread keeps running while one thread traces."""
+    import threading
+    import time
+    mesh = sphere_mesh(64)
+    bvh = simdbvh.BVH(mesh, method="brute")  # slow on purpose: ~16k triangles per ray
+    rng = np.random.default_rng(3)
+    o = rng.uniform(-2, 2, (3000, 3))
+    d = -o + rng.uniform(-0.1, 0.1, (3000, 3))
+    ticks = []
+    done = threading.Event()
+
+    def ticker():
+        while not done.is_set():
+            ticks.append(time.perf_counter())
+            time.sleep(0.001)
+
+    t = threading.Thread(target=ticker)
+    t.start()
+    start = time.perf_counter()
+    bvh.intersect(o, d)
+    end = time.perf_counter()
+    done.set()
+    t.join()
+    during = [x for x in ticks if start < x < end]
+    assert end - start > 0.05, "the trace must take a while for this test to mean anything"
+    assert len(during) >= 10, f"only {len(during)} ticks in {end - start:.3f} s: the GIL was held"
+
+
+def test_memory_and_reference_counts_are_stable():
+    import gc
+    import resource
+    import sys
+    mesh = sphere_mesh(12)
+    bvh = simdbvh.BVH(mesh)
+    o = np.zeros((1000, 3))
+    d = np.tile([1.0, 0.2, 0.1], (1000, 1))
+    refs = (sys.getrefcount(o), sys.getrefcount(d), sys.getrefcount(bvh))
+    for _ in range(50):  # warm up the allocator
+        bvh.intersect(o, d)
+        bvh.signed_distance(o)
+    gc.collect()
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    for _ in range(1000):
+        h = bvh.intersect(o, d)
+        bvh.contains(o)
+        bvh.count_crossings(o, d)
+    del h
+    gc.collect()
+    after = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    assert (sys.getrefcount(o), sys.getrefcount(d), sys.getrefcount(bvh)) == refs
+    assert after - before < 20 * 1024, f"peak RSS grew by {after - before} KiB over 1,000 calls"
+
+
+def test_bit_identical_to_the_cli(tmp_path):
+    """The same rays through the C++ CLI (simdbvh trace) and the module."""
+    import subprocess
+    cli = os.environ.get("SIMDBVH_CLI")
+    if not cli:
+        pytest.skip("SIMDBVH_CLI is not set (ctest sets it)")
+    rays = tmp_path / "r.bin"
+    r = subprocess.run([cli, "gen-rays", "--scene", "icosphere-3", "--kind", "incoherent", "--count", "4000",
+                        "--out", str(rays)], capture_output=True, text=True)
+    assert r.returncode == 0, r.stdout + r.stderr
+    rec = np.fromfile(rays, dtype="<f4").reshape(-1, 8)
+    mesh = simdbvh.load("icosphere-3")
+    for method in ("bvh8", "bvh2"):
+        hits = tmp_path / f"{method}.hits"
+        r = subprocess.run([cli, "trace", "--scene", "icosphere-3", "--rays", str(rays), "--out", str(hits),
+                            "--method", method], capture_output=True, text=True)
+        assert r.returncode == 0, r.stdout + r.stderr
+        want = np.fromfile(hits, dtype=np.dtype([("t", "<f4"), ("u", "<f4"), ("v", "<f4"), ("prim", "<u4")]))
+        got = simdbvh.BVH(mesh, method=method).intersect(rec[:, 0:3], rec[:, 4:7], tmin=rec[:, 3], tmax=rec[:, 7])
+        np.testing.assert_array_equal(got["t"].view(np.uint32), want["t"].view(np.uint32))
+        np.testing.assert_array_equal(got["u"].view(np.uint32), want["u"].view(np.uint32))
+        np.testing.assert_array_equal(got["v"].view(np.uint32), want["v"].view(np.uint32))
+        np.testing.assert_array_equal(got["prim"], np.where(want["prim"] == 0xFFFFFFFF, -1, want["prim"]))
+        assert got["hit"].sum() > 1000
