@@ -12,7 +12,7 @@ struct SimdKernels {
     static SIMDBVH_FORCE_INLINE void pack(RayData& d, const PreparedRay& r, const Ray& src) {
         simd::pack_ray_into<Arch>(d, r, &src);
     }
-    static SIMDBVH_FORCE_INLINE std::uint32_t box8(const RayData& r, const Box8& b, float tmax, float* entries) {
+    static SIMDBVH_FORCE_INLINE std::uint32_t box(const RayData& r, const Box8& b, float tmax, float* entries) {
         simd::Batch<Arch> tn;
         const std::uint32_t m = simd::intersect_box8<Arch>(r, b, simd::Batch<Arch>(tmax), tn);
         tn.store_aligned(entries);

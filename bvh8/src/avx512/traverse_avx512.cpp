@@ -7,11 +7,16 @@ namespace simdbvh::bvh8::avx512 {
 
 using K = SimdKernels<simd::Avx512>;
 
-SIMDBVH_FLATTEN void intersect(const Bvh8& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o) {
+template <int N>
+SIMDBVH_FLATTEN void intersect(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits,
+                               const TraceOptions& o) {
     detail::trace<K, false>(bvh, rays, hits, o);
 }
-SIMDBVH_FLATTEN void occluded(const Bvh8& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o) {
+template <int N>
+SIMDBVH_FLATTEN void occluded(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits,
+                              const TraceOptions& o) {
     detail::trace<K, true>(bvh, rays, hits, o);
 }
+SIMDBVH_WIDE_ISA_INSTANCES(8)
 
 }  // namespace simdbvh::bvh8::avx512
