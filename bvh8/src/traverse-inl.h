@@ -1,13 +1,18 @@
 #pragma once
-// Wide BVH stack traversal (several rays in flight per batch, see trace_span),
-// templated on the kernels K (the scalar reference loops in scalar/, xsimd in
-// avx2/ and avx512/) and the node width N (4, 8, 16). Included only by the
-// per-ISA translation units; everything here is a template on K so no
-// ISA-encoded copy can be shared between them.
+// The wide BVH stack traversal, one loop for every width: a loop (step,
+// trace_span: several rays in flight per batch) x a node test (K::box, N lanes)
+// x a leaf intersector (Tri8Leaf: blocks of kBlockWidth triangles) x a query
+// (ClosestHit, AnyHit: what a leaf does to the ray, finish() writes its Hit),
+// after madmann91/bvh v2's traverse_top_down(leaf_fn, inner_fn) and Embree's
+// bvh_intersector1 + node_intersector1. Included only by the per-ISA
+// translation units, each a few lines `template struct Traversal<isa::Kernels,
+// N>;`: everything here is a template on K, so no ISA-encoded copy can be
+// shared between them.
 //
-// K provides: void pack(RayData&, PreparedRay, const Ray& (outlives the RayData)); uint32 box(RayData, BoxN<N>, tmax,
-// float entries[N]) (hit mask, entry distances); closest<Test>(RayData, Tri8,
-// Hit& best); bool any<Test>(RayData, Tri8, tmax, Hit&).
+// K (the ISA's kernels) provides: void pack(RayData&, PreparedRay, const Ray&
+// (outlives the RayData)); uint32 box(RayData, BoxN<N>, tmax, float entries[N])
+// (hit mask, entry distances, entries aligned to 4 * N bytes);
+// closest<Test>(RayData, Tri8, Hit& best); bool any<Test>(RayData, Tri8, tmax, Hit&).
 //
 // Counters (TraceOptions::stats): nodes_visited = wide nodes visited;
 // box_tests and triangle_tests count lanes, N per node test and kBlockWidth
@@ -19,8 +24,62 @@
 
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/kernels/error.h"
+#include "traverse.h"
 
 namespace simdbvh::bvh8::detail {
+
+#define SIMDBVH_TRAVERSE_INLINE inline __attribute__((always_inline))
+
+// Leaf intersector: a leaf is `count` consecutive Tri8 blocks.
+template <class K, TriangleTest kTest, bool kStats>
+struct Tri8Leaf {
+    using RayData = typename K::RayData;
+    // Closest hit: shrinks `best` (best.t is the current tmax).
+    static SIMDBVH_TRAVERSE_INLINE void closest(const RayData& rd, const Tri8* b, std::uint32_t count, Hit& best,
+                                                TraceStats* stats) {
+        for (std::uint32_t k = 0; k < count; ++k) {
+            if constexpr (kStats) stats->triangle_tests += kBlockWidth;
+            K::template closest<kTest>(rd, b[k], best);
+        }
+    }
+    // Any hit: true at the first hit in [tmin, best.t], written to `best`.
+    static SIMDBVH_TRAVERSE_INLINE bool any(const RayData& rd, const Tri8* b, std::uint32_t count, Hit& best,
+                                            TraceStats* stats) {
+        for (std::uint32_t k = 0; k < count; ++k) {
+            if constexpr (kStats) stats->triangle_tests += kBlockWidth;
+            Hit h;
+            if (K::template any<kTest>(rd, b[k], best.t, h)) {
+                best = h;
+                return true;
+            }
+        }
+        return false;
+    }
+};
+
+// Queries: what a leaf does to the ray (returns true when the ray is done)
+// and finish(), the one place a ray's Hit is written: a hit with its t mapped
+// back to the caller's direction scale (PreparedRay::t_exp), a miss Hit{}.
+struct QueryBase {
+    static SIMDBVH_TRAVERSE_INLINE void finish(const Hit& best, int t_exp, Hit& out) {
+        out = best.hit() ? to_caller(t_exp, best) : Hit{};
+    }
+};
+struct ClosestHit : QueryBase {
+    template <class Leaf>
+    static SIMDBVH_TRAVERSE_INLINE bool leaf(const typename Leaf::RayData& rd, const Tri8* b, std::uint32_t count,
+                                             Hit& best, TraceStats* stats) {
+        Leaf::closest(rd, b, count, best, stats);
+        return false;
+    }
+};
+struct AnyHit : QueryBase {
+    template <class Leaf>
+    static SIMDBVH_TRAVERSE_INLINE bool leaf(const typename Leaf::RayData& rd, const Tri8* b, std::uint32_t count,
+                                             Hit& best, TraceStats* stats) {
+        return Leaf::any(rd, b, count, best, stats);
+    }
+};
 
 // At most N - 1 entries are pushed per level: 1 + (N - 1) * depth (depth <= kMaxDepth, checked at build).
 template <int N>
@@ -89,8 +148,8 @@ struct RayState {
 
 // One traversal step of ray `s`: visits s.cur (one NodeN or one leaf), then
 // sets s.cur to the next node or leaf to visit. Returns true when the ray is
-// finished, its result in s.best (Hit{} for a miss).
-template <class K, int N, TriangleTest kTest, bool kAnyHit, bool kStats>
+// finished, its result in s.best (Query::finish turns it into the Hit).
+template <class K, int N, class Leaf, class Query, bool kStats>
 inline __attribute__((always_inline)) bool step(const NodeN<N>* nodes, const Tri8* blocks, RayState<K, N>& s,
                                                 TraceStats* stats) {
     using Child = ChildN<N>;
@@ -145,29 +204,13 @@ inline __attribute__((always_inline)) bool step(const NodeN<N>* nodes, const Tri
             s.cur = Child{stack[sp].index, stack[sp].count};
             return false;
         }
-    } else {
-        const Tri8* b = blocks + s.cur.index;
-        const std::uint32_t nblocks = s.cur.blocks();
-        for (std::uint32_t k = 0; k < nblocks; ++k) {
-            if constexpr (kStats) stats->triangle_tests += kBlockWidth;
-            if constexpr (kAnyHit) {
-                Hit h;
-                if (K::template any<kTest>(rd, b[k], best.t, h)) {
-                    best = h;
-                    return true;
-                }
-            } else {
-                K::template closest<kTest>(rd, b[k], best);
-            }
-        }
+    } else if (Query::template leaf<Leaf>(rd, blocks + s.cur.index, s.cur.blocks(), best, stats)) {
+        return true;
     }
     // Pop the nearest pending child still in front of the closest hit.
     int sp = s.sp;
     for (;;) {
-        if (sp == 0) {
-            if (!best.hit()) best = Hit{};
-            return true;
-        }
+        if (sp == 0) return true;
         const StackEntry& e = stack[--sp];
         if (e.entry <= best.t * kCullWiden) {
             s.cur = Child{e.index, e.count};
@@ -178,13 +221,13 @@ inline __attribute__((always_inline)) bool step(const NodeN<N>* nodes, const Tri
 }
 
 // Starts ray `i` in `s`; false (and hits[i] written) when it cannot hit anything.
-template <class K, int N, bool kStats>
+template <class K, int N, class Query, bool kStats>
 inline __attribute__((always_inline)) bool start(RayState<K, N>& s, const Ray& ray, std::size_t i, bool empty,
                                                  Hit* hits, TraceStats* stats) {
     const PreparedRay r = prepare(ray);
     if constexpr (kStats) stats->rays++;
     if (!r.valid || empty) {
-        hits[i] = Hit{};
+        Query::finish(Hit{}, 0, hits[i]);
         return false;
     }
     K::pack(s.rd, r, ray);  // a pack keeps no pointer to r (a copy of r here was a store-forwarding stall)
@@ -205,7 +248,7 @@ inline __attribute__((always_inline)) bool start(RayState<K, N>& s, const Ray& r
 #endif
 inline constexpr int kInFlight = SIMDBVH_BVH8_IN_FLIGHT;
 
-template <class K, int N, TriangleTest kTest, bool kAnyHit, bool kStats>
+template <class K, int N, class Leaf, class Query, bool kStats>
 inline __attribute__((always_inline)) void trace_span(const BvhN<N>& bvh, std::span<const Ray> rays,
                                                       std::span<Hit> hits, TraceStats* stats) {
     const NodeN<N>* nodes = bvh.nodes().data();
@@ -219,7 +262,7 @@ inline __attribute__((always_inline)) void trace_span(const BvhN<N>& bvh, std::s
     auto refill = [&](int slot) {
         while (next < n) {
             const std::size_t i = next++;
-            if (start<K, N, kStats>(states[slot], rays[i], i, empty, hits.data(), stats)) return true;
+            if (start<K, N, Query, kStats>(states[slot], rays[i], i, empty, hits.data(), stats)) return true;
         }
         return false;
     };
@@ -228,10 +271,10 @@ inline __attribute__((always_inline)) void trace_span(const BvhN<N>& bvh, std::s
     while (nlive > 0) {
         for (int k = 0; k < nlive;) {
             RayState<K, N>& s = states[live[k]];
-            if (!step<K, N, kTest, kAnyHit, kStats>(nodes, blocks, s, stats)) {
+            if (!step<K, N, Leaf, Query, kStats>(nodes, blocks, s, stats)) {
                 prefetch_child(nodes, blocks, s.cur);
             } else {
-                hits[s.ray] = to_caller(s.t_exp, s.best);
+                Query::finish(s.best, s.t_exp, hits[s.ray]);
                 if (!refill(live[k])) {
                     live[k] = live[--nlive];
                     continue;
@@ -242,18 +285,36 @@ inline __attribute__((always_inline)) void trace_span(const BvhN<N>& bvh, std::s
     }
 }
 
-// The per-ISA entry: test and stats chosen once per batch.
-template <class K, bool kAnyHit, int N>
+// Triangle test and stats chosen once per batch.
+template <class K, int N, class Query>
 inline __attribute__((always_inline)) void trace(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits,
                                                  const TraceOptions& o) {
     using enum TriangleTest;
     if (o.stats) {
-        if (o.test == watertight) trace_span<K, N, watertight, kAnyHit, true>(bvh, rays, hits, o.stats);
-        else trace_span<K, N, moller, kAnyHit, true>(bvh, rays, hits, o.stats);
+        if (o.test == watertight) trace_span<K, N, Tri8Leaf<K, watertight, true>, Query, true>(bvh, rays, hits, o.stats);
+        else trace_span<K, N, Tri8Leaf<K, moller, true>, Query, true>(bvh, rays, hits, o.stats);
     } else {
-        if (o.test == watertight) trace_span<K, N, watertight, kAnyHit, false>(bvh, rays, hits, nullptr);
-        else trace_span<K, N, moller, kAnyHit, false>(bvh, rays, hits, nullptr);
+        if (o.test == watertight) trace_span<K, N, Tri8Leaf<K, watertight, false>, Query, false>(bvh, rays, hits, nullptr);
+        else trace_span<K, N, Tri8Leaf<K, moller, false>, Query, false>(bvh, rays, hits, nullptr);
     }
 }
 
+#undef SIMDBVH_TRAVERSE_INLINE
+
 }  // namespace simdbvh::bvh8::detail
+
+namespace simdbvh::bvh8 {
+
+// The per-ISA entry points (traverse.h, flattened there).
+template <class K, int N>
+void Traversal<K, N>::intersect(const BvhN<N>& bvh, std::span<const Ray> rays,
+                                                         std::span<Hit> hits, const TraceOptions& o) {
+    detail::trace<K, N, detail::ClosestHit>(bvh, rays, hits, o);
+}
+template <class K, int N>
+void Traversal<K, N>::occluded(const BvhN<N>& bvh, std::span<const Ray> rays,
+                                                        std::span<Hit> hits, const TraceOptions& o) {
+    detail::trace<K, N, detail::AnyHit>(bvh, rays, hits, o);
+}
+
+}  // namespace simdbvh::bvh8

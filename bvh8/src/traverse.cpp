@@ -11,9 +11,9 @@ namespace {
 template <int N>
 using TraceFn = void (*)(const BvhN<N>&, std::span<const Ray>, std::span<Hit>, const TraceOptions&);
 
-template <int N, bool kAnyHit>
-constexpr TraceFn<N> scalar_fn() {
-    return kAnyHit ? &bvh8::scalar::occluded<N> : &bvh8::scalar::intersect<N>;
+template <class K, int N, bool kAnyHit>
+constexpr TraceFn<N> entry() {
+    return kAnyHit ? &bvh8::Traversal<K, N>::occluded : &bvh8::Traversal<K, N>::intersect;
 }
 
 template <int N, bool kAnyHit>
@@ -22,15 +22,9 @@ void run(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, con
     require(isa);
     TraceFn<N> fn = nullptr;
     switch (isa) {
-    case Isa::avx512:
-        if constexpr (N == 8) fn = kAnyHit ? &bvh8::avx512::occluded<N> : &bvh8::avx512::intersect<N>;
-        else fn = scalar_fn<N, kAnyHit>();  // widths 4 and 16: the scalar node test for now
-        break;
-    case Isa::avx2:
-        if constexpr (N == 8) fn = kAnyHit ? &bvh8::avx2::occluded<N> : &bvh8::avx2::intersect<N>;
-        else fn = scalar_fn<N, kAnyHit>();
-        break;
-    case Isa::scalar: fn = scalar_fn<N, kAnyHit>(); break;
+    case Isa::avx512: fn = entry<bvh8::avx512::Kernels, N, kAnyHit>(); break;
+    case Isa::avx2: fn = entry<bvh8::avx2::Kernels, N, kAnyHit>(); break;
+    case Isa::scalar: fn = entry<bvh8::scalar::Kernels, N, kAnyHit>(); break;
     }
     if (!fn) throw Error("unknown ISA");
     if (o.stats || o.threads <= 1) return fn(bvh, rays, hits, o);  // stats: one thread (unsynchronized counters)

@@ -126,6 +126,55 @@ INSTANTIATE_TEST_SUITE_P(Scenes, WidthsVsBrute,
                                           testing::Values(4, 8, 16), testing::ValuesIn(kAllIsas)),
                          param_name);
 
+// The SIMD node tests (4 lanes in xmm, 8 in ymm, 16 in zmm or two ymm halves)
+// are bit for bit the scalar box test: every ISA visits exactly the same nodes
+// and blocks (same hit masks, same entry distances, so the same order), also
+// for axis-aligned rays with +-0 components and origins on box planes.
+template <int N>
+void expect_same_visits(const Mesh& mesh, const std::vector<Ray>& rays, const std::string& what) {
+    const BvhN<N> bvh = BvhN<N>::build(mesh);
+    TraceStats want, want_any;
+    TraceOptions o;
+    o.stats = &want;
+    std::vector<Hit> ref(rays.size()), got(rays.size());
+    intersect(bvh, rays, ref, o, Isa::scalar);
+    o.stats = &want_any;
+    occluded(bvh, rays, ref, o, Isa::scalar);
+    EXPECT_EQ(want.box_tests, N * want.nodes_visited);
+    for (Isa isa : kAllIsas) {
+        if (isa == Isa::scalar || !supported(isa)) continue;
+        TraceStats st, st_any;
+        o.stats = &st;
+        intersect(bvh, rays, got, o, isa);
+        o.stats = &st_any;
+        occluded(bvh, rays, got, o, isa);
+        EXPECT_EQ(st.nodes_visited, want.nodes_visited) << what << " bvh" << N << " " << name(isa);
+        EXPECT_EQ(st.triangle_tests, want.triangle_tests) << what << " bvh" << N << " " << name(isa);
+        EXPECT_EQ(st_any.nodes_visited, want_any.nodes_visited) << what << " bvh" << N << " any " << name(isa);
+        EXPECT_EQ(st_any.triangle_tests, want_any.triangle_tests) << what << " bvh" << N << " any " << name(isa);
+    }
+}
+
+TEST(WidthsNodeTest, EveryIsaVisitsTheSameNodes) {
+    std::vector<std::pair<std::string, Mesh>> meshes;
+    meshes.emplace_back("icosphere-4", scene::icosphere(4));
+    meshes.emplace_back("soup-3000", scene::random_soup(3000, 5));
+    if (scene::is_cached("dragon-res4")) meshes.emplace_back("dragon-res4", scene::load_scene("dragon-res4"));
+    for (const auto& [what, mesh] : meshes) {
+        std::vector<Ray> rays = scene::generate_rays(mesh, RayKind::incoherent, 3000, 17);
+        const Aabb b = mesh.bounds();
+        // Axis-aligned rays with +-0 components, from the box's planes and corners.
+        for (float sx : {0.0f, -0.0f, 1.0f, -1.0f})
+            for (float sy : {0.0f, -0.0f, 1.0f, -1.0f})
+                for (float sz : {0.0f, -0.0f, 1.0f, -1.0f})
+                    for (const Vec3& o : {b.lo, b.hi, Vec3{0, 0, 0}, Vec3{b.lo.x, 0, b.hi.z}})
+                        rays.push_back({o, 0, {sx, sy, sz}});
+        expect_same_visits<4>(mesh, rays, what);
+        expect_same_visits<8>(mesh, rays, what);
+        expect_same_visits<16>(mesh, rays, what);
+    }
+}
+
 // Every triangle twice (same vertices, ids i and i + n): every hit is a tie at
 // equal t, won by the lower id, at every width and ISA; small trees (0..40
 // triangles, BVH2 leaves of 1) fill nodes and blocks partly.

@@ -4,13 +4,12 @@
 #include "simdbvh/kernels/box.h"
 #include "simdbvh/kernels/triangle.h"
 #include "traverse-inl.h"
-#include "traverse.h"
 
-namespace simdbvh::bvh8::scalar {
+namespace simdbvh::bvh8 {
 
-namespace {
+namespace scalar {
 
-struct ScalarKernels {
+struct Kernels {
     using RayData = PreparedRay;
     static void pack(RayData& d, const PreparedRay& r, const Ray&) { d = r; }
     template <int N>
@@ -43,18 +42,10 @@ struct ScalarKernels {
     }
 };
 
-}  // namespace
+}  // namespace scalar
 
-template <int N>
-void intersect(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o) {
-    detail::trace<ScalarKernels, false>(bvh, rays, hits, o);
-}
-template <int N>
-void occluded(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o) {
-    detail::trace<ScalarKernels, true>(bvh, rays, hits, o);
-}
-SIMDBVH_WIDE_ISA_INSTANCES(4)
-SIMDBVH_WIDE_ISA_INSTANCES(8)
-SIMDBVH_WIDE_ISA_INSTANCES(16)
+template struct Traversal<scalar::Kernels, 4>;
+template struct Traversal<scalar::Kernels, 8>;
+template struct Traversal<scalar::Kernels, 16>;
 
-}  // namespace simdbvh::bvh8::scalar
+}  // namespace simdbvh::bvh8
