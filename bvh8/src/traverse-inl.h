@@ -2,7 +2,8 @@
 // The wide BVH stack traversal, one loop for every width: a loop (step,
 // trace_span: several rays in flight per batch) x a node test (K::box, N lanes)
 // x a leaf intersector (Tri8Leaf: blocks of kBlockWidth triangles) x a query
-// (ClosestHit, AnyHit: what a leaf does to the ray, finish() writes its Hit),
+// (query/query.h: ClosestHit, AnyHit, what a leaf does to the ray;
+// finish() writes its Hit),
 // after madmann91/bvh v2's traverse_top_down(leaf_fn, inner_fn) and Embree's
 // bvh_intersector1 + node_intersector1. Included only by the per-ISA
 // translation units, each a few lines `template struct Traversal<isa::Kernels,
@@ -25,6 +26,7 @@
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/kernels/error.h"
 #include "traverse.h"
+#include "query/query.h"
 
 namespace simdbvh::bvh8::detail {
 
@@ -35,16 +37,16 @@ template <class K, TriangleTest kTest, bool kStats>
 struct Tri8Leaf {
     using RayData = typename K::RayData;
     // Closest hit: shrinks `best` (best.t is the current tmax).
-    static SIMDBVH_TRAVERSE_INLINE void closest(const RayData& rd, const Tri8* b, std::uint32_t count, Hit& best,
-                                                TraceStats* stats) {
+    SIMDBVH_TRAVERSE_INLINE void closest(const RayData& rd, const Tri8* b, std::uint32_t count, Hit& best,
+                                         TraceStats* stats) const {
         for (std::uint32_t k = 0; k < count; ++k) {
             if constexpr (kStats) stats->triangle_tests += kBlockWidth;
             K::template closest<kTest>(rd, b[k], best);
         }
     }
     // Any hit: true at the first hit in [tmin, best.t], written to `best`.
-    static SIMDBVH_TRAVERSE_INLINE bool any(const RayData& rd, const Tri8* b, std::uint32_t count, Hit& best,
-                                            TraceStats* stats) {
+    SIMDBVH_TRAVERSE_INLINE bool any(const RayData& rd, const Tri8* b, std::uint32_t count, Hit& best,
+                                     TraceStats* stats) const {
         for (std::uint32_t k = 0; k < count; ++k) {
             if constexpr (kStats) stats->triangle_tests += kBlockWidth;
             Hit h;
@@ -57,29 +59,8 @@ struct Tri8Leaf {
     }
 };
 
-// Queries: what a leaf does to the ray (returns true when the ray is done)
-// and finish(), the one place a ray's Hit is written: a hit with its t mapped
-// back to the caller's direction scale (PreparedRay::t_exp), a miss Hit{}.
-struct QueryBase {
-    static SIMDBVH_TRAVERSE_INLINE void finish(const Hit& best, int t_exp, Hit& out) {
-        out = best.hit() ? to_caller(t_exp, best) : Hit{};
-    }
-};
-struct ClosestHit : QueryBase {
-    template <class Leaf>
-    static SIMDBVH_TRAVERSE_INLINE bool leaf(const typename Leaf::RayData& rd, const Tri8* b, std::uint32_t count,
-                                             Hit& best, TraceStats* stats) {
-        Leaf::closest(rd, b, count, best, stats);
-        return false;
-    }
-};
-struct AnyHit : QueryBase {
-    template <class Leaf>
-    static SIMDBVH_TRAVERSE_INLINE bool leaf(const typename Leaf::RayData& rd, const Tri8* b, std::uint32_t count,
-                                             Hit& best, TraceStats* stats) {
-        return Leaf::any(rd, b, count, best, stats);
-    }
-};
+using query::AnyHit;
+using query::ClosestHit;
 
 // At most N - 1 entries are pushed per level: 1 + (N - 1) * depth (depth <= kMaxDepth, checked at build).
 template <int N>
@@ -204,7 +185,7 @@ inline __attribute__((always_inline)) bool step(const NodeN<N>* nodes, const Tri
             s.cur = Child{stack[sp].index, stack[sp].count};
             return false;
         }
-    } else if (Query::template leaf<Leaf>(rd, blocks + s.cur.index, s.cur.blocks(), best, stats)) {
+    } else if (Query::leaf(Leaf{}, rd, blocks + s.cur.index, s.cur.blocks(), best, stats)) {
         return true;
     }
     // Pop the nearest pending child still in front of the closest hit.
