@@ -12,7 +12,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 def label(r):
     m = r["method"]
-    return f"{m}/{r['isa']}" if m in ("bvh8",) else m
+    return f"{m}/{r['isa']}" if m in ("bvh4", "bvh8", "bvh16") else m
 
 
 def main(json_file, out_dir):

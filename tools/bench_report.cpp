@@ -23,7 +23,7 @@ namespace {
 
 const char* kKinds[] = {"primary", "incoherent", "diffuse"};
 
-std::string label(const Record& r) { return r.method == "bvh8" ? "bvh8/" + r.isa : r.method; }
+std::string label(const Record& r) { return is_wide(r.method) ? r.method + "/" + r.isa : r.method; }
 
 const Record* find(const std::vector<Record>& recs, const std::string& lab, const std::string& kind,
                    const std::string& query, int threads) {

@@ -120,15 +120,16 @@ int cmd_bench(const std::vector<std::string>& args) {
     methods.push_back(m);
     m.method = "bvh2";
     methods.push_back(m);
-    for (Isa isa : kAllIsas) {
-        if (!supported(isa)) {
-            progress("skipping bvh8/" + std::string(name(isa)) + ": this CPU lacks it", true);
-            continue;
+    for (const char* wide : kWideMethods)
+        for (Isa isa : kAllIsas) {
+            if (!supported(isa)) {
+                progress("skipping " + std::string(wide) + "/" + std::string(name(isa)) + ": this CPU lacks it", true);
+                continue;
+            }
+            m.method = wide;
+            m.isa = isa;
+            methods.push_back(m);
         }
-        m.method = "bvh8";
-        m.isa = isa;
-        methods.push_back(m);
-    }
     for (const char* q : {"medium", "high"})
         for (bool robust : {false, true}) {
             m = MethodSpec{};

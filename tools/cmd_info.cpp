@@ -1,4 +1,4 @@
-// simdbvh info: the scene and both trees.
+// simdbvh info: the scene, its BVH2 and every wide BVH collapsed from it (4, 8, 16).
 #include <cstdio>
 #include <iostream>
 
@@ -6,6 +6,16 @@
 #include "methods.h"
 
 namespace simdbvh::cli {
+
+namespace {
+
+template <int N>
+WideStats wide_stats(const Bvh2& bvh2, const MethodSpec& spec) {
+    progress("collapsing to BVH" + std::to_string(N) + " ...");
+    return BvhN<N>::build(bvh2, spec.bvh8).stats();
+}
+
+}  // namespace
 
 int cmd_info(const std::vector<std::string>& args) {
     std::set<std::string> valued{"scene"}, flags;
@@ -28,15 +38,22 @@ int cmd_info(const std::vector<std::string>& args) {
     std::printf("  build ms        %.1f\n  nodes           %zu\n  leaves          %zu\n  depth           %d\n"
                 "  SAH cost        %.3f\n  bytes/triangle  %.1f\n",
                 s.build_ms, s.nodes, s.leaves, s.depth, s.sah_cost, s.bytes_per_triangle);
-    progress("collapsing to BVH8 ...");
-    const Bvh8 bvh8 = Bvh8::build(bvh2, spec.bvh8);
-    const Bvh8Stats& e = bvh8.stats();
-    std::printf("\nbvh8 (%s collapse)\n", std::string(name(spec.bvh8.collapse)).c_str());
-    std::printf("  build ms        %.1f (collapse + pack; + %.1f for the BVH2)\n  nodes           %zu\n"
-                "  leaves          %zu\n  triangle blocks %zu\n  depth           %d\n  SAH cost        %.3f\n"
-                "  bytes/triangle  %.1f\n  fill rate       %.1f%%\n",
-                e.build_ms, s.build_ms, e.nodes, e.leaves, e.blocks, e.depth, e.sah_cost, e.bytes_per_triangle,
-                100.0 * e.fill_rate);
+    // Every width from this same BVH2: the detail per width, then one table.
+    const WideStats w4 = wide_stats<4>(bvh2, spec), w8 = wide_stats<8>(bvh2, spec), w16 = wide_stats<16>(bvh2, spec);
+    for (const WideStats* e : {&w4, &w8, &w16}) {
+        std::printf("\nbvh%d (%s collapse)\n", e->width, std::string(name(spec.bvh8.collapse)).c_str());
+        std::printf("  build ms        %.1f (collapse + pack; + %.1f for the BVH2)\n  nodes           %zu\n"
+                    "  leaves          %zu\n  triangle blocks %zu\n  depth           %d\n  SAH cost        %.3f\n"
+                    "  bytes/triangle  %.1f\n  fill rate       %.1f%%\n",
+                    e->build_ms, s.build_ms, e->nodes, e->leaves, e->blocks, e->depth, e->sah_cost,
+                    e->bytes_per_triangle, 100.0 * e->fill_rate);
+    }
+    std::printf("\nwidths (%s collapse of the BVH2 above; bvh2 for comparison)\n", std::string(name(spec.bvh8.collapse)).c_str());
+    std::printf("  %-6s %10s %6s %10s %8s %10s %12s\n", "width", "nodes", "depth", "bytes/tri", "fill", "SAH cost", "collapse ms");
+    std::printf("  %-6s %10zu %6d %10.1f %8s %10.3f %12s\n", "2", s.nodes, s.depth, s.bytes_per_triangle, "-", s.sah_cost, "-");
+    for (const WideStats* e : {&w4, &w8, &w16})
+        std::printf("  %-6d %10zu %6d %10.1f %7.1f%% %10.3f %12.1f\n", e->width, e->nodes, e->depth, e->bytes_per_triangle,
+                    100.0 * e->fill_rate, e->sah_cost, e->build_ms);
     return 0;
 }
 

@@ -9,8 +9,17 @@
 
 namespace simdbvh::cli {
 
+bool is_wide(const std::string& method) { return method == "bvh4" || method == "bvh8" || method == "bvh16"; }
+
+int MethodSpec::width() const {
+    if (method == "bvh4") return 4;
+    if (method == "bvh8") return 8;
+    if (method == "bvh16") return 16;
+    return 0;
+}
+
 std::string MethodSpec::label() const {
-    if (method == "bvh8") return "bvh8/" + std::string(name(isa)) + (test == TriangleTest::moller ? "/moller" : "");
+    if (is_wide(method)) return method + "/" + std::string(name(isa)) + (test == TriangleTest::moller ? "/moller" : "");
     if (method == "embree") return "embree/" + quality + (robust ? "/robust" : "/default");
     // Non-default variants are named: bvh2/moller, bvh2/plain-box, brute/moller.
     std::string l = method;
@@ -19,13 +28,13 @@ std::string MethodSpec::label() const {
     return l;
 }
 std::string MethodSpec::isa_name() const {
-    if (method == "bvh8") return std::string(name(isa));
+    if (is_wide(method)) return std::string(name(isa));
     if (method == "embree") return "embree-internal";
     return "scalar";
 }
 std::string MethodSpec::builder_name() const {
     if (method == "bvh2") return std::string(name(build.builder));
-    if (method == "bvh8") return std::string(name(build.builder)) + "+" + std::string(name(bvh8.collapse));
+    if (is_wide(method)) return std::string(name(build.builder)) + "+" + std::string(name(bvh8.collapse));
     if (method == "embree") return "embree-" + quality;
     if (method == "spheres") return "variance";
     return "-";
@@ -39,8 +48,8 @@ void add_method_options(std::set<std::string>& valued, std::set<std::string>& fl
 MethodSpec parse_method(const Options& o) {
     MethodSpec s;
     s.method = o.get("method", "bvh2");
-    if (s.method != "brute" && s.method != "bvh2" && s.method != "bvh8" && s.method != "embree" && s.method != "spheres")
-        throw UsageError("unknown --method '" + s.method + "' (brute, bvh2, bvh8, embree, spheres)");
+    if (s.method != "brute" && s.method != "bvh2" && !is_wide(s.method) && s.method != "embree" && s.method != "spheres")
+        throw UsageError("unknown --method '" + s.method + "' (brute, bvh2, bvh4, bvh8, bvh16, embree, spheres)");
     if (o.has("isa")) {
         auto isa = parse_isa(o.get("isa"));
         if (!isa) throw UsageError("unknown --isa '" + o.get("isa") + "' (scalar, avx2, avx512)");
@@ -125,14 +134,15 @@ private:
     Bvh2 bvh_;
 };
 
-class Bvh8Tracer final : public Tracer {
+template <int N>
+class WideTracer final : public Tracer {
 public:
-    Bvh8Tracer(const Mesh& m, const MethodSpec& s) : spec_(s) {
+    WideTracer(const Mesh& m, const MethodSpec& s) : spec_(s) {
         const auto t0 = std::chrono::steady_clock::now();
         Bvh2 b2 = Bvh2::build(m, s.build);
-        bvh_ = Bvh8::build(b2, s.bvh8);
+        bvh_ = BvhN<N>::build(b2, s.bvh8);
         build_ms = ms_since(t0);
-        const Bvh8Stats& st = bvh_.stats();
+        const WideStats& st = bvh_.stats();
         bytes_per_triangle = st.bytes_per_triangle;
         sah_cost = st.sah_cost;
         depth = st.depth;
@@ -148,7 +158,7 @@ public:
 
 private:
     MethodSpec spec_;
-    Bvh8 bvh_;
+    BvhN<N> bvh_;
 };
 
 // Seed 002's bounding-sphere hierarchy (variance splits; --builder is ignored).
@@ -211,7 +221,9 @@ private:
 std::unique_ptr<Tracer> make_tracer(const Mesh& mesh, const MethodSpec& spec) {
     if (spec.method == "brute") return std::make_unique<BruteTracer>(mesh, spec);
     if (spec.method == "bvh2") return std::make_unique<Bvh2Tracer>(mesh, spec);
-    if (spec.method == "bvh8") return std::make_unique<Bvh8Tracer>(mesh, spec);
+    if (spec.method == "bvh4") return std::make_unique<WideTracer<4>>(mesh, spec);
+    if (spec.method == "bvh8") return std::make_unique<WideTracer<8>>(mesh, spec);
+    if (spec.method == "bvh16") return std::make_unique<WideTracer<16>>(mesh, spec);
     if (spec.method == "embree") return std::make_unique<EmbreeTracer>(mesh, spec);
     if (spec.method == "spheres") return std::make_unique<SpheresTracer>(mesh, spec);
     throw Error("unknown method " + spec.method);

@@ -1,5 +1,6 @@
 #pragma once
-// The methods the CLI can run, behind one interface: brute, bvh2, bvh8, embree, spheres.
+// The methods the CLI can run, behind one interface: brute, bvh2, bvh4, bvh8,
+// bvh16 (the wide BVHs, all collapsed from the same BVH2), embree, spheres.
 #include <memory>
 #include <span>
 #include <string>
@@ -10,16 +11,17 @@
 namespace simdbvh::cli {
 
 struct MethodSpec {
-    std::string method = "bvh2";  // brute | bvh2 | bvh8 | embree | spheres
-    Isa isa = Isa::scalar;        // bvh8 only (bvh2 and brute are scalar)
+    std::string method = "bvh2";  // brute | bvh2 | bvh4 | bvh8 | bvh16 | embree | spheres
+    Isa isa = Isa::scalar;        // the wide BVHs only (bvh2 and brute are scalar)
     BuildOptions build;
-    Bvh8Options bvh8;
+    WideOptions bvh8;             // collapse options of bvh4, bvh8, bvh16
     TriangleTest test = TriangleTest::watertight;
     BoxTest box = BoxTest::conservative;  // bvh2 only (bvh8 always conservative)
     std::string quality = "medium";  // embree: medium | high
     bool robust = false;             // embree: RTC_SCENE_FLAG_ROBUST
     int threads = 1;                 // trace (and build) threads
 
+    int width() const;               // 4, 8, 16 for bvh4, bvh8, bvh16; 0 for the others
     std::string label() const;       // e.g. "bvh8/avx2", "embree/medium/robust"
     std::string isa_name() const;    // the ISA that runs the trace
     std::string builder_name() const;
@@ -35,6 +37,10 @@ public:
     int depth = 0;
     std::size_t nodes = 0;
 };
+
+// The wide methods, narrowest first.
+inline constexpr const char* kWideMethods[] = {"bvh4", "bvh8", "bvh16"};
+bool is_wide(const std::string& method);
 
 // Options every tracing command accepts: --method --isa --builder --bins
 // --collapse --test --box --quality --robust --threads.

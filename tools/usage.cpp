@@ -14,7 +14,8 @@ struct CommandText {
 };
 
 constexpr CommandText kCommands[] = {
-    {"info", R"(info     --scene S [--builder B] [--bins N] [--collapse sah|greedy]   triangles, bounds, both trees' statistics
+    {"info", R"(info     --scene S [--builder B] [--bins N] [--collapse sah|greedy]   triangles, bounds, the BVH2's statistics
+           and every width's (bvh4, bvh8, bvh16: nodes, depth, bytes/triangle, fill), all from the same BVH2
 )"},
     {"gen-rays", R"(gen-rays --scene S --kind K --count N [--seed K] --out RAYS.bin
            K: primary | incoherent | diffuse, or a ray family with its own mesh (--mesh-out MESH.ply
@@ -26,7 +27,7 @@ constexpr CommandText kCommands[] = {
     {"trace", R"(trace    --scene S --rays RAYS.bin --out HITS.bin [--method M] [--query Q] [--any-hit] [--stats] [--threads N]
            [--isa I] [--builder B] [--bins N] [--collapse C] [--test watertight|moller]
            [--box conservative|plain] [--quality medium|high] [--robust] [--drop-invalid]
-           M: brute | bvh2 | bvh8 | embree | spheres
+           M: brute | bvh2 | bvh4 | bvh8 | bvh16 | embree | spheres
            Q: closest | any (= --any-hit) | count (int32 winding per ray) | all [--max-hits N] (20-byte
               records: ray, t, u, v, prim); count and all run on bvh2 or brute, every crossing once
 )"},
@@ -41,7 +42,8 @@ constexpr CommandText kCommands[] = {
 )"},
     {"bench", R"(bench    [--scene S] [--quick] [--threads N] [--json FILE] [--report DIR] [--readme README.md]
            [--reps N] [--rays N] [--sample N] [--no-report]
-           every method: build, Mrays/s (1 thread, all cores), accuracy; report with charts and pictures
+           every method (bvh4, bvh8, bvh16 at every ISA the CPU has): build, Mrays/s (1 thread, all cores),
+           accuracy; report with charts and pictures
 )"},
     {"render", R"(render   --scene S --out IMG.png [--method M] [--heatmap] [--width W] [--height H]
 )"},

@@ -23,6 +23,8 @@ const TraversalScene& traversal_scene() {
         Bvh8Options g;
         g.collapse = Collapse::greedy;
         t.bvh8_greedy = Bvh8::build(t.bvh2, g);
+        t.bvh4 = Bvh4::build(t.bvh2);
+        t.bvh16 = Bvh16::build(t.bvh2);
         const char* n = std::getenv("SIMDBVH_BENCH_RAYS");
         const std::size_t count = n && *n ? std::strtoull(n, nullptr, 10) : 100000;
         for (scene::RayKind k : {scene::RayKind::primary, scene::RayKind::incoherent, scene::RayKind::diffuse})
@@ -51,9 +53,13 @@ int main(int argc, char** argv) {
     benchmark::AddCustomContext("bvh2", "nodes=" + std::to_string(b2.nodes) + " depth=" + std::to_string(b2.depth) +
                                             " sah=" + std::to_string(b2.sah_cost) +
                                             " build_ms=" + std::to_string(b2.build_ms));
-    for (const auto* b : {&s.bvh8, &s.bvh8_greedy}) {
-        const auto& st = b->stats();
-        benchmark::AddCustomContext(b == &s.bvh8 ? "bvh8_sah" : "bvh8_greedy",
+    const std::pair<const char*, const simdbvh::WideStats*> wide[] = {{"bvh4_sah", &s.bvh4.stats()},
+                                                                      {"bvh8_sah", &s.bvh8.stats()},
+                                                                      {"bvh8_greedy", &s.bvh8_greedy.stats()},
+                                                                      {"bvh16_sah", &s.bvh16.stats()}};
+    for (const auto& [label, stats] : wide) {
+        const auto& st = *stats;
+        benchmark::AddCustomContext(label,
                                     "nodes=" + std::to_string(st.nodes) + " leaves=" + std::to_string(st.leaves) +
                                         " blocks=" + std::to_string(st.blocks) + " depth=" + std::to_string(st.depth) +
                                         " sah=" + std::to_string(st.sah_cost) +

@@ -1,6 +1,7 @@
 #pragma once
 // Shared by bench/bvh2 and bench/bvh8 traversal benchmarks: one scene, its
-// BVH2 and BVH8, and the rays of each kind, built once per run (untimed).
+// BVH2, the BVH4, BVH8 and BVH16 collapsed from it, and the rays of each kind,
+// built once per run (untimed).
 // Scene: $SIMDBVH_BENCH_SCENE, default dragon when cached, else terrain.
 // Rays per kind: $SIMDBVH_BENCH_RAYS (default 100000).
 #include <string>
@@ -18,6 +19,8 @@ struct TraversalScene {
     simdbvh::Bvh2 bvh2;
     simdbvh::Bvh8 bvh8;         // SAH collapse (default options)
     simdbvh::Bvh8 bvh8_greedy;  // greedy collapse
+    simdbvh::Bvh4 bvh4;         // SAH collapse of the same BVH2, 4 and 16 wide
+    simdbvh::Bvh16 bvh16;
     std::vector<simdbvh::Ray> rays[3];  // indexed by RayKind
 };
 

@@ -1,15 +1,18 @@
 // Seed 002's bounding-sphere hierarchy: the variance topology, one sphere per
-// node, a stack traversal with a conservative ray/sphere test.
+// node, traversed by the binary loop (traverse_binary-inl.h) with a
+// conservative ray/sphere node test.
 
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/kernels/parallel.h"
 #include "simdbvh/bvh2/spheres.h"
+#include "traverse_binary-inl.h"
 #include "tree_shape.h"
 
 namespace simdbvh {
@@ -149,68 +152,25 @@ bool intersect_sphere(const PreparedRay& r, const SphereNode& s, float tmax, flo
 
 namespace {
 
-struct StackEntry {
-    std::uint32_t node;
-    float entry;
+// The width-2 node test of the sphere hierarchy: the two adjacent child spheres.
+struct Sphere2Test {
+    static bool root(const PreparedRay& r, const SphereNode& n, float tmax, float* entry) {
+        return intersect_sphere(r, n, tmax, entry);
+    }
+    static std::uint32_t children(const PreparedRay& r, const SphereNode* nodes, const SphereNode& n, float tmax,
+                                  float* e) {
+        const bool ha = intersect_sphere(r, nodes[n.first], tmax, &e[0]);
+        const bool hb = intersect_sphere(r, nodes[n.first + 1], tmax, &e[1]);
+        return std::uint32_t(ha) | (std::uint32_t(hb) << 1);
+    }
+    static float cull(float t) { return t * kCullWiden; }
 };
-constexpr int kStackSize = kMaxDepth + 1;
 
 template <TriangleTest kTest, bool kAnyHit, bool kStats>
 Hit traverse(const SphereBvh& bvh, const Ray& ray, TraceStats* stats) {
-    Hit best;
-    const PreparedRay r = prepare(ray);
-    if (kStats) stats->rays++;
-    const auto& nodes = bvh.nodes();
-    if (!r.valid || nodes.empty()) return best;
-    const TriangleVerts* tris = bvh.triangles().data();
-    const std::uint32_t* ids = bvh.prim_ids().data();
-    best.t = r.tmax;
-    StackEntry stack[kStackSize];
-    int sp = 0;
-    float entry;
-    if (kStats) stats->box_tests++;
-    if (!intersect_sphere(r, nodes[0], best.t, &entry)) return Hit{};
-    std::uint32_t idx = 0;
-    for (;;) {
-        const SphereNode& n = nodes[idx];
-        if (kStats) stats->nodes_visited++;
-        if (!n.is_leaf()) {
-            float ea, eb;
-            const float cull = best.t * kCullWiden;
-            const bool ha = intersect_sphere(r, nodes[n.first], cull, &ea);
-            const bool hb = intersect_sphere(r, nodes[n.first + 1], cull, &eb);
-            if (kStats) stats->box_tests += 2;
-            if (ha && hb) {
-                const bool a_first = ea <= eb;
-                stack[sp++] = {a_first ? n.first + 1 : n.first, a_first ? eb : ea};
-                idx = a_first ? n.first : n.first + 1;
-                continue;
-            }
-            if (ha || hb) {
-                idx = ha ? n.first : n.first + 1;
-                continue;
-            }
-        } else {
-            for (std::uint32_t i = n.first, e = n.first + n.count; i < e; ++i) {
-                const TriangleVerts& tv = tris[i];
-                float t, u, v;
-                if (kStats) stats->triangle_tests++;
-                if (intersect_triangle<kTest>(r, tv.v0, tv.v1, tv.v2, best.t, &t, &u, &v)) {
-                    const std::uint32_t prim = ids[i];
-                    if (kAnyHit) return to_caller(r, Hit{t, u, v, prim});
-                    if (closer(t, prim, best)) best = {t, u, v, prim};
-                }
-            }
-        }
-        for (;;) {
-            if (sp == 0) return best.hit() ? to_caller(r, best) : Hit{};
-            const StackEntry& s = stack[--sp];
-            if (!(s.entry > best.t * kCullWiden)) {
-                idx = s.node;
-                break;
-            }
-        }
-    }
+    using Query = std::conditional_t<kAnyHit, query::AnyHit, query::ClosestHit>;
+    const bvh2::TriangleLeaf<kTest, kStats> leaf{bvh.triangles().data(), bvh.prim_ids().data()};
+    return bvh2::traverse_binary<Sphere2Test, Query, kStats>(bvh.nodes(), leaf, ray, stats);
 }
 
 template <bool kAnyHit>

@@ -1,92 +1,41 @@
-// BVH2 stack traversal: reciprocal direction once per ray (prepare), near
-// child first, the closest hit so far culls boxes and stack entries.
+// BVH2 traversal: the binary loop (traverse_binary-inl.h) with the box node
+// test; reciprocal direction once per ray (prepare), near child first, the
+// closest hit so far culls boxes and stack entries.
 #include <cmath>
+#include <type_traits>
 
 #include "simdbvh/bvh2/bvh2.h"
 #include "simdbvh/kernels/box.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/kernels/parallel.h"
+#include "traverse_binary-inl.h"
 
 namespace simdbvh {
 
 namespace {
 
-struct StackEntry {
-    std::uint32_t node;
-    float entry;
+// The width-2 node test of the BVH2: the two adjacent child boxes.
+// BoxTest::plain: no Ize widening and no kCullWiden, a comparison variant only
+// (it may reject a box whose triangle the ray hits).
+template <BoxTest kBox>
+struct Box2Test {
+    static constexpr float kWiden = kBox == BoxTest::conservative ? kFarWiden : 1.0f;
+    static bool root(const PreparedRay& r, const Node2& n, float tmax, float* entry) {
+        return intersect_box(r, n.box, tmax, entry, kWiden);
+    }
+    static std::uint32_t children(const PreparedRay& r, const Node2* nodes, const Node2& n, float tmax, float* e) {
+        const bool ha = intersect_box(r, nodes[n.first].box, tmax, &e[0], kWiden);
+        const bool hb = intersect_box(r, nodes[n.first + 1].box, tmax, &e[1], kWiden);
+        return std::uint32_t(ha) | (std::uint32_t(hb) << 1);
+    }
+    static float cull(float t) { return t * (kBox == BoxTest::conservative ? kCullWiden : 1.0f); }
 };
-// Children are pushed one at a time, so the stack never holds more entries
-// than the tree is deep.
-constexpr int kStackSize = kMaxDepth + 1;
-
-template <BoxTest kBox>
-inline bool box_test(const PreparedRay& r, const Aabb& b, float tmax, float* entry) {
-    // BoxTest::plain: no Ize widening (and no kCullWiden below). A comparison
-    // variant only: it may reject a box whose triangle the ray hits.
-    return intersect_box(r, b, tmax, entry, kBox == BoxTest::conservative ? kFarWiden : 1.0f);
-}
-template <BoxTest kBox>
-constexpr float kCull = kBox == BoxTest::conservative ? kCullWiden : 1.0f;
 
 template <TriangleTest kTest, BoxTest kBox, bool kAnyHit, bool kStats>
 Hit traverse(const Bvh2& bvh, const Ray& ray, TraceStats* stats) {
-    Hit best;
-    const PreparedRay r = prepare(ray);
-    if (kStats) stats->rays++;
-    const auto& nodes = bvh.nodes();
-    if (!r.valid || nodes.empty()) return best;
-    const TriangleVerts* tris = bvh.triangles().data();
-    const std::uint32_t* ids = bvh.prim_ids().data();
-    best.t = r.tmax;
-    StackEntry stack[kStackSize];
-    int sp = 0;
-    float entry;
-    if (kStats) stats->box_tests++;
-    if (!box_test<kBox>(r, nodes[0].box, best.t, &entry)) return Hit{};
-    std::uint32_t idx = 0;
-    for (;;) {
-        const Node2& n = nodes[idx];
-        if (kStats) stats->nodes_visited++;
-        if (!n.is_leaf()) {
-            const Node2& a = nodes[n.first];
-            const Node2& b = nodes[n.first + 1];
-            float ea, eb;
-            const float cull = best.t * kCull<kBox>;
-            const bool ha = box_test<kBox>(r, a.box, cull, &ea);
-            const bool hb = box_test<kBox>(r, b.box, cull, &eb);
-            if (kStats) stats->box_tests += 2;
-            if (ha && hb) {
-                const bool a_first = ea <= eb;
-                stack[sp++] = {a_first ? n.first + 1 : n.first, a_first ? eb : ea};
-                idx = a_first ? n.first : n.first + 1;
-                continue;
-            }
-            if (ha || hb) {
-                idx = ha ? n.first : n.first + 1;
-                continue;
-            }
-        } else {
-            for (std::uint32_t i = n.first, e = n.first + n.count; i < e; ++i) {
-                const TriangleVerts& tv = tris[i];
-                float t, u, v;
-                if (kStats) stats->triangle_tests++;
-                if (intersect_triangle<kTest>(r, tv.v0, tv.v1, tv.v2, best.t, &t, &u, &v)) {
-                    const std::uint32_t prim = ids[i];
-                    if (kAnyHit) return to_caller(r, Hit{t, u, v, prim});
-                    if (closer(t, prim, best)) best = {t, u, v, prim};
-                }
-            }
-        }
-        // Pop the nearest pending node still in front of the closest hit.
-        for (;;) {
-            if (sp == 0) return best.hit() ? to_caller(r, best) : Hit{};
-            const StackEntry& s = stack[--sp];
-            if (s.entry <= best.t * kCull<kBox>) {
-                idx = s.node;
-                break;
-            }
-        }
-    }
+    using Query = std::conditional_t<kAnyHit, query::AnyHit, query::ClosestHit>;
+    const bvh2::TriangleLeaf<kTest, kStats> leaf{bvh.triangles().data(), bvh.prim_ids().data()};
+    return bvh2::traverse_binary<Box2Test<kBox>, Query, kStats>(bvh.nodes(), leaf, ray, stats);
 }
 
 // One switch over (triangle test, box test, stats) per call: calls

@@ -1,4 +1,4 @@
-// Bvh8::build: collapse (collapse.cpp) then pack (pack.cpp).
+// BvhN<N>::build: collapse (collapse.cpp) then pack (pack.cpp), N = 4, 8, 16.
 #include <chrono>
 
 #include "collapse.h"
@@ -20,12 +20,13 @@ std::optional<Collapse> parse_collapse(std::string_view s) {
     return std::nullopt;
 }
 
-struct Bvh8Access {
-    static Bvh8 build(const Bvh2& bvh2, const Bvh8Options& opts) {
+struct WideAccess {
+    template <int N>
+    static BvhN<N> build(const Bvh2& bvh2, const WideOptions& opts) {
         const auto t0 = std::chrono::steady_clock::now();
-        const bvh8::WideTopology topo = bvh8::collapse(bvh2, opts);
-        Bvh8 b;
-        bvh8::pack(bvh2, topo, b.nodes_, b.blocks_, b.stats_);
+        const bvh8::WideTopology<N> topo = bvh8::collapse<N>(bvh2, opts);
+        BvhN<N> b;
+        bvh8::pack<N>(bvh2, topo, b.nodes_, b.blocks_, b.stats_);
         b.stats_.sah_cost = bvh8::sah_cost(topo, opts);
         b.bounds_ = bvh2.bounds();
         b.stats_.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -33,10 +34,18 @@ struct Bvh8Access {
     }
 };
 
-Bvh8 Bvh8::build(const Bvh2& bvh2, const Bvh8Options& opts) { return Bvh8Access::build(bvh2, opts); }
+template <int N>
+BvhN<N> BvhN<N>::build(const Bvh2& bvh2, const WideOptions& opts) {
+    return WideAccess::build<N>(bvh2, opts);
+}
 
-Bvh8 Bvh8::build(const Mesh& mesh, const BuildOptions& bvh2_opts, const Bvh8Options& opts) {
+template <int N>
+BvhN<N> BvhN<N>::build(const Mesh& mesh, const BuildOptions& bvh2_opts, const WideOptions& opts) {
     return build(Bvh2::build(mesh, bvh2_opts), opts);
 }
+
+template class BvhN<4>;
+template class BvhN<8>;
+template class BvhN<16>;
 
 }  // namespace simdbvh

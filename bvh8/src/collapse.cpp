@@ -1,22 +1,22 @@
-// Step 1 of the BVH8 build: collapse the BVH2 into a tree of up to 8 children
-// per node.
+// Step 1 of the wide BVH build: collapse the BVH2 into a tree of up to N
+// children per node (N = 4, 8, 16; the tables have N columns).
 //
 // SAH (Ylitie, Karras, Laine 2017, "Efficient Incoherent Ray Traversal on
 // GPUs Through Compressed Wide BVHs", section 4): a bottom-up dynamic program
-// over the BVH2 computes, per node n and slot budget i = 1..8, the cheapest way
+// over the BVH2 computes, per node n and slot budget i = 1..N, the cheapest way
 // C(n, i) to represent n's subtree as at most i children of a wide node:
-//   C(n, 1) = min(C_leaf(n), C_internal(n)),  C_internal(n) = C_dist(n, 8) + Ct * A(n)
+//   C(n, 1) = min(C_leaf(n), C_internal(n)),  C_internal(n) = C_dist(n, N) + Ct * A(n)
 //   C(n, i) = min(C_dist(n, i), C(n, i - 1))
 //   C_dist(n, j) = min_k C(left, k) + C(right, j - k)
 // Leaf cost adapted to our leaf format: a leaf is tested one whole Tri8 block
-// at a time, so n triangles cost Cb * ceil(n / 8) * A(n) (block_cost Cb; small
+// at a time, so n triangles cost Cb * ceil(n / kBlockWidth) * A(n) (block_cost Cb; small
 // leaves share blocks with their siblings in memory, pack.cpp, but a visit
 // still tests one whole block), and
 // C_leaf = inf above max_leaf_size (a BVH2 leaf that is already larger is kept).
 //
 // Greedy: start from the two children of a BVH2 node and repeatedly replace the
-// one with the largest surface area by its two children until there are 8 or
-// none can be opened. A subtree that fits one Tri8 block (<= min(8,
+// one with the largest surface area by its two children until there are N or
+// none can be opened. A subtree that fits one Tri8 block (<= min(kBlockWidth,
 // max_leaf_size) triangles) becomes a leaf. Every greedy tree is a candidate of
 // the dynamic program, so the SAH collapse never costs more under this model.
 #include <algorithm>
@@ -33,21 +33,22 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-double blocks_of(std::uint32_t n) { return double((n + 7u) / 8u); }
+double blocks_of(std::uint32_t n) { return double((n + kBlockWidth - 1u) / kBlockWidth); }
 
+template <int N>
 struct Collapser {
     const Bvh2& bvh2;
-    const Bvh8Options& opts;
+    const WideOptions& opts;
     const std::vector<Node2>& n2;
     std::vector<std::uint32_t> prim_count;  // triangles under each BVH2 node
-    // SAH tables (index i - 1 for i = 1..8).
-    std::vector<std::array<double, 8>> cost;
-    std::vector<std::array<std::uint8_t, 8>> from;   // i >= 2: 0 = same as i - 1, k = C_dist split (k left slots)
-    std::vector<std::uint8_t> dist8;                 // split of C_dist(n, 8) (the children of an inner node)
+    // SAH tables (index i - 1 for i = 1..N).
+    std::vector<std::array<double, N>> cost;
+    std::vector<std::array<std::uint8_t, N>> from;   // i >= 2: 0 = same as i - 1, k = C_dist split (k left slots)
+    std::vector<std::uint8_t> distn;                 // split of C_dist(n, N) (the children of an inner node)
     std::vector<std::uint8_t> leaf1;                 // C(n, 1) is a leaf
-    WideTopology topo;
+    WideTopology<N> topo;
 
-    Collapser(const Bvh2& b, const Bvh8Options& o) : bvh2(b), opts(o), n2(b.nodes()) {}
+    Collapser(const Bvh2& b, const WideOptions& o) : bvh2(b), opts(o), n2(b.nodes()) {}
 
     std::uint32_t left(std::uint32_t n) const { return n2[n].first; }
     std::uint32_t right(std::uint32_t n) const { return n2[n].first + 1; }
@@ -93,7 +94,7 @@ struct Collapser {
     void solve_sah(const std::vector<std::uint32_t>& order) {
         cost.assign(n2.size(), {});
         from.assign(n2.size(), {});
-        dist8.assign(n2.size(), 0);
+        distn.assign(n2.size(), 0);
         leaf1.assign(n2.size(), 0);
         for (auto it = order.rbegin(); it != order.rend(); ++it) {
             const std::uint32_t n = *it;
@@ -107,9 +108,9 @@ struct Collapser {
             // Costs are finite for finite boxes (areas in double), so a split is
             // always recorded; should one not be (all +inf), k = 1 still names
             // a valid partition of the j slots: resolve never sees slot 0.
-            double dist[9];
-            std::uint8_t split[9] = {};
-            for (int j = 2; j <= 8; ++j) {
+            double dist[N + 1];
+            std::uint8_t split[N + 1] = {};
+            for (int j = 2; j <= N; ++j) {
                 dist[j] = kInf;
                 split[j] = 1;
                 for (int k = 1; k < j; ++k) {
@@ -118,11 +119,11 @@ struct Collapser {
                 }
             }
             const double c_leaf = leafable(n) ? leaf_cost(n) : kInf;
-            const double c_inner = dist[8] + double(opts.node_cost) * area(n);
+            const double c_inner = dist[N] + double(opts.node_cost) * area(n);
             leaf1[n] = c_leaf <= c_inner;
             cost[n][0] = std::min(c_leaf, c_inner);
-            dist8[n] = split[8];
-            for (int i = 2; i <= 8; ++i) {
+            distn[n] = split[N];
+            for (int i = 2; i <= N; ++i) {
                 if (dist[i] < cost[n][i - 2]) { cost[n][i - 1] = dist[i]; from[n][i - 1] = split[i]; }
                 else { cost[n][i - 1] = cost[n][i - 2]; from[n][i - 1] = 0; }
             }
@@ -131,7 +132,8 @@ struct Collapser {
 
     // The BVH2 nodes that fill at most i slots for n's subtree (SAH tables).
     void resolve(std::uint32_t n, int i, std::vector<std::uint32_t>& out) const {
-        if (i < 1 || i > 8) throw Error("BVH8 collapse: slot budget " + std::to_string(i) + " outside 1..8");
+        if (i < 1 || i > N)
+            throw Error("BVH" + std::to_string(N) + " collapse: slot budget " + std::to_string(i) + " outside 1.." + std::to_string(N));
         while (i > 1 && from[n][i - 1] == 0) --i;
         if (i == 1) { out.push_back(n); return; }
         const int k = from[n][i - 1];
@@ -139,13 +141,13 @@ struct Collapser {
         resolve(right(n), i - k, out);
     }
 
-    // Greedy: open the largest-area child until 8 children or none can be opened.
+    // Greedy: open the largest-area child until N children or none can be opened.
     bool greedy_leaf(std::uint32_t n) const {
-        return n2[n].is_leaf() || prim_count[n] <= std::uint32_t(std::min(8, opts.max_leaf_size));
+        return n2[n].is_leaf() || prim_count[n] <= std::uint32_t(std::min(kBlockWidth, opts.max_leaf_size));
     }
     void greedy_slots(std::uint32_t n, std::vector<std::uint32_t>& out) const {
         out = {left(n), right(n)};
-        while (out.size() < 8) {
+        while (out.size() < std::size_t(N)) {
             int best = -1;
             double best_area = -1.0;
             for (int c = 0; c < int(out.size()); ++c) {
@@ -166,9 +168,9 @@ struct Collapser {
     void inner_slots(std::uint32_t n, std::vector<std::uint32_t>& out) const {
         out.clear();
         if (opts.collapse == Collapse::sah) {
-            const int k = dist8[n];
+            const int k = distn[n];
             resolve(left(n), k, out);
-            resolve(right(n), 8 - k, out);
+            resolve(right(n), N - k, out);
         } else {
             greedy_slots(n, out);
         }
@@ -203,11 +205,11 @@ struct Collapser {
         topo.prims.reserve(bvh2.prim_ids().size());
         topo.nodes.emplace_back();
         topo.nodes[0].box = n2[0].box;
-        // The root is always a Node8; over a single leaf when that is cheaper (or the BVH2 is one leaf).
+        // The root is always a wide node; over a single leaf when that is cheaper (or the BVH2 is one leaf).
         bool root_leaf = n2[0].is_leaf();
         if (!root_leaf) {
             if (opts.collapse == Collapse::sah) {
-                root_leaf = leafable(0) && leaf_cost(0) <= cost[left(0)][dist8[0] - 1] + cost[right(0)][8 - dist8[0] - 1];
+                root_leaf = leafable(0) && leaf_cost(0) <= cost[left(0)][distn[0] - 1] + cost[right(0)][N - distn[0] - 1];
             } else {
                 root_leaf = greedy_leaf(0);
             }
@@ -230,10 +232,10 @@ struct Collapser {
             work.pop_back();
             topo.depth = std::max(topo.depth, w.depth);
             if (w.depth > kMaxDepth)
-                throw Error("BVH8 depth exceeds the cap " + std::to_string(kMaxDepth));
+                throw Error("BVH" + std::to_string(N) + " depth exceeds the cap " + std::to_string(kMaxDepth));
             inner_slots(w.bvh2, slots);
             next.clear();
-            WideNode node;
+            WideNode<N> node;
             node.box = n2[w.bvh2].box;
             node.child_count = int(slots.size());
             for (std::size_t c = 0; c < slots.size(); ++c) {
@@ -257,18 +259,21 @@ struct Collapser {
 
 }  // namespace
 
-WideTopology collapse(const Bvh2& bvh2, const Bvh8Options& opts) {
-    if (opts.max_leaf_size < 1) throw Error("BVH8 max_leaf_size must be at least 1");
+template <int N>
+WideTopology<N> collapse(const Bvh2& bvh2, const WideOptions& opts) {
+    const std::string what = "BVH" + std::to_string(N);
+    if (opts.max_leaf_size < 1) throw Error(what + " max_leaf_size must be at least 1");
     if (!(opts.node_cost >= 0.0f) || !(opts.block_cost >= 0.0f) || !std::isfinite(opts.node_cost) ||
         !std::isfinite(opts.block_cost))
-        throw Error("BVH8 node_cost and block_cost must be finite and >= 0");
+        throw Error(what + " node_cost and block_cost must be finite and >= 0");
     if (bvh2.nodes().empty()) return {};
-    Collapser c(bvh2, opts);
+    Collapser<N> c(bvh2, opts);
     c.build();
     return std::move(c.topo);
 }
 
-double sah_cost(const WideTopology& topo, const Bvh8Options& opts) {
+template <int N>
+double sah_cost(const WideTopology<N>& topo, const WideOptions& opts) {
     if (topo.nodes.empty()) return 0.0;
     // The collapse's areas: float while the root's float area is finite, else double.
     const bool fa = std::isfinite(topo.nodes[0].box.half_area_float());
@@ -277,7 +282,7 @@ double sah_cost(const WideTopology& topo, const Bvh8Options& opts) {
     const bool flat = !(root > 0);  // all areas zero: count tests instead
     if (flat) root = 1.0;
     double c = 0;
-    for (const WideNode& n : topo.nodes) {
+    for (const WideNode<N>& n : topo.nodes) {
         c += double(opts.node_cost) * (flat ? 1.0 : area(n.box)) / root;
         for (int k = 0; k < n.child_count; ++k) {
             const WideChild& ch = n.children[k];
@@ -287,5 +292,13 @@ double sah_cost(const WideTopology& topo, const Bvh8Options& opts) {
     }
     return c;
 }
+
+#define SIMDBVH_WIDTH(N)                                                          \
+    template WideTopology<N> collapse<N>(const Bvh2&, const WideOptions&); \
+    template double sah_cost<N>(const WideTopology<N>&, const WideOptions&);
+SIMDBVH_WIDTH(4)
+SIMDBVH_WIDTH(8)
+SIMDBVH_WIDTH(16)
+#undef SIMDBVH_WIDTH
 
 }  // namespace simdbvh::bvh8

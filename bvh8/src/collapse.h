@@ -1,7 +1,8 @@
 #pragma once
-// Internal: step 1 of the BVH8 build, the 8-wide topology collapsed from a
-// BVH2 (Ylitie, Karras, Laine 2017, section 4), before packing into Node8/Tri8
+// Internal: step 1 of the wide BVH build, the N-wide topology collapsed from a
+// BVH2 (Ylitie, Karras, Laine 2017, section 4), before packing into NodeN/Tri8
 // (pack.cpp). Plain structs so tests can check collapse and pack separately.
+// Instantiated for N = 4, 8, 16.
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -18,30 +19,35 @@ struct WideChild {
     bool is_leaf() const { return count != 0; }
 };
 
+template <int N>
 struct WideNode {
     Aabb box;
-    int child_count = 0;  // 1..8 (1 only for a root over a single leaf)
-    std::array<WideChild, 8> children;
+    int child_count = 0;  // 1..N (1 only for a root over a single leaf)
+    std::array<WideChild, N> children;
 };
 
+template <int N>
 struct WideTopology {
-    std::vector<WideNode> nodes;        // root at 0; a node's inner children are allocated together
+    std::vector<WideNode<N>> nodes;        // root at 0; a node's inner children are allocated together
     std::vector<std::uint32_t> prims;   // leaf ranges: positions in the BVH2 leaf order (Bvh2::prim_ids())
     int depth = 0;                      // node levels (root = 1); leaves are not nodes
 };
 
-// Collapses the BVH2 into at most 8 children per node. Leaves hold at most
+// Collapses the BVH2 into at most N children per node. Leaves hold at most
 // opts.max_leaf_size triangles, except BVH2 leaves that are already larger
 // (kept whole). Throws simdbvh::Error when the result is deeper than kMaxDepth.
-WideTopology collapse(const Bvh2& bvh2, const Bvh8Options& opts);
+template <int N>
+WideTopology<N> collapse(const Bvh2& bvh2, const WideOptions& opts);
 
-// SAH cost of a wide topology with the Bvh8Options cost model:
-// sum over nodes of node_cost * A(n)/A(root) + over leaves of block_cost * ceil(n/8) * A(leaf)/A(root).
-double sah_cost(const WideTopology& topo, const Bvh8Options& opts);
+// SAH cost of a wide topology with the WideOptions cost model: sum over nodes
+// of node_cost * A(n)/A(root) + over leaves of block_cost * ceil(n/kBlockWidth) * A(leaf)/A(root).
+template <int N>
+double sah_cost(const WideTopology<N>& topo, const WideOptions& opts);
 
-// Step 2: packs the topology into Node8 / Tri8 blocks and fills the stats
+// Step 2: packs the topology into NodeN / Tri8 blocks and fills the stats
 // (all but build_ms and sah_cost).
-void pack(const Bvh2& bvh2, const WideTopology& topo, std::vector<Node8>& nodes, Tri8Blocks& blocks,
-          Bvh8Stats& stats);
+template <int N>
+void pack(const Bvh2& bvh2, const WideTopology<N>& topo, std::vector<NodeN<N>>& nodes, Tri8Blocks& blocks,
+          WideStats& stats);
 
 }  // namespace simdbvh::bvh8

@@ -1,6 +1,7 @@
 #pragma once
-// The xsimd 8-wide kernels (kernels/src/simd) behind traverse-inl.h's K
-// interface. Include only from src/avx2 and src/avx512 translation units.
+// The xsimd kernels (kernels/src/simd) behind traverse-inl.h's K interface:
+// the N-wide node test and the 8-wide Tri8 tests. Include only from src/avx2
+// and src/avx512 translation units.
 #include "simd/box8-inl.h"
 #include "simd/tri8-inl.h"
 
@@ -12,11 +13,9 @@ struct SimdKernels {
     static SIMDBVH_FORCE_INLINE void pack(RayData& d, const PreparedRay& r, const Ray& src) {
         simd::pack_ray_into<Arch>(d, r, &src);
     }
-    static SIMDBVH_FORCE_INLINE std::uint32_t box8(const RayData& r, const Box8& b, float tmax, float* entries) {
-        simd::Batch<Arch> tn;
-        const std::uint32_t m = simd::intersect_box8<Arch>(r, b, simd::Batch<Arch>(tmax), tn);
-        tn.store_aligned(entries);
-        return m;
+    template <int N>
+    static SIMDBVH_FORCE_INLINE std::uint32_t box(const RayData& r, const BoxN<N>& b, float tmax, float* entries) {
+        return simd::intersect_boxn<Arch, N>(r, b, tmax, entries);
     }
     template <TriangleTest kTest>
     static SIMDBVH_FORCE_INLINE void closest(const RayData& r, const Tri8& b, Hit& best) {

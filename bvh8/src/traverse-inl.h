@@ -1,28 +1,70 @@
 #pragma once
-// BVH8 stack traversal (several rays in flight per batch, see trace_span), templated on the 8-wide kernels K (the
-// scalar reference loops in scalar/, xsimd in avx2/ and avx512/). Included
-// only by the per-ISA translation units; everything here is a template on K so
-// no ISA-encoded copy can be shared between them.
+// The wide BVH stack traversal, one loop for every width: a loop (step,
+// trace_span: several rays in flight per batch) x a node test (K::box, N lanes)
+// x a leaf intersector (Tri8Leaf: blocks of kBlockWidth triangles) x a query
+// (query/query.h: ClosestHit, AnyHit, what a leaf does to the ray;
+// finish() writes its Hit),
+// after madmann91/bvh v2's traverse_top_down(leaf_fn, inner_fn) and Embree's
+// bvh_intersector1 + node_intersector1. Included only by the per-ISA
+// translation units, each a few lines `template struct Traversal<isa::Kernels,
+// N>;`: everything here is a template on K, so no ISA-encoded copy can be
+// shared between them.
 //
-// K provides: void pack(RayData&, PreparedRay, const Ray& (outlives the RayData)); uint32 box8(RayData, Box8, tmax,
-// float entries[8]) (hit mask, entry distances); closest<Test>(RayData, Tri8,
-// Hit& best); bool any<Test>(RayData, Tri8, tmax, Hit&).
+// K (the ISA's kernels) provides: void pack(RayData&, PreparedRay, const Ray&
+// (outlives the RayData)); uint32 box(RayData, BoxN<N>, tmax, float entries[N])
+// (hit mask, entry distances, entries aligned to 4 * N bytes);
+// closest<Test>(RayData, Tri8, Hit& best); bool any<Test>(RayData, Tri8, tmax, Hit&).
 //
-// Counters (TraceOptions::stats): nodes_visited = Node8s visited; box_tests
-// and triangle_tests count SIMD lanes, 8 per Node8 test and 8 per Tri8 block
-// (empty slots and lanes included; a block shared by several hit leaves of one
-// node counts once).
+// Counters (TraceOptions::stats): nodes_visited = wide nodes visited;
+// box_tests and triangle_tests count lanes, N per node test and kBlockWidth
+// per Tri8 block (empty slots and lanes included; a block shared by several
+// hit leaves of one node counts once).
 #include <algorithm>
 #include <cstdint>
 #include <span>
 
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/kernels/error.h"
+#include "traverse.h"
+#include "query/query.h"
 
 namespace simdbvh::bvh8::detail {
 
-// At most 7 entries are pushed per level: 1 + 7 * depth (depth <= kMaxDepth, checked at build).
-inline constexpr int kStackSize = 1 + 7 * kMaxDepth;
+#define SIMDBVH_TRAVERSE_INLINE inline __attribute__((always_inline))
+
+// Leaf intersector: a leaf is `count` consecutive Tri8 blocks.
+template <class K, TriangleTest kTest, bool kStats>
+struct Tri8Leaf {
+    using RayData = typename K::RayData;
+    // Closest hit: shrinks `best` (best.t is the current tmax).
+    SIMDBVH_TRAVERSE_INLINE void closest(const RayData& rd, const Tri8* b, std::uint32_t count, Hit& best,
+                                         TraceStats* stats) const {
+        for (std::uint32_t k = 0; k < count; ++k) {
+            if constexpr (kStats) stats->triangle_tests += kBlockWidth;
+            K::template closest<kTest>(rd, b[k], best);
+        }
+    }
+    // Any hit: true at the first hit in [tmin, best.t], written to `best`.
+    SIMDBVH_TRAVERSE_INLINE bool any(const RayData& rd, const Tri8* b, std::uint32_t count, Hit& best,
+                                     TraceStats* stats) const {
+        for (std::uint32_t k = 0; k < count; ++k) {
+            if constexpr (kStats) stats->triangle_tests += kBlockWidth;
+            Hit h;
+            if (K::template any<kTest>(rd, b[k], best.t, h)) {
+                best = h;
+                return true;
+            }
+        }
+        return false;
+    }
+};
+
+using query::AnyHit;
+using query::ClosestHit;
+
+// At most N - 1 entries are pushed per level: 1 + (N - 1) * depth (depth <= kMaxDepth, checked at build).
+template <int N>
+inline constexpr int kStackSize = 1 + (N - 1) * kMaxDepth;
 
 // No default member initializers: the stack must stay uninitialized (it is
 // large, and zero-filling it per ray cost a quarter of the traversal time).
@@ -31,23 +73,31 @@ struct StackEntry {
     float entry;
 };
 
-// Prefetch the lines of the next node or leaf a ray will visit (a Node8: 4
-// lines; a leaf: its first Tri8 block, 320 bytes at 64-byte alignment: 5
-// lines) at the end of its step, so the miss overlaps the other rays' steps.
-inline __attribute__((always_inline)) void prefetch_child(const Node8* nodes, const Tri8* blocks, Child8 c) {
-    const char* p = c.count == 0 ? reinterpret_cast<const char*>(nodes + c.index)
+// Prefetch the lines of the next node or leaf a ray will visit (a NodeN:
+// N / 2 lines; a leaf: its first Tri8 block, 320 bytes at 64-byte alignment:
+// 5 lines) at the end of its step, so the miss overlaps the other rays' steps.
+template <int N>
+inline __attribute__((always_inline)) void prefetch_child(const NodeN<N>* nodes, const Tri8* blocks, ChildN<N> c) {
+    constexpr int kNodeLines = int(sizeof(NodeN<N>) / 64), kBlockLines = int((sizeof(Tri8) + 63) / 64);
+    constexpr int kBoth = kNodeLines < kBlockLines ? kNodeLines : kBlockLines;
+    const char* p = c.is_inner() ? reinterpret_cast<const char*>(nodes + c.index)
                                  : reinterpret_cast<const char*>(blocks + c.index);
-    __builtin_prefetch(p);
-    __builtin_prefetch(p + 64);
-    __builtin_prefetch(p + 128);
-    __builtin_prefetch(p + 192);
-    if (c.count != 0) __builtin_prefetch(p + 256);
+    for (int l = 0; l < kBoth; ++l) __builtin_prefetch(p + 64 * l);
+    if constexpr (kBlockLines > kBoth) {
+        if (!c.is_inner())
+            for (int l = kBoth; l < kBlockLines; ++l) __builtin_prefetch(p + 64 * l);
+    }
+    if constexpr (kNodeLines > kBoth) {
+        if (c.is_inner())
+            for (int l = kBoth; l < kNodeLines; ++l) __builtin_prefetch(p + 64 * l);
+    }
 }
 
-// Hit leaf siblings sharing one Tri8 block (Child8::sharing_slots) are merged
+// Hit leaf siblings sharing one Tri8 block (ChildN::sharing_slots) are merged
 // into the lowest hit slot at the nearest of their entry distances, so the
 // block is tested once. Called with two or more hits in `mask`.
-inline __attribute__((always_inline)) std::uint32_t merge_shared(const Node8& n, std::uint32_t mask,
+template <int N>
+inline __attribute__((always_inline)) std::uint32_t merge_shared(const NodeN<N>& n, std::uint32_t mask,
                                                                  float* entries) {
     for (std::uint32_t m = mask; m != 0;) {
         const int i = __builtin_ctz(m);
@@ -66,34 +116,35 @@ inline __attribute__((always_inline)) std::uint32_t merge_shared(const Node8& n,
 
 // One ray's traversal state. No default member initializers (the stack must
 // stay uninitialized).
-template <class K>
+template <class K, int N>
 struct RayState {
     typename K::RayData rd;
-    Hit best;   // closest hit so far; best.t = current tmax (any hit: the ray's tmax, then the hit)
-    Child8 cur; // next node or leaf to visit
+    Hit best;       // closest hit so far; best.t = current tmax (any hit: the ray's tmax, then the hit)
+    ChildN<N> cur;  // next node or leaf to visit
     int sp;
     int t_exp;        // PreparedRay::t_exp: the caller's t is ldexp(best.t, t_exp)
     std::size_t ray;  // index in the batch
-    StackEntry stack[kStackSize];
+    StackEntry stack[kStackSize<N>];
 };
 
-// One traversal step of ray `s`: visits s.cur (one Node8 or one leaf), then
+// One traversal step of ray `s`: visits s.cur (one NodeN or one leaf), then
 // sets s.cur to the next node or leaf to visit. Returns true when the ray is
-// finished, its result in s.best (Hit{} for a miss).
-template <class K, TriangleTest kTest, bool kAnyHit, bool kStats>
-inline __attribute__((always_inline)) bool step(const Node8* nodes, const Tri8* blocks, RayState<K>& s,
+// finished, its result in s.best (Query::finish turns it into the Hit).
+template <class K, int N, class Leaf, class Query, bool kStats>
+inline __attribute__((always_inline)) bool step(const NodeN<N>* nodes, const Tri8* blocks, RayState<K, N>& s,
                                                 TraceStats* stats) {
+    using Child = ChildN<N>;
     const typename K::RayData& rd = s.rd;
     Hit& best = s.best;
     StackEntry* stack = s.stack;
     if (s.cur.count == 0) {
-        const Node8& n = nodes[s.cur.index];
+        const NodeN<N>& n = nodes[s.cur.index];
         if constexpr (kStats) {
             stats->nodes_visited++;
-            stats->box_tests += 8;
+            stats->box_tests += N;
         }
-        alignas(32) float entries[8];
-        std::uint32_t mask = K::box8(rd, n.boxes, best.t * kCullWiden, entries);
+        alignas(4 * N) float entries[N];
+        std::uint32_t mask = K::box(rd, n.boxes, best.t * kCullWiden, entries);
         if ((mask & (mask - 1)) != 0) mask = merge_shared(n, mask, entries);
         if (mask != 0) {
             const int i0 = __builtin_ctz(mask);
@@ -131,35 +182,19 @@ inline __attribute__((always_inline)) bool step(const Node8* nodes, const Tri8* 
             for (; mask != 0; mask &= mask - 1) insert(__builtin_ctz(mask));
             --sp;
             s.sp = sp;
-            s.cur = Child8{stack[sp].index, stack[sp].count};
+            s.cur = Child{stack[sp].index, stack[sp].count};
             return false;
         }
-    } else {
-        const Tri8* b = blocks + s.cur.index;
-        const std::uint32_t nblocks = s.cur.blocks();
-        for (std::uint32_t k = 0; k < nblocks; ++k) {
-            if constexpr (kStats) stats->triangle_tests += 8;
-            if constexpr (kAnyHit) {
-                Hit h;
-                if (K::template any<kTest>(rd, b[k], best.t, h)) {
-                    best = h;
-                    return true;
-                }
-            } else {
-                K::template closest<kTest>(rd, b[k], best);
-            }
-        }
+    } else if (Query::leaf(Leaf{}, rd, blocks + s.cur.index, s.cur.blocks(), best, stats)) {
+        return true;
     }
     // Pop the nearest pending child still in front of the closest hit.
     int sp = s.sp;
     for (;;) {
-        if (sp == 0) {
-            if (!best.hit()) best = Hit{};
-            return true;
-        }
+        if (sp == 0) return true;
         const StackEntry& e = stack[--sp];
         if (e.entry <= best.t * kCullWiden) {
-            s.cur = Child8{e.index, e.count};
+            s.cur = Child{e.index, e.count};
             s.sp = sp;
             return false;
         }
@@ -167,19 +202,19 @@ inline __attribute__((always_inline)) bool step(const Node8* nodes, const Tri8* 
 }
 
 // Starts ray `i` in `s`; false (and hits[i] written) when it cannot hit anything.
-template <class K, bool kStats>
-inline __attribute__((always_inline)) bool start(RayState<K>& s, const Ray& ray, std::size_t i, bool empty,
+template <class K, int N, class Query, bool kStats>
+inline __attribute__((always_inline)) bool start(RayState<K, N>& s, const Ray& ray, std::size_t i, bool empty,
                                                  Hit* hits, TraceStats* stats) {
     const PreparedRay r = prepare(ray);
     if constexpr (kStats) stats->rays++;
     if (!r.valid || empty) {
-        hits[i] = Hit{};
+        Query::finish(Hit{}, 0, hits[i]);
         return false;
     }
     K::pack(s.rd, r, ray);  // a pack keeps no pointer to r (a copy of r here was a store-forwarding stall)
     s.best = Hit{};
     s.best.t = r.tmax;
-    s.cur = Child8{0, 0};
+    s.cur = ChildN<N>::inner(0);
     s.sp = 0;
     s.t_exp = r.t_exp;
     s.ray = i;
@@ -194,21 +229,21 @@ inline __attribute__((always_inline)) bool start(RayState<K>& s, const Ray& ray,
 #endif
 inline constexpr int kInFlight = SIMDBVH_BVH8_IN_FLIGHT;
 
-template <class K, TriangleTest kTest, bool kAnyHit, bool kStats>
-inline __attribute__((always_inline)) void trace_span(const Bvh8& bvh, std::span<const Ray> rays, std::span<Hit> hits,
-                                                      TraceStats* stats) {
-    const Node8* nodes = bvh.nodes().data();
+template <class K, int N, class Leaf, class Query, bool kStats>
+inline __attribute__((always_inline)) void trace_span(const BvhN<N>& bvh, std::span<const Ray> rays,
+                                                      std::span<Hit> hits, TraceStats* stats) {
+    const NodeN<N>* nodes = bvh.nodes().data();
     const Tri8* blocks = bvh.blocks().data();
     const bool empty = bvh.nodes().empty();
     const std::size_t n = rays.size();
-    RayState<K> states[kInFlight];
+    RayState<K, N> states[kInFlight];
     int live[kInFlight];
     int nlive = 0;
     std::size_t next = 0;
     auto refill = [&](int slot) {
         while (next < n) {
             const std::size_t i = next++;
-            if (start<K, kStats>(states[slot], rays[i], i, empty, hits.data(), stats)) return true;
+            if (start<K, N, Query, kStats>(states[slot], rays[i], i, empty, hits.data(), stats)) return true;
         }
         return false;
     };
@@ -216,11 +251,11 @@ inline __attribute__((always_inline)) void trace_span(const Bvh8& bvh, std::span
         if (refill(w)) live[nlive++] = w;
     while (nlive > 0) {
         for (int k = 0; k < nlive;) {
-            RayState<K>& s = states[live[k]];
-            if (!step<K, kTest, kAnyHit, kStats>(nodes, blocks, s, stats)) {
+            RayState<K, N>& s = states[live[k]];
+            if (!step<K, N, Leaf, Query, kStats>(nodes, blocks, s, stats)) {
                 prefetch_child(nodes, blocks, s.cur);
             } else {
-                hits[s.ray] = to_caller(s.t_exp, s.best);
+                Query::finish(s.best, s.t_exp, hits[s.ray]);
                 if (!refill(live[k])) {
                     live[k] = live[--nlive];
                     continue;
@@ -231,17 +266,36 @@ inline __attribute__((always_inline)) void trace_span(const Bvh8& bvh, std::span
     }
 }
 
-// The per-ISA entry: test and stats chosen once per batch.
-template <class K, bool kAnyHit>
-inline __attribute__((always_inline)) void trace(const Bvh8& bvh, std::span<const Ray> rays, std::span<Hit> hits,
+// Triangle test and stats chosen once per batch.
+template <class K, int N, class Query>
+inline __attribute__((always_inline)) void trace(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits,
                                                  const TraceOptions& o) {
+    using enum TriangleTest;
     if (o.stats) {
-        if (o.test == TriangleTest::watertight) trace_span<K, TriangleTest::watertight, kAnyHit, true>(bvh, rays, hits, o.stats);
-        else trace_span<K, TriangleTest::moller, kAnyHit, true>(bvh, rays, hits, o.stats);
+        if (o.test == watertight) trace_span<K, N, Tri8Leaf<K, watertight, true>, Query, true>(bvh, rays, hits, o.stats);
+        else trace_span<K, N, Tri8Leaf<K, moller, true>, Query, true>(bvh, rays, hits, o.stats);
     } else {
-        if (o.test == TriangleTest::watertight) trace_span<K, TriangleTest::watertight, kAnyHit, false>(bvh, rays, hits, nullptr);
-        else trace_span<K, TriangleTest::moller, kAnyHit, false>(bvh, rays, hits, nullptr);
+        if (o.test == watertight) trace_span<K, N, Tri8Leaf<K, watertight, false>, Query, false>(bvh, rays, hits, nullptr);
+        else trace_span<K, N, Tri8Leaf<K, moller, false>, Query, false>(bvh, rays, hits, nullptr);
     }
 }
 
+#undef SIMDBVH_TRAVERSE_INLINE
+
 }  // namespace simdbvh::bvh8::detail
+
+namespace simdbvh::bvh8 {
+
+// The per-ISA entry points (traverse.h, flattened there).
+template <class K, int N>
+void Traversal<K, N>::intersect(const BvhN<N>& bvh, std::span<const Ray> rays,
+                                                         std::span<Hit> hits, const TraceOptions& o) {
+    detail::trace<K, N, detail::ClosestHit>(bvh, rays, hits, o);
+}
+template <class K, int N>
+void Traversal<K, N>::occluded(const BvhN<N>& bvh, std::span<const Ray> rays,
+                                                        std::span<Hit> hits, const TraceOptions& o) {
+    detail::trace<K, N, detail::AnyHit>(bvh, rays, hits, o);
+}
+
+}  // namespace simdbvh::bvh8

@@ -1,4 +1,5 @@
-// BVH8 batched entry points: the only place that chooses an ISA for BVH8.
+// Wide BVH batched entry points (N = 4, 8, 16): the only place that chooses
+// an ISA for them.
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/kernels/parallel.h"
 #include "traverse.h"
@@ -7,17 +8,23 @@ namespace simdbvh {
 
 namespace {
 
-using TraceFn = void (*)(const Bvh8&, std::span<const Ray>, std::span<Hit>, const TraceOptions&);
+template <int N>
+using TraceFn = void (*)(const BvhN<N>&, std::span<const Ray>, std::span<Hit>, const TraceOptions&);
 
-template <bool kAnyHit>
-void run(const Bvh8& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o, Isa isa) {
+template <class K, int N, bool kAnyHit>
+constexpr TraceFn<N> entry() {
+    return kAnyHit ? &bvh8::Traversal<K, N>::occluded : &bvh8::Traversal<K, N>::intersect;
+}
+
+template <int N, bool kAnyHit>
+void run(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o, Isa isa) {
     if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
     require(isa);
-    TraceFn fn = nullptr;
+    TraceFn<N> fn = nullptr;
     switch (isa) {
-    case Isa::avx512: fn = kAnyHit ? &bvh8::avx512::occluded : &bvh8::avx512::intersect; break;
-    case Isa::avx2: fn = kAnyHit ? &bvh8::avx2::occluded : &bvh8::avx2::intersect; break;
-    case Isa::scalar: fn = kAnyHit ? &bvh8::scalar::occluded : &bvh8::scalar::intersect; break;
+    case Isa::avx512: fn = entry<bvh8::avx512::Kernels, N, kAnyHit>(); break;
+    case Isa::avx2: fn = entry<bvh8::avx2::Kernels, N, kAnyHit>(); break;
+    case Isa::scalar: fn = entry<bvh8::scalar::Kernels, N, kAnyHit>(); break;
     }
     if (!fn) throw Error("unknown ISA");
     if (o.stats || o.threads <= 1) return fn(bvh, rays, hits, o);  // stats: one thread (unsynchronized counters)
@@ -28,21 +35,35 @@ void run(const Bvh8& bvh, std::span<const Ray> rays, std::span<Hit> hits, const 
 
 }  // namespace
 
-void intersect(const Bvh8& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o, Isa isa) {
-    run<false>(bvh, rays, hits, o, isa);
+template <int N>
+void intersect(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o, Isa isa) {
+    run<N, false>(bvh, rays, hits, o, isa);
 }
-void occluded(const Bvh8& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o, Isa isa) {
-    run<true>(bvh, rays, hits, o, isa);
+template <int N>
+void occluded(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o, Isa isa) {
+    run<N, true>(bvh, rays, hits, o, isa);
 }
-Hit intersect(const Bvh8& bvh, const Ray& ray, const TraceOptions& o, Isa isa) {
+template <int N>
+Hit intersect(const BvhN<N>& bvh, const Ray& ray, const TraceOptions& o, Isa isa) {
     Hit h;
-    run<false>(bvh, std::span<const Ray>(&ray, 1), std::span<Hit>(&h, 1), o, isa);
+    run<N, false>(bvh, std::span<const Ray>(&ray, 1), std::span<Hit>(&h, 1), o, isa);
     return h;
 }
-Hit occluded(const Bvh8& bvh, const Ray& ray, const TraceOptions& o, Isa isa) {
+template <int N>
+Hit occluded(const BvhN<N>& bvh, const Ray& ray, const TraceOptions& o, Isa isa) {
     Hit h;
-    run<true>(bvh, std::span<const Ray>(&ray, 1), std::span<Hit>(&h, 1), o, isa);
+    run<N, true>(bvh, std::span<const Ray>(&ray, 1), std::span<Hit>(&h, 1), o, isa);
     return h;
 }
+
+#define SIMDBVH_WIDTH(N)                                                                                          \
+    template void intersect<N>(const BvhN<N>&, std::span<const Ray>, std::span<Hit>, const TraceOptions&, Isa); \
+    template void occluded<N>(const BvhN<N>&, std::span<const Ray>, std::span<Hit>, const TraceOptions&, Isa);  \
+    template Hit intersect<N>(const BvhN<N>&, const Ray&, const TraceOptions&, Isa);                            \
+    template Hit occluded<N>(const BvhN<N>&, const Ray&, const TraceOptions&, Isa);
+SIMDBVH_WIDTH(4)
+SIMDBVH_WIDTH(8)
+SIMDBVH_WIDTH(16)
+#undef SIMDBVH_WIDTH
 
 }  // namespace simdbvh

@@ -1,8 +1,8 @@
-// Structure of the two build steps, checked separately: collapse (the wide
-// topology, collapse.h) and pack (Node8 / Tri8 blocks, small leaves sharing
-// blocks). Triangle conservation, child boxes bounding their subtrees, <= 8
-// children, leaf sizes, empty slots last and never hit, and the SAH collapse
-// never costing more than greedy.
+// Structure of the two build steps, checked separately for every width N = 4,
+// 8, 16: collapse (the wide topology, collapse.h) and pack (NodeN / Tri8
+// blocks, small leaves sharing blocks). Triangle conservation, child boxes
+// bounding their subtrees, <= N children, leaf sizes, empty slots last and
+// never hit, and the SAH collapse never costing more than greedy.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -24,7 +24,8 @@ Aabb tri_box(const Mesh& mesh, std::uint32_t prim) {
     return b;
 }
 
-void check_topology(const Mesh& mesh, const Bvh2& bvh2, const bvh8::WideTopology& topo, const Bvh8Options& o,
+template <int N>
+void check_topology(const Mesh& mesh, const Bvh2& bvh2, const bvh8::WideTopology<N>& topo, const WideOptions& o,
                     const std::string& what) {
     SCOPED_TRACE(what);
     const auto& ids = bvh2.prim_ids();
@@ -44,9 +45,9 @@ void check_topology(const Mesh& mesh, const Bvh2& bvh2, const bvh8::WideTopology
         ASSERT_LT(i, topo.nodes.size());
         node_refs[i]++;
         depth = std::max(depth, d);
-        const bvh8::WideNode& n = topo.nodes[i];
+        const bvh8::WideNode<N>& n = topo.nodes[i];
         ASSERT_GE(n.child_count, 1);
-        ASSERT_LE(n.child_count, 8);
+        ASSERT_LE(n.child_count, N);
         if (i != 0 || !n.children[0].is_leaf()) {
             EXPECT_GE(n.child_count, 2) << "node " << i;
         }
@@ -78,15 +79,17 @@ void check_topology(const Mesh& mesh, const Bvh2& bvh2, const bvh8::WideTopology
     EXPECT_LE(depth, kMaxDepth);
 }
 
-// Small leaves (<= 8 triangles) share Tri8 blocks with siblings of the same
-// node (Child8 in bvh8.h): each in one block, on its own lanes. Checked: every
+// Small leaves (<= kBlockWidth triangles) share Tri8 blocks with siblings of
+// the same node (ChildN in node.h): each in one block, on its own lanes. Checked: every
 // triangle on exactly one lane of one block, each leaf's lanes hold exactly its
 // triangles (inside its box), the sharing masks, the lanes of a block are the
 // disjoint union of its leaves' lanes filled from lane 0, empty lanes NaN, a
 // block referenced by one node only, and first fit (no two of a node's shared
 // blocks would fit in one).
-void check_packed(const Mesh& mesh, const Bvh2& bvh2, const bvh8::WideTopology& topo, const Bvh8& b,
-                  const Bvh8Options& o, const std::string& what) {
+template <int N>
+void check_packed(const Mesh& mesh, const Bvh2& bvh2, const bvh8::WideTopology<N>& topo, const BvhN<N>& b,
+                  const WideOptions& o, const std::string& what) {
+    static_assert(kBlockWidth == 8, "the lane loops below spell the block width");
     SCOPED_TRACE(what);
     const auto& nodes = b.nodes();
     const auto& blocks = b.blocks();
@@ -101,10 +104,10 @@ void check_packed(const Mesh& mesh, const Bvh2& bvh2, const bvh8::WideTopology& 
     std::vector<int> block_leaves(blocks.size(), 0);
     std::size_t used = 0, leaves = 0, shared = 0;
     for (std::size_t i = 0; i < nodes.size(); ++i) {
-        const Node8& n = nodes[i];
-        const bvh8::WideNode& w = topo.nodes[i];
+        const NodeN<N>& n = nodes[i];
+        const bvh8::WideNode<N>& w = topo.nodes[i];
         std::vector<std::uint32_t> node_shared_blocks;
-        for (int c = 0; c < 8; ++c) {
+        for (int c = 0; c < N; ++c) {
             const Aabb box = n.boxes.get(c);
             if (c >= w.child_count) {  // empty slots: at the end, +inf/-inf, marked
                 EXPECT_EQ(n.children[c].count, kInvalidPrim);
@@ -118,8 +121,9 @@ void check_packed(const Mesh& mesh, const Bvh2& bvh2, const bvh8::WideTopology& 
             const bvh8::WideChild& wc = w.children[c];
             EXPECT_EQ(box.lo, wc.box.lo);
             EXPECT_EQ(box.hi, wc.box.hi);
-            const Child8 ch = n.children[c];
+            const ChildN<N> ch = n.children[c];
             ASSERT_FALSE(ch.is_empty());
+            EXPECT_EQ(ch.is_leaf(), wc.is_leaf());
             if (ch.is_inner()) {
                 EXPECT_EQ(ch.index, wc.index);
                 EXPECT_FALSE(wc.is_leaf());
@@ -138,7 +142,7 @@ void check_packed(const Mesh& mesh, const Bvh2& bvh2, const bvh8::WideTopology& 
                 if (sh != 0) {
                     EXPECT_TRUE(sh & (1u << c)) << "sharing mask without its own slot";
                     EXPECT_GE(__builtin_popcount(sh), 2);
-                    for (int d = 0; d < 8; ++d) {
+                    for (int d = 0; d < N; ++d) {
                         if (!(sh & (1u << d))) continue;
                         ASSERT_LT(d, w.child_count);
                         EXPECT_FALSE(n.children[d].is_inner() || n.children[d].is_empty());
@@ -199,7 +203,7 @@ void check_packed(const Mesh& mesh, const Bvh2& bvh2, const bvh8::WideTopology& 
         // First fit: no two of the node's shared-or-not small-leaf blocks fit in one.
         std::vector<std::uint32_t> small_blocks;
         for (int c = 0; c < w.child_count; ++c) {
-            const Child8 ch = n.children[c];
+            const ChildN<N> ch = n.children[c];
             if (!ch.is_inner() && w.children[c].count <= 8 &&
                 std::find(small_blocks.begin(), small_blocks.end(), ch.index) == small_blocks.end())
                 small_blocks.push_back(ch.index);
@@ -225,18 +229,19 @@ void check_packed(const Mesh& mesh, const Bvh2& bvh2, const bvh8::WideTopology& 
     std::vector<int> in_bvh2(mesh.size(), 0);
     for (std::uint32_t p : bvh2.prim_ids()) in_bvh2[p] = 1;
     for (std::size_t p = 0; p < mesh.size(); ++p) ASSERT_EQ(seen[p], in_bvh2[p]) << "triangle " << p;
-    const Bvh8Stats& s = b.stats();
+    const WideStats& s = b.stats();
+    EXPECT_EQ(s.width, N);
     EXPECT_EQ(s.nodes, nodes.size());
     EXPECT_EQ(s.leaves, leaves);
     EXPECT_EQ(s.blocks, blocks.size());
     EXPECT_EQ(s.shared_blocks, shared);
     EXPECT_EQ(s.triangles, bvh2.prim_ids().size());
     EXPECT_EQ(s.depth, topo.depth);
-    EXPECT_DOUBLE_EQ(s.fill_rate, double(used) / (8.0 * double(nodes.size())));
+    EXPECT_DOUBLE_EQ(s.fill_rate, double(used) / (double(N) * double(nodes.size())));
     EXPECT_DOUBLE_EQ(s.block_fill, double(s.triangles) / (8.0 * double(blocks.size())));
     EXPECT_DOUBLE_EQ(s.bytes_per_triangle,
-                     double(nodes.size() * sizeof(Node8) + blocks.size() * sizeof(Tri8)) / double(s.triangles));
-    EXPECT_DOUBLE_EQ(s.sah_cost, bvh8::sah_cost(topo, o));
+                     double(nodes.size() * sizeof(NodeN<N>) + blocks.size() * sizeof(Tri8)) / double(s.triangles));
+    EXPECT_DOUBLE_EQ(s.sah_cost, bvh8::sah_cost<N>(topo, o));
     EXPECT_GT(s.bytes_per_triangle, 0);
 }
 
@@ -255,7 +260,8 @@ std::vector<Scene> scenes() {
     return out;
 }
 
-TEST(Bvh8Collapse, TopologyAndPackingAreSound) {
+template <int N>
+void topology_and_packing_are_sound() {
     for (const Scene& sc : scenes()) {
         for (int bvh2_leaf : {1, 4, 8}) {
             BuildOptions bo;
@@ -263,72 +269,142 @@ TEST(Bvh8Collapse, TopologyAndPackingAreSound) {
             const Bvh2 bvh2 = Bvh2::build(sc.mesh, bo);
             for (Collapse c : {Collapse::sah, Collapse::greedy}) {
                 for (int leaf : {1, 4, 8, 16}) {
-                    Bvh8Options o;
+                    WideOptions o;
                     o.collapse = c;
                     o.max_leaf_size = leaf;
-                    const std::string what = sc.name + " bvh2 leaf " + std::to_string(bvh2_leaf) + " " +
-                                             std::string(name(c)) + " leaf " + std::to_string(leaf);
-                    const bvh8::WideTopology topo = bvh8::collapse(bvh2, o);
-                    check_topology(sc.mesh, bvh2, topo, o, what);
-                    check_packed(sc.mesh, bvh2, topo, Bvh8::build(bvh2, o), o, what);
+                    const std::string what = "bvh" + std::to_string(N) + " " + sc.name + " bvh2 leaf " +
+                                             std::to_string(bvh2_leaf) + " " + std::string(name(c)) + " leaf " +
+                                             std::to_string(leaf);
+                    const bvh8::WideTopology<N> topo = bvh8::collapse<N>(bvh2, o);
+                    check_topology<N>(sc.mesh, bvh2, topo, o, what);
+                    check_packed<N>(sc.mesh, bvh2, topo, BvhN<N>::build(bvh2, o), o, what);
                 }
             }
         }
     }
 }
+TEST(WideCollapse, TopologyAndPackingAreSound4) { topology_and_packing_are_sound<4>(); }
+TEST(WideCollapse, TopologyAndPackingAreSound8) { topology_and_packing_are_sound<8>(); }
+TEST(WideCollapse, TopologyAndPackingAreSound16) { topology_and_packing_are_sound<16>(); }
 
-TEST(Bvh8Collapse, SahCostNeverAboveGreedy) {
+template <int N>
+void sah_cost_never_above_greedy() {
     for (const Scene& sc : scenes()) {
         const Bvh2 bvh2 = Bvh2::build(sc.mesh);
         for (int leaf : {4, 8, 16}) {
             for (float node_cost : {0.5f, 1.0f, 2.0f}) {
-                Bvh8Options o;
+                WideOptions o;
                 o.max_leaf_size = leaf;
                 o.node_cost = node_cost;
                 o.collapse = Collapse::sah;
-                const double sah = Bvh8::build(bvh2, o).stats().sah_cost;
+                const double sah = BvhN<N>::build(bvh2, o).stats().sah_cost;
                 o.collapse = Collapse::greedy;
-                const double greedy = Bvh8::build(bvh2, o).stats().sah_cost;
-                EXPECT_LE(sah, greedy * (1 + 1e-9)) << sc.name << " leaf " << leaf << " node cost " << node_cost;
+                const double greedy = BvhN<N>::build(bvh2, o).stats().sah_cost;
+                EXPECT_LE(sah, greedy * (1 + 1e-9)) << "bvh" << N << " " << sc.name << " leaf " << leaf
+                                                    << " node cost " << node_cost;
                 EXPECT_GT(sah, 0);
             }
         }
     }
 }
+TEST(WideCollapse, SahCostNeverAboveGreedy4) { sah_cost_never_above_greedy<4>(); }
+TEST(WideCollapse, SahCostNeverAboveGreedy8) { sah_cost_never_above_greedy<8>(); }
+TEST(WideCollapse, SahCostNeverAboveGreedy16) { sah_cost_never_above_greedy<16>(); }
+
+// Wider nodes, fewer of them: not a theorem of the collapse, but it holds on
+// these scenes by a wide margin; a width mix-up (N slots filled as 8) fails it.
+TEST(WideCollapse, WiderMeansFewerNodes) {
+    for (const Scene& sc : scenes()) {
+        const Bvh2 bvh2 = Bvh2::build(sc.mesh);
+        const WideStats s4 = Bvh4::build(bvh2).stats(), s8 = Bvh8::build(bvh2).stats(), s16 = Bvh16::build(bvh2).stats();
+        EXPECT_EQ(s4.width, 4);
+        EXPECT_EQ(s16.width, 16);
+        EXPECT_GT(s4.nodes, s8.nodes) << sc.name;
+        EXPECT_GT(s8.nodes, s16.nodes) << sc.name;
+        EXPECT_EQ(s4.triangles, s16.triangles) << sc.name;
+    }
+}
 
 // Empty slots (+inf/-inf) never hit, whatever the ray: axis-aligned with
 // +-0 components, origins on planes, random.
-TEST(Bvh8Collapse, EmptySlotsNeverHit) {
+template <int N>
+std::size_t empty_slots_never_hit() {
     std::size_t empty_slots = 0;
     for (std::size_t tris : {3u, 20u, 37u, 90u}) {  // partly filled nodes
         const Mesh mesh = scene::random_soup(tris, 3);
-        const Bvh8 b = Bvh8::build(mesh);
+        const BvhN<N> b = BvhN<N>::build(mesh);
         std::vector<Ray> rays = scene::incoherent_rays(mesh.bounds(), 300, 9);
         for (float sx : {0.0f, -0.0f, 1.0f, -1.0f})
             for (float sy : {0.0f, -0.0f, 1.0f, -1.0f})
                 for (float sz : {0.0f, -0.0f, 1.0f, -1.0f}) rays.push_back({{0, 0, 0}, 0, {sx, sy, sz}});
         for (const Ray& ray : rays) {
             const PreparedRay r = prepare(ray);
-            for (const Node8& n : b.nodes())
-                for (int c = 0; c < 8; ++c) {
+            for (const NodeN<N>& n : b.nodes())
+                for (int c = 0; c < N; ++c) {
                     if (!n.children[c].is_empty()) continue;
                     ++empty_slots;
                     float e;
-                    ASSERT_FALSE(intersect_box(r, n.boxes.get(c), std::numeric_limits<float>::infinity(), &e));
+                    EXPECT_FALSE(intersect_box(r, n.boxes.get(c), std::numeric_limits<float>::infinity(), &e));
                 }
         }
     }
-    EXPECT_GT(empty_slots, 0u);
+    return empty_slots;
+}
+TEST(WideCollapse, EmptySlotsNeverHit) {
+    EXPECT_GT(empty_slots_never_hit<4>(), 0u);
+    EXPECT_GT(empty_slots_never_hit<8>(), 0u);
+    EXPECT_GT(empty_slots_never_hit<16>(), 0u);
 }
 
-TEST(Bvh8Collapse, EmptyMesh) {
+template <int N>
+void empty_mesh() {
     const Bvh2 bvh2 = Bvh2::build(Mesh{});
-    const bvh8::WideTopology topo = bvh8::collapse(bvh2, {});
+    const bvh8::WideTopology<N> topo = bvh8::collapse<N>(bvh2, {});
     EXPECT_TRUE(topo.nodes.empty());
-    const Bvh8 b = Bvh8::build(bvh2);
+    const BvhN<N> b = BvhN<N>::build(bvh2);
     EXPECT_TRUE(b.nodes().empty());
     EXPECT_EQ(b.stats().triangles, 0u);
     EXPECT_EQ(b.stats().sah_cost, 0.0);
+}
+TEST(WideCollapse, EmptyMesh) {
+    empty_mesh<4>();
+    empty_mesh<8>();
+    empty_mesh<16>();
+}
+
+// The child encodings round-trip through their named constructors for every
+// width, and the N = 8 layout is the one Node8 always had (blocks in bits
+// 0-15, lanes 16-23, sharing 24-31).
+template <int N>
+void encodings_round_trip() {
+    using C = ChildN<N>;
+    EXPECT_TRUE(C::inner(5).is_inner());
+    EXPECT_EQ(C::inner(5).index, 5u);
+    EXPECT_TRUE(C::empty().is_empty());
+    EXPECT_FALSE(C::empty().is_leaf());
+    const C big = C::leaf(7, C::kMaxBlocks);
+    EXPECT_TRUE(big.is_leaf());
+    EXPECT_FALSE(big.is_empty());
+    EXPECT_EQ(big.blocks(), C::kMaxBlocks);
+    EXPECT_EQ(big.own_lanes(), 0u);
+    EXPECT_EQ(big.sharing_slots(), 0u);
+    const std::uint32_t all_slots = (1u << N) - 1u;
+    for (std::uint32_t sharing : {0u, 0b11u, all_slots}) {
+        const C s = C::small_leaf(3, 0b01110000u, sharing);
+        EXPECT_TRUE(s.is_leaf());
+        EXPECT_FALSE(s.is_empty());
+        EXPECT_EQ(s.index, 3u);
+        EXPECT_EQ(s.blocks(), 1u);
+        EXPECT_EQ(s.own_lanes(), 0b01110000u);
+        EXPECT_EQ(s.sharing_slots(), sharing);
+    }
+}
+TEST(WideCollapse, ChildEncodings) {
+    encodings_round_trip<4>();
+    encodings_round_trip<8>();
+    encodings_round_trip<16>();
+    EXPECT_EQ(Child8::small_leaf(0, 0xFFu, 0xFFu).count, 0xFFFF0001u);
+    EXPECT_EQ(Child8::kMaxBlocks, 0xFFFFu);
 }
 
 }  // namespace

@@ -40,8 +40,8 @@ TEST_P(Bvh8HugeCoordinates, EveryCollapseMatchesBruteForceOnEveryIsa) {
             o8.collapse = c;
             o8.max_leaf_size = leaf;
             const std::string what = std::string(name(c)) + " max_leaf_size " + std::to_string(leaf);
-            const bvh8::WideTopology topo = bvh8::collapse(bvh2, o8);
-            EXPECT_TRUE(std::isfinite(bvh8::sah_cost(topo, o8))) << what;
+            const bvh8::WideTopology<8> topo = bvh8::collapse<8>(bvh2, o8);
+            EXPECT_TRUE(std::isfinite(bvh8::sah_cost<8>(topo, o8))) << what;
             const Bvh8 bvh8 = Bvh8::build(bvh2, o8);
             EXPECT_TRUE(std::isfinite(bvh8.stats().sah_cost)) << what;
             for (Isa isa : kAllIsas) {

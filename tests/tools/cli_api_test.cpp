@@ -12,6 +12,7 @@
 #include <string>
 
 #include "simdbvh/bvh2/bvh2.h"
+#include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/scene/rays.h"
 #include "support/cli.h"
 #include "simdbvh/scene/scenes.h"
@@ -37,7 +38,7 @@ protected:
 };
 
 TEST_F(Cli, RoundTripMatchesTheApi) {
-    for (const char* method : {"bvh2", "bvh8", "brute"}) {
+    for (const char* method : {"bvh2", "bvh4", "bvh8", "bvh16", "brute"}) {
         for (const char* kind : {"primary", "incoherent", "diffuse"}) {
             const std::string rays = path(std::string(kind) + ".bin"), hits = path(std::string(method) + kind + ".hits");
             CliRun g = run_cli("gen-rays --scene icosphere-3 --kind " + std::string(kind) + " --count 3000 --seed 5 --out " + rays);
@@ -93,6 +94,68 @@ TEST_F(Cli, UnknownOptionAndCommandExit2) {
     CliRun c = run_cli("trace --scene icosphere-2 --rays x --out y --method magic");
     EXPECT_EQ(c.status, 2);
     EXPECT_NE(c.output.find("magic"), std::string::npos) << c.output;
+    EXPECT_NE(c.output.find("bvh16"), std::string::npos) << "the message lists the widths: " << c.output;
+    CliRun d = run_cli("trace --scene icosphere-2 --rays x --out y --method bvh32");
+    EXPECT_EQ(d.status, 2);
+    EXPECT_NE(d.output.find("bvh32"), std::string::npos) << d.output;
+}
+
+// --method bvh4|bvh8|bvh16 at every ISA the CPU has: the label names width and
+// ISA, closest and any hits equal the API's BvhN<N> at that ISA.
+template <int N>
+void expect_width_matches_api(const std::string& rays, const std::string& hits, const std::string& any_hits, Isa isa,
+                              const std::string& output) {
+    const std::string label = "bvh" + std::to_string(N) + "/" + std::string(name(isa));
+    EXPECT_NE(output.find("method " + label), std::string::npos) << output;
+    const Mesh mesh = scene::load_scene("soup-2000");
+    const BvhN<N> bvh = BvhN<N>::build(mesh);
+    const auto r = scene::read_rays(rays);
+    const auto h = scene::read_hits(hits), a = scene::read_hits(any_hits);
+    ASSERT_EQ(h.size(), r.size());
+    ASSERT_EQ(a.size(), r.size());
+    std::vector<Hit> want(r.size()), want_any(r.size());
+    intersect(bvh, r, want, {}, isa);
+    occluded(bvh, r, want_any, {}, isa);
+    for (std::size_t i = 0; i < r.size(); ++i) {
+        ASSERT_EQ(h[i], want[i]) << label << " ray " << i;
+        ASSERT_EQ(a[i], want_any[i]) << label << " any hit, ray " << i;
+    }
+}
+
+TEST_F(Cli, MethodWidthsAtEveryIsa) {
+    const std::string rays = path("r.bin");
+    ASSERT_EQ(run_cli("gen-rays --scene soup-2000 --kind incoherent --count 2000 --seed 3 --out " + rays).status, 0);
+    for (int width : {4, 8, 16})
+        for (Isa isa : kAllIsas) {
+            if (!supported(isa)) continue;
+            const std::string m = "bvh" + std::to_string(width), i = std::string(name(isa));
+            const std::string hits = path(m + i + ".hits"), any = path(m + i + ".any");
+            const std::string base = "trace --scene soup-2000 --rays " + rays + " --method " + m + " --isa " + i;
+            CliRun t = run_cli(base + " --out " + hits);
+            ASSERT_EQ(t.status, 0) << t.output;
+            CliRun u = run_cli(base + " --any-hit --out " + any);
+            ASSERT_EQ(u.status, 0) << u.output;
+            if (width == 4) expect_width_matches_api<4>(rays, hits, any, isa, t.output);
+            if (width == 8) expect_width_matches_api<8>(rays, hits, any, isa, t.output);
+            if (width == 16) expect_width_matches_api<16>(rays, hits, any, isa, t.output);
+        }
+}
+
+// info reports every width collapsed from the same BVH2: a block per width and
+// one table whose nodes and depth are the API's.
+TEST_F(Cli, InfoReportsEveryWidth) {
+    CliRun t = run_cli("info --scene icosphere-3");
+    ASSERT_EQ(t.status, 0) << t.output;
+    for (const char* block : {"bvh4 (sah collapse)", "bvh8 (sah collapse)", "bvh16 (sah collapse)", "widths ("})
+        EXPECT_NE(t.output.find(block), std::string::npos) << block << " missing in\n" << t.output;
+    const Bvh2 bvh2 = Bvh2::build(scene::load_scene("icosphere-3"));
+    auto row = [&](const WideStats& s) {
+        char buf[128];
+        std::snprintf(buf, sizeof buf, "  %-6d %10zu %6d %10.1f", s.width, s.nodes, s.depth, s.bytes_per_triangle);
+        return std::string(buf);
+    };
+    for (const std::string& r : {row(Bvh4::build(bvh2).stats()), row(Bvh8::build(bvh2).stats()), row(Bvh16::build(bvh2).stats())})
+        EXPECT_NE(t.output.find(r), std::string::npos) << "row '" << r << "' missing in\n" << t.output;
 }
 
 TEST_F(Cli, MalformedMeshNamesTheFile) {

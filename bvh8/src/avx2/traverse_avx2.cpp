@@ -1,17 +1,16 @@
-// BVH8 traversal, AVX2 + FMA build of traverse-inl.h (xsimd::avx2).
+// Wide BVH traversal (N = 4, 8, 16), AVX2 + FMA build of traverse-inl.h:
+// xsimd::avx2 Tri8 kernels, node tests of 4 (xmm), 8 (ymm) and 16 (two ymm) lanes.
 #include "simd_kernels-inl.h"
 #include "traverse-inl.h"
-#include "traverse.h"
 
-namespace simdbvh::bvh8::avx2 {
+namespace simdbvh::bvh8 {
 
-using K = SimdKernels<simd::Avx2>;
+namespace avx2 {
+struct Kernels : SimdKernels<simd::Avx2> {};
+}  // namespace avx2
 
-SIMDBVH_FLATTEN void intersect(const Bvh8& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o) {
-    detail::trace<K, false>(bvh, rays, hits, o);
-}
-SIMDBVH_FLATTEN void occluded(const Bvh8& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o) {
-    detail::trace<K, true>(bvh, rays, hits, o);
-}
+template struct Traversal<avx2::Kernels, 4>;
+template struct Traversal<avx2::Kernels, 8>;
+template struct Traversal<avx2::Kernels, 16>;
 
-}  // namespace simdbvh::bvh8::avx2
+}  // namespace simdbvh::bvh8

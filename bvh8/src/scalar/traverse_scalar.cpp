@@ -1,27 +1,28 @@
-// BVH8 traversal, baseline x86-64 (no AVX, no xsimd): traverse-inl.h over the
-// scalar reference kernels (box.h, triangle.h), one lane at a time.
+// Wide BVH traversal (N = 4, 8, 16), baseline x86-64 (no AVX, no xsimd):
+// traverse-inl.h over the scalar reference kernels (box.h, triangle.h), one
+// lane at a time.
 #include "simdbvh/kernels/box.h"
 #include "simdbvh/kernels/triangle.h"
 #include "traverse-inl.h"
-#include "traverse.h"
 
-namespace simdbvh::bvh8::scalar {
+namespace simdbvh::bvh8 {
 
-namespace {
+namespace scalar {
 
-struct ScalarKernels {
+struct Kernels {
     using RayData = PreparedRay;
     static void pack(RayData& d, const PreparedRay& r, const Ray&) { d = r; }
-    static std::uint32_t box8(const PreparedRay& r, const Box8& b, float tmax, float* entries) {
+    template <int N>
+    static std::uint32_t box(const PreparedRay& r, const BoxN<N>& b, float tmax, float* entries) {
         std::uint32_t m = 0;
-        for (int i = 0; i < 8; ++i) m |= std::uint32_t(intersect_box(r, b.get(i), tmax, &entries[i])) << i;
+        for (int i = 0; i < N; ++i) m |= std::uint32_t(intersect_box(r, b.get(i), tmax, &entries[i])) << i;
         return m;
     }
     // Lanes in order with a shrinking tmax: the same result as the 8-wide
     // kernels' lane minimum under closer().
     template <TriangleTest kTest>
     static void closest(const PreparedRay& r, const Tri8& b, Hit& best) {
-        for (int i = 0; i < 8; ++i) {
+        for (int i = 0; i < kBlockWidth; ++i) {
             float t, u, v;
             if (intersect_triangle<kTest>(r, b.v0(i), b.v1(i), b.v2(i), best.t, &t, &u, &v) &&
                 closer(t, b.prim[i], best))
@@ -30,7 +31,7 @@ struct ScalarKernels {
     }
     template <TriangleTest kTest>
     static bool any(const PreparedRay& r, const Tri8& b, float tmax, Hit& hit) {
-        for (int i = 0; i < 8; ++i) {
+        for (int i = 0; i < kBlockWidth; ++i) {
             float t, u, v;
             if (intersect_triangle<kTest>(r, b.v0(i), b.v1(i), b.v2(i), tmax, &t, &u, &v)) {
                 hit = Hit{t, u, v, b.prim[i]};
@@ -41,13 +42,10 @@ struct ScalarKernels {
     }
 };
 
-}  // namespace
+}  // namespace scalar
 
-void intersect(const Bvh8& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o) {
-    detail::trace<ScalarKernels, false>(bvh, rays, hits, o);
-}
-void occluded(const Bvh8& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o) {
-    detail::trace<ScalarKernels, true>(bvh, rays, hits, o);
-}
+template struct Traversal<scalar::Kernels, 4>;
+template struct Traversal<scalar::Kernels, 8>;
+template struct Traversal<scalar::Kernels, 16>;
 
-}  // namespace simdbvh::bvh8::scalar
+}  // namespace simdbvh::bvh8

@@ -10,6 +10,11 @@
 // xsimd template instantiated for it gets its own mangled name, so the linker
 // can never merge an AVX-512-encoded copy with the AVX2 one (a silent SIGILL on
 // AVX2-only CPUs). The compiler emits EVEX encodings and uses ymm16-31 there.
+//
+// Node batches of other widths (box8-inl.h, intersect_boxn), distinct per ISA
+// for the same reason: Lanes<Arch>::X4 is a 4 x float (xmm) batch,
+// Lanes<Arch>::X16 a 16 x float (zmm) batch on AVX-512, void on AVX2 (two
+// 8-wide halves instead).
 #include <immintrin.h>
 
 #include <cstdint>
@@ -38,16 +43,56 @@ struct avx512vl_ymm : xsimd::avx2 {
 using Avx512 = avx512vl_ymm;
 #endif
 
+struct avx2_xmm : xsimd::sse4_2 {
+    static constexpr bool supported() noexcept { return true; }
+    static constexpr bool available() noexcept { return true; }
+    static constexpr char const* name() noexcept { return "avx2_xmm"; }
+};
+#if defined(__AVX512F__) && defined(__AVX512VL__) && defined(__AVX512DQ__) && defined(__AVX512BW__)
+struct avx512vl_xmm : xsimd::sse4_2 {
+    static constexpr bool supported() noexcept { return true; }
+    static constexpr bool available() noexcept { return true; }
+    static constexpr char const* name() noexcept { return "avx512vl_xmm"; }
+};
+struct avx512_zmm : xsimd::avx512bw {
+    static constexpr bool supported() noexcept { return true; }
+    static constexpr bool available() noexcept { return true; }
+    static constexpr char const* name() noexcept { return "avx512_zmm"; }
+};
+#endif
+
+template <class Arch>
+struct Lanes;
+template <>
+struct Lanes<Avx2> {
+    using X4 = avx2_xmm;
+    using X16 = void;
+};
+#if defined(__AVX512F__) && defined(__AVX512VL__) && defined(__AVX512DQ__) && defined(__AVX512BW__)
+template <>
+struct Lanes<Avx512> {
+    using X4 = avx512vl_xmm;
+    using X16 = avx512_zmm;
+};
+#endif
+
 template <class Arch>
 using Batch = xsimd::batch<float, Arch>;
 template <class Arch>
 using Mask = xsimd::batch_bool<float, Arch>;
 
-// 8 lanes -> 8 bits (lane i -> bit i).
+// W lanes -> W bits (lane i -> bit i), W = 4 (xmm), 8 (ymm), 16 (zmm opmask).
 template <class Arch>
 SIMDBVH_FORCE_INLINE std::uint32_t bits(const Mask<Arch>& m) {
-    static_assert(Batch<Arch>::size == 8, "the 8-wide kernels need an 8 x float batch");
-    return static_cast<std::uint32_t>(_mm256_movemask_ps(static_cast<__m256>(m)));
+    constexpr std::size_t kW = Batch<Arch>::size;
+    static_assert(kW == 4 || kW == 8 || kW == 16, "4, 8 or 16 x float batches");
+    if constexpr (kW == 16) {
+        return static_cast<std::uint32_t>(static_cast<__mmask16>(m));
+    } else if constexpr (kW == 8) {
+        return static_cast<std::uint32_t>(_mm256_movemask_ps(static_cast<__m256>(m)));
+    } else {
+        return static_cast<std::uint32_t>(_mm_movemask_ps(static_cast<__m128>(m)));
+    }
 }
 
 // Aligned load of 8 floats at `base + byte_offset` (Embree-style plane
@@ -60,8 +105,15 @@ SIMDBVH_FORCE_INLINE Batch<Arch> load8(const void* base, std::uint32_t byte_offs
 
 }  // namespace simdbvh::simd
 
-#if defined(__AVX512F__) && defined(__AVX512VL__) && defined(__AVX512DQ__) && defined(__AVX512BW__)
 namespace xsimd::types {
+XSIMD_DECLARE_SIMD_REGISTER_ALIAS(simdbvh::simd::avx2_xmm, sse4_2);
+#if defined(__AVX512F__) && defined(__AVX512VL__) && defined(__AVX512DQ__) && defined(__AVX512BW__)
 XSIMD_DECLARE_SIMD_REGISTER_ALIAS(simdbvh::simd::avx512vl_ymm, avx2);
-}
+XSIMD_DECLARE_SIMD_REGISTER_ALIAS(simdbvh::simd::avx512vl_xmm, sse4_2);
+XSIMD_DECLARE_SIMD_REGISTER_ALIAS(simdbvh::simd::avx512_zmm, avx512bw);
+template <class T>
+struct get_bool_simd_register<T, simdbvh::simd::avx512_zmm> {
+    using type = simd_avx512_bool_register<T>;
+};
 #endif
+}  // namespace xsimd::types

@@ -1,6 +1,7 @@
 #pragma once
-// SoA blocks of 8 boxes and 8 triangles: the layout the 8-wide kernels and the
-// BVH8 read. Empty box slots hold lo = +inf, hi = -inf (never hit); empty
+// SoA blocks of N boxes (BoxN, the wide nodes' child boxes) and of 8 triangles
+// (Tri8, the leaf blocks of every width): the layout the SIMD kernels and the
+// wide BVHs read. Empty box slots hold lo = +inf, hi = -inf (never hit); empty
 // triangle slots hold NaN vertices and kInvalidPrim (never hit).
 #include <cstdint>
 #include <limits>
@@ -10,11 +11,15 @@
 
 namespace simdbvh {
 
-struct alignas(32) Box8 {
-    float lo_x[8], hi_x[8], lo_y[8], hi_y[8], lo_z[8], hi_z[8];
+// N boxes, SoA (N = 4, 8, 16: the node widths; the lo and hi arrays of an
+// axis are 4 * N bytes apart).
+template <int N>
+struct alignas(4 * N) BoxN {
+    static constexpr int kWidth = N;
+    float lo_x[N], hi_x[N], lo_y[N], hi_y[N], lo_z[N], hi_z[N];
 
     void clear() {
-        for (int i = 0; i < 8; ++i) set_empty(i);
+        for (int i = 0; i < N; ++i) set_empty(i);
     }
     void set_empty(int i) {
         constexpr float inf = std::numeric_limits<float>::infinity();
@@ -27,14 +32,23 @@ struct alignas(32) Box8 {
     }
     Aabb get(int i) const { return {{lo_x[i], lo_y[i], lo_z[i]}, {hi_x[i], hi_y[i], hi_z[i]}}; }
 };
+using Box4 = BoxN<4>;
+using Box8 = BoxN<8>;
+using Box16 = BoxN<16>;
+static_assert(sizeof(Box4) == 96 && alignof(Box4) == 16);
+static_assert(sizeof(Box16) == 384 && alignof(Box16) == 64);
 static_assert(sizeof(Box8) == 192 && alignof(Box8) == 32);
 
+// The leaf block width: triangles per Tri8 block, whatever the node width.
+inline constexpr int kBlockWidth = 8;
+
 struct alignas(32) Tri8 {
-    float v0x[8], v0y[8], v0z[8], v1x[8], v1y[8], v1z[8], v2x[8], v2y[8], v2z[8];
-    std::uint32_t prim[8];
+    float v0x[kBlockWidth], v0y[kBlockWidth], v0z[kBlockWidth], v1x[kBlockWidth], v1y[kBlockWidth], v1z[kBlockWidth],
+        v2x[kBlockWidth], v2y[kBlockWidth], v2z[kBlockWidth];
+    std::uint32_t prim[kBlockWidth];
 
     void clear() {
-        for (int i = 0; i < 8; ++i) set_empty(i);
+        for (int i = 0; i < kBlockWidth; ++i) set_empty(i);
     }
     void set_empty(int i) {
         constexpr float nan = std::numeric_limits<float>::quiet_NaN();
