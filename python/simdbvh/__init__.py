@@ -2,7 +2,7 @@
 
     import numpy as np, simdbvh
     mesh = simdbvh.Mesh(vertices, faces)          # or simdbvh.load("bunny.ply")
-    bvh = simdbvh.BVH(mesh)                       # method="bvh8" | "bvh2" | "brute", isa=None | "avx2" | ...
+    bvh = simdbvh.BVH(mesh)                       # method="bvh8" | "bvh4" | "bvh16" | "bvh2" | "brute", isa=None | "avx2" | ...
     hits = bvh.intersect(origins, directions)     # dict: hit, t, prim, u, v
     inside = bvh.contains(points)                 # exact, one ray per point
     d = bvh.signed_distance(points)               # negative inside

@@ -62,8 +62,8 @@ class Bvh {
 public:
     Bvh(Mesh mesh, const std::string& method, const std::optional<std::string>& isa)
         : mesh_(std::move(mesh)), method_(method) {
-        if (method_ != "bvh8" && method_ != "bvh2" && method_ != "brute")
-            throw Error("method must be 'bvh8', 'bvh2' or 'brute' (got '" + method_ + "')");
+        if (method_ != "bvh4" && method_ != "bvh8" && method_ != "bvh16" && method_ != "bvh2" && method_ != "brute")
+            throw Error("method must be 'bvh4', 'bvh8', 'bvh16', 'bvh2' or 'brute' (got '" + method_ + "')");
         if (isa) {
             const auto parsed = parse_isa(*isa);
             if (!parsed) throw Error("isa must be 'scalar', 'avx2' or 'avx512' (got '" + *isa + "')");
@@ -74,7 +74,9 @@ public:
         }
         py::gil_scoped_release nogil;
         bvh2_ = Bvh2::build(mesh_);
+        if (method_ == "bvh4") bvh4_ = Bvh4::build(bvh2_);
         if (method_ == "bvh8") bvh8_ = Bvh8::build(bvh2_);
+        if (method_ == "bvh16") bvh16_ = Bvh16::build(bvh2_);
     }
 
     py::dict intersect(const py::handle& o, const py::handle& d, const py::handle& tmin, const py::handle& tmax,
@@ -85,9 +87,16 @@ public:
             py::gil_scoped_release nogil;
             TraceOptions opts;
             opts.threads = check_threads(threads);
-            if (method_ == "bvh8") {
-                if (any) occluded(*bvh8_, rays, hits, opts, isa_);
-                else simdbvh::intersect(*bvh8_, rays, hits, opts, isa_);
+            auto wide = [&](const auto& bvh) {
+                if (any) occluded(bvh, rays, hits, opts, isa_);
+                else simdbvh::intersect(bvh, rays, hits, opts, isa_);
+            };
+            if (bvh4_) {
+                wide(*bvh4_);
+            } else if (bvh8_) {
+                wide(*bvh8_);
+            } else if (bvh16_) {
+                wide(*bvh16_);
             } else if (method_ == "bvh2") {
                 if (any) simdbvh::occluded(bvh2_, rays, hits, opts);
                 else simdbvh::intersect(bvh2_, rays, hits, opts);
@@ -260,14 +269,16 @@ public:
 
     const Mesh& mesh() const { return mesh_; }
     const std::string& method() const { return method_; }
-    std::string isa() const { return std::string(name(method_ == "bvh8" ? isa_ : Isa::scalar)); }
+    std::string isa() const { return std::string(name(bvh4_ || bvh8_ || bvh16_ ? isa_ : Isa::scalar)); }
 
 private:
     Mesh mesh_;
     std::string method_;
     Isa isa_ = Isa::scalar;
     Bvh2 bvh2_;
+    std::optional<Bvh4> bvh4_;
     std::optional<Bvh8> bvh8_;
+    std::optional<Bvh16> bvh16_;
 };
 
 py::array_t<float> vertices_of(const Mesh& m) {
@@ -320,7 +331,7 @@ PYBIND11_MODULE(_simdbvh, m) {
     py::class_<Bvh>(m, "BVH", "A bounding volume hierarchy over a mesh, and its queries.")
         .def(py::init<Mesh, const std::string&, const std::optional<std::string>&>(), py::arg("mesh"),
              py::arg("method") = "bvh8", py::arg("isa") = py::none(),
-             "method: 'bvh8' (default, SIMD), 'bvh2' or 'brute'; isa: 'scalar', 'avx2', 'avx512' or None (best). "
+             "method: 'bvh8' (default), 'bvh4' or 'bvh16' (SIMD wide trees), 'bvh2' or 'brute'; isa: 'scalar', 'avx2', 'avx512' or None (best). "
              "Point queries, crossing counts and all hits use the BVH2 (or brute force).")
         .def_property_readonly("method", &Bvh::method)
         .def_property_readonly("isa", &Bvh::isa)

@@ -51,7 +51,7 @@ def test_mesh_round_trip_and_closure(cube):
 
 
 def test_hits_on_the_cube(cube):
-    for method in ("bvh8", "bvh2", "brute"):
+    for method in ("bvh4", "bvh8", "bvh16", "bvh2", "brute"):
         bvh = simdbvh.BVH(cube, method=method)
         o = np.array([[0.25, 0.5, -1.0], [0.5, 0.5, 0.5], [2.0, 2.0, 2.0]], dtype=np.float32)
         d = np.array([[0, 0, 1], [1, 0, 0], [1, 0, 0]], dtype=np.float32)
@@ -71,7 +71,8 @@ def test_every_path_and_isa_bit_identical():
     d = rng.uniform(-1, 1, (5000, 3)) - 0.3 * o
     ref = simdbvh.BVH(mesh, method="brute").intersect(o, d)
     assert ref["hit"].sum() > 1000
-    runs = [simdbvh.BVH(mesh, method="bvh2")] + [simdbvh.BVH(mesh, isa=i) for i in simdbvh.isas()]
+    runs = [simdbvh.BVH(mesh, method="bvh2")] + [simdbvh.BVH(mesh, method=m, isa=i) for i in simdbvh.isas()
+                                                 for m in ("bvh4", "bvh8", "bvh16")]
     for bvh in runs:
         for threads in (1, 2):
             h = bvh.intersect(o, d, threads=threads)
