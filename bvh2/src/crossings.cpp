@@ -127,24 +127,32 @@ AllHits finish_all(std::vector<Crossing> hits, const PreparedRay& r, std::size_t
     return out;
 }
 
-}  // namespace
-
-AllHits intersect_all(const Bvh2& bvh, const Ray& ray, std::size_t cap) {
+// The two queries over any crossing enumerator (BVH2 or brute force).
+template <class Source, class Enumerate>
+AllHits all_hits(const Source& src, const Ray& ray, std::size_t cap, Enumerate each) {
     const PreparedRay r = prepare(ray);
     std::vector<Crossing> hits;
-    for_each_crossing(bvh, r, [&](const Crossing& c) { hits.push_back(c); });
+    each(src, r, [&](const Crossing& c) { hits.push_back(c); });
     return finish_all(std::move(hits), r, cap);
 }
 
-CrossingCount count_crossings(const Bvh2& bvh, const Ray& ray) {
-    const PreparedRay r = prepare(ray);
+template <class Source, class Enumerate>
+CrossingCount counts(const Source& src, const Ray& ray, Enumerate each) {
     CrossingCount n;
-    for_each_crossing(bvh, r, [&](const Crossing& c) {
+    each(src, prepare(ray), [&](const Crossing& c) {
         n.winding += c.facing;
         n.crossings++;
     });
     return n;
 }
+
+constexpr auto kTree = [](const Bvh2& b, const PreparedRay& r, auto&& f) { for_each_crossing(b, r, f); };
+constexpr auto kBrute = [](const Mesh& m, const PreparedRay& r, auto&& f) { brute_for_each_crossing(m, r, f); };
+
+}  // namespace
+
+AllHits intersect_all(const Bvh2& bvh, const Ray& ray, std::size_t cap) { return all_hits(bvh, ray, cap, kTree); }
+CrossingCount count_crossings(const Bvh2& bvh, const Ray& ray) { return counts(bvh, ray, kTree); }
 
 void count_crossings(const Bvh2& bvh, std::span<const Ray> rays, std::span<CrossingCount> out, int threads) {
     if (out.size() < rays.size()) throw Error("output span is smaller than rays span");
@@ -154,20 +162,8 @@ void count_crossings(const Bvh2& bvh, std::span<const Ray> rays, std::span<Cross
 }
 
 AllHits brute_force_intersect_all(const Mesh& mesh, const Ray& ray, std::size_t cap) {
-    const PreparedRay r = prepare(ray);
-    std::vector<Crossing> hits;
-    brute_for_each_crossing(mesh, r, [&](const Crossing& c) { hits.push_back(c); });
-    return finish_all(std::move(hits), r, cap);
+    return all_hits(mesh, ray, cap, kBrute);
 }
-
-CrossingCount brute_force_count_crossings(const Mesh& mesh, const Ray& ray) {
-    const PreparedRay r = prepare(ray);
-    CrossingCount n;
-    brute_for_each_crossing(mesh, r, [&](const Crossing& c) {
-        n.winding += c.facing;
-        n.crossings++;
-    });
-    return n;
-}
+CrossingCount brute_force_count_crossings(const Mesh& mesh, const Ray& ray) { return counts(mesh, ray, kBrute); }
 
 }  // namespace simdbvh
