@@ -46,6 +46,7 @@ int cmd_gen_points(const std::vector<std::string>& args) {
     check_outputs({{"--out", out}}, {{"--scene", scene_name}});
     check_memory("--count " + std::to_string(count), std::uint64_t(count) * 24);
     const Mesh mesh = load_scene_with_progress(scene_name);
+    if (mesh.size() == 0) throw Error(scene_name + ": has no triangles: no bounds to place query points in");
     const auto points = scene::random_points(mesh.bounds(), count, seed);
     scene::write_file_atomic(out, scene::encode_points(points));
     std::cout << "wrote " << count << " points (uniform in the bounds grown by 10% per side, seed " << seed << ") to "

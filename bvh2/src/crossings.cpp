@@ -5,6 +5,7 @@
 
 #include "simdbvh/kernels/box.h"
 #include "simdbvh/kernels/parallel.h"
+#include "simdbvh/kernels/triangle.h"
 
 namespace simdbvh {
 namespace {
@@ -26,18 +27,13 @@ int sign_of(double v) { return (v > 0.0) - (v < 0.0); }
 // The watertight test with the tie rule. On a crossing in [tmin, tmax] fills c
 // (t in the prepared ray's parameter).
 bool cross(const PreparedRay& r, const Vec3& v0, const Vec3& v1, const Vec3& v2, Crossing* c) {
-    const Vec3 a = v0 - r.org, b = v1 - r.org, cc = v2 - r.org;
-    const float ax = a[r.kx] - r.sx * a[r.kz], ay = a[r.ky] - r.sy * a[r.kz];
-    const float bx = b[r.kx] - r.sx * b[r.kz], by = b[r.ky] - r.sy * b[r.kz];
-    const float cx = cc[r.kx] - r.sx * cc[r.kz], cy = cc[r.ky] - r.sy * cc[r.kz];
-    float eu = cx * by - cy * bx;
-    float ev = ax * cy - ay * cx;
-    float ew = bx * ay - by * ax;
+    const detail::ShearedTriangle sh = detail::shear(r, v0, v1, v2);
+    float eu, ev, ew;
+    detail::edge_functions(sh, &eu, &ev, &ew);
     int su = sign_of(eu), sv = sign_of(ev), sw = sign_of(ew);
     if (su == 0 || sv == 0 || sw == 0) {  // exact signs in double (products of floats are exact)
-        const double du = double(cx) * double(by) - double(cy) * double(bx);
-        const double dv = double(ax) * double(cy) - double(ay) * double(cx);
-        const double dw = double(bx) * double(ay) - double(by) * double(ax);
+        double du, dv, dw;
+        detail::edge_functions_exact(sh, &du, &dv, &dw);
         su = sign_of(du);
         sv = sign_of(dv);
         sw = sign_of(dw);
@@ -49,13 +45,12 @@ bool cross(const PreparedRay& r, const Vec3& v0, const Vec3& v1, const Vec3& v2,
     const int s = su != 0 ? su : (sv != 0 ? sv : sw);  // the area's sign: the nonzero ones agree
     if (s == 0) return false;                          // the ray lies in the triangle's plane
     // Exactly on an edge line (or two: a vertex): the edge must own the crossing.
-    if (su == 0 && !owns_edge(bx, by, cx, cy, s)) return false;  // edge v1 -> v2
-    if (sv == 0 && !owns_edge(cx, cy, ax, ay, s)) return false;  // edge v2 -> v0
-    if (sw == 0 && !owns_edge(ax, ay, bx, by, s)) return false;  // edge v0 -> v1
+    if (su == 0 && !owns_edge(sh.bx, sh.by, sh.cx, sh.cy, s)) return false;  // edge v1 -> v2
+    if (sv == 0 && !owns_edge(sh.cx, sh.cy, sh.ax, sh.ay, s)) return false;  // edge v2 -> v0
+    if (sw == 0 && !owns_edge(sh.ax, sh.ay, sh.bx, sh.by, s)) return false;  // edge v0 -> v1
     const float det = eu + ev + ew;
     if (det == 0.0f) return false;
-    const float az = r.sz * a[r.kz], bz = r.sz * b[r.kz], cz = r.sz * cc[r.kz];
-    const float t = (eu * az + ev * bz + ew * cz) / det;
+    const float t = detail::sheared_t(r, sh, eu, ev, ew, det);
     if (!(t >= r.tmin && t <= r.tmax)) return false;
     c->t = t;
     c->u = ev / det;

@@ -154,6 +154,11 @@ TEST_F(DistanceCli, BadInputExitsTwoAndLeavesNothing) {
     EXPECT_EQ(d.status, 2);
     EXPECT_NE(d.output.find("--count"), std::string::npos) << d.output;
     EXPECT_FALSE(fs::exists(out));
+    test::write_text(path("empty.obj"), "v 0 0 0\n");
+    d = run_cli("gen-points --scene " + path("empty.obj") + " --count 3 --out " + out);
+    EXPECT_EQ(d.status, 2) << d.output;
+    EXPECT_NE(d.output.find("empty.obj: has no triangles"), std::string::npos) << d.output;
+    EXPECT_FALSE(fs::exists(out));
     d = run_cli("distance --help");
     EXPECT_EQ(d.status, 0);
     EXPECT_NE(d.output.find("--max-distance"), std::string::npos) << d.output;

@@ -7,27 +7,72 @@ namespace simdbvh {
 
 enum class TriangleTest : std::uint8_t { watertight, moller };
 
+namespace detail {
+
+// A triangle in the ray's sheared frame (Woop et al. 2013): its vertices
+// relative to the origin and their sheared kx, ky coordinates. Every triangle
+// sharing a vertex computes the same floats for it, which is what makes the
+// test watertight. Shared by intersect_watertight and the crossing queries.
+struct ShearedTriangle {
+    Vec3 a, b, c;
+    float ax, ay, bx, by, cx, cy;
+};
+
+inline ShearedTriangle shear(const PreparedRay& r, const Vec3& v0, const Vec3& v1, const Vec3& v2) {
+    ShearedTriangle s;
+    s.a = v0 - r.org;
+    s.b = v1 - r.org;
+    s.c = v2 - r.org;
+    s.ax = s.a[r.kx] - r.sx * s.a[r.kz];
+    s.ay = s.a[r.ky] - r.sy * s.a[r.kz];
+    s.bx = s.b[r.kx] - r.sx * s.b[r.kz];
+    s.by = s.b[r.ky] - r.sy * s.b[r.kz];
+    s.cx = s.c[r.kx] - r.sx * s.c[r.kz];
+    s.cy = s.c[r.ky] - r.sy * s.c[r.kz];
+    return s;
+}
+
+// Edge functions U (edge v1 v2), V (v2 v0), W (v0 v1), in float.
+inline void edge_functions(const ShearedTriangle& s, float* u, float* v, float* w) {
+    *u = s.cx * s.by - s.cy * s.bx;
+    *v = s.ax * s.cy - s.ay * s.cx;
+    *w = s.bx * s.ay - s.by * s.ax;
+}
+
+// The same from products of floats, exact in double: 0 only when the ray
+// passes exactly through the edge's line.
+inline void edge_functions_exact(const ShearedTriangle& s, double* u, double* v, double* w) {
+    *u = double(s.cx) * double(s.by) - double(s.cy) * double(s.bx);
+    *v = double(s.ax) * double(s.cy) - double(s.ay) * double(s.cx);
+    *w = double(s.bx) * double(s.ay) - double(s.by) * double(s.ax);
+}
+
+// The hit distance (in the prepared ray's parameter) from the edge functions.
+inline float sheared_t(const PreparedRay& r, const ShearedTriangle& s, float eu, float ev, float ew, float det) {
+    const float az = r.sz * s.a[r.kz], bz = r.sz * s.b[r.kz], cz = r.sz * s.c[r.kz];
+    return (eu * az + ev * bz + ew * cz) / det;
+}
+
+}  // namespace detail
+
 // Watertight ray/triangle test (Woop, Benthin, Wald 2013, JCGT 2(1)), both faces.
 // Hit when tmin <= t <= tmax; u, v are the barycentrics of v1, v2.
 inline bool intersect_watertight(const PreparedRay& r, const Vec3& v0, const Vec3& v1, const Vec3& v2,
                                  float tmax, float* t, float* u, float* v) {
-    const Vec3 a = v0 - r.org, b = v1 - r.org, c = v2 - r.org;
-    const float ax = a[r.kx] - r.sx * a[r.kz], ay = a[r.ky] - r.sy * a[r.kz];
-    const float bx = b[r.kx] - r.sx * b[r.kz], by = b[r.ky] - r.sy * b[r.kz];
-    const float cx = c[r.kx] - r.sx * c[r.kz], cy = c[r.ky] - r.sy * c[r.kz];
-    float eu = cx * by - cy * bx;
-    float ev = ax * cy - ay * cx;
-    float ew = bx * ay - by * ax;
+    const detail::ShearedTriangle s = detail::shear(r, v0, v1, v2);
+    float eu, ev, ew;
+    detail::edge_functions(s, &eu, &ev, &ew);
     if (eu == 0.0f || ev == 0.0f || ew == 0.0f) {  // exactly on an edge: decide in double
-        eu = static_cast<float>(double(cx) * double(by) - double(cy) * double(bx));
-        ev = static_cast<float>(double(ax) * double(cy) - double(ay) * double(cx));
-        ew = static_cast<float>(double(bx) * double(ay) - double(by) * double(ax));
+        double du, dv, dw;
+        detail::edge_functions_exact(s, &du, &dv, &dw);
+        eu = static_cast<float>(du);
+        ev = static_cast<float>(dv);
+        ew = static_cast<float>(dw);
     }
     if ((eu < 0.0f || ev < 0.0f || ew < 0.0f) && (eu > 0.0f || ev > 0.0f || ew > 0.0f)) return false;
     const float det = eu + ev + ew;
     if (det == 0.0f) return false;
-    const float az = r.sz * a[r.kz], bz = r.sz * b[r.kz], cz = r.sz * c[r.kz];
-    const float tt = (eu * az + ev * bz + ew * cz) / det;
+    const float tt = detail::sheared_t(r, s, eu, ev, ew, det);
     if (!(tt >= r.tmin && tt <= tmax)) return false;  // also rejects NaN
     *t = tt;
     *u = ev / det;
