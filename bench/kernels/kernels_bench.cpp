@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "simdbvh/kernels/batch.h"
+#include "simdbvh/kernels/testing.h"
 #include "simdbvh/kernels/isa.h"
 #include "simdbvh/kernels/topology.h"
 

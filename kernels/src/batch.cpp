@@ -1,6 +1,7 @@
 // The public batched entry points: validate the spans, then the one switch on
 // the ISA; the per-ISA translation units do the work (simd/dispatch.h).
 #include "simdbvh/kernels/batch.h"
+#include "simdbvh/kernels/testing.h"
 
 #include <string>
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "simdbvh/kernels/batch.h"
+#include "simdbvh/kernels/testing.h"
 #include "simdbvh/kernels/isa.h"
 
 namespace simdbvh {

@@ -6,6 +6,7 @@
 #include <span>
 
 #include "simdbvh/kernels/batch.h"
+#include "simdbvh/kernels/testing.h"
 
 namespace simdbvh::kernels {
 
