@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Build and test under AddressSanitizer + UndefinedBehaviorSanitizer (with
-# float-divide-by-zero, no recovery): the `asan` preset of CMakePresets.json.
+# float-divide-by-zero, no recovery): the `asan` preset of CMakePresets.json,
+# compiled -O1 -g1 (line tables for the reports; -O2 -g took 3x as long to
+# compile the flattened per-ISA traversals, most of CI).
 #   scripts/asan.sh [extra ctest args, e.g. -L accuracy]
 # Environment: JOBS (build jobs, default 2), TEST_TIMEOUT (seconds per test,
 # default 900), TARGETS (build only these targets, default all).
