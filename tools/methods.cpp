@@ -28,6 +28,7 @@ std::string MethodSpec::label() const {
     return l;
 }
 std::string MethodSpec::isa_name() const {
+    if (is_wide(method) && isa_auto) return std::string(name(traversal_isa_choice(width(), false).isa));
     if (is_wide(method)) return std::string(name(isa));
     if (method == "embree") return "embree-internal";
     return "scalar";
@@ -58,6 +59,7 @@ MethodSpec parse_method(const Options& o) {
         s.isa = *isa;
     } else {
         s.isa = active_isa();
+        s.isa_auto = true;
     }
     if (o.has("builder")) {
         auto b = parse_builder(o.get("builder"));
@@ -153,7 +155,8 @@ public:
         o.test = spec_.test;
         o.stats = stats;
         o.threads = stats ? 1 : spec_.threads;
-        any ? occluded(bvh_, rays, hits, o, spec_.isa) : intersect(bvh_, rays, hits, o, spec_.isa);
+        if (spec_.isa_auto) any ? occluded(bvh_, rays, hits, o) : intersect(bvh_, rays, hits, o);
+        else any ? occluded(bvh_, rays, hits, o, spec_.isa) : intersect(bvh_, rays, hits, o, spec_.isa);
     }
 
 private:

@@ -13,6 +13,7 @@ namespace simdbvh::cli {
 struct MethodSpec {
     std::string method = "bvh2";  // brute | bvh2 | bvh4 | bvh8 | bvh16 | embree | spheres
     Isa isa = Isa::scalar;        // the wide BVHs only (bvh2 and brute are scalar)
+    bool isa_auto = false;        // no --isa: the wide BVHs choose by speed (bvh8.h, traversal_isa_choice)
     BuildOptions build;
     WideOptions bvh8;             // collapse options of bvh4, bvh8, bvh16
     TriangleTest test = TriangleTest::watertight;

@@ -1,7 +1,8 @@
 // Wide BVH batched entry points (N = 4, 8, 16): the only place that chooses
-// an ISA for them.
+// an ISA for them (explicitly, or by speed: isa_choice.h).
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/kernels/parallel.h"
+#include "isa_choice.h"
 #include "traverse.h"
 
 namespace simdbvh {
@@ -33,7 +34,39 @@ void run(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, con
     });
 }
 
+// Without an explicit ISA: the calibrated choice (isa_choice.h), the
+// calibration itself tracing the batch's leading rays with every candidate.
+template <int N, bool kAnyHit>
+void run_auto(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o) {
+    if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
+    std::size_t done = 0;
+    if (!o.stats)
+        done = bvh8::detail::calibrate(N, kAnyHit, rays.size(), [&](Isa isa, std::size_t b, std::size_t e) {
+            TraceOptions one = o;
+            one.threads = 1;
+            run<N, kAnyHit>(bvh, rays.subspan(b, e - b), hits.subspan(b, e - b), one, isa);
+        });
+    run<N, kAnyHit>(bvh, rays.subspan(done), hits.subspan(done), o, bvh8::detail::current_isa(N, kAnyHit));
+}
+
 }  // namespace
+
+template <int N>
+void intersect(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o) {
+    run_auto<N, false>(bvh, rays, hits, o);
+}
+template <int N>
+void occluded(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o) {
+    run_auto<N, true>(bvh, rays, hits, o);
+}
+template <int N>
+Hit intersect(const BvhN<N>& bvh, const Ray& ray, const TraceOptions& o) {
+    return intersect<N>(bvh, ray, o, bvh8::detail::current_isa(N, false));
+}
+template <int N>
+Hit occluded(const BvhN<N>& bvh, const Ray& ray, const TraceOptions& o) {
+    return occluded<N>(bvh, ray, o, bvh8::detail::current_isa(N, true));
+}
 
 template <int N>
 void intersect(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o, Isa isa) {
@@ -60,7 +93,11 @@ Hit occluded(const BvhN<N>& bvh, const Ray& ray, const TraceOptions& o, Isa isa)
     template void intersect<N>(const BvhN<N>&, std::span<const Ray>, std::span<Hit>, const TraceOptions&, Isa); \
     template void occluded<N>(const BvhN<N>&, std::span<const Ray>, std::span<Hit>, const TraceOptions&, Isa);  \
     template Hit intersect<N>(const BvhN<N>&, const Ray&, const TraceOptions&, Isa);                            \
-    template Hit occluded<N>(const BvhN<N>&, const Ray&, const TraceOptions&, Isa);
+    template Hit occluded<N>(const BvhN<N>&, const Ray&, const TraceOptions&, Isa);                             \
+    template void intersect<N>(const BvhN<N>&, std::span<const Ray>, std::span<Hit>, const TraceOptions&);      \
+    template void occluded<N>(const BvhN<N>&, std::span<const Ray>, std::span<Hit>, const TraceOptions&);       \
+    template Hit intersect<N>(const BvhN<N>&, const Ray&, const TraceOptions&);                                 \
+    template Hit occluded<N>(const BvhN<N>&, const Ray&, const TraceOptions&);
 SIMDBVH_WIDTH(4)
 SIMDBVH_WIDTH(8)
 SIMDBVH_WIDTH(16)

@@ -159,6 +159,14 @@ void set_active_isa(Isa isa) {
     g_forced.store(static_cast<int>(isa), std::memory_order_relaxed);
 }
 
+std::optional<Isa> forced_isa() {
+    const int forced = g_forced.load(std::memory_order_relaxed);
+    if (forced >= 0) return static_cast<Isa>(forced);
+    const char* env = std::getenv("SIMDBVH_ISA");
+    if (env && *env) return env_isa();
+    return std::nullopt;
+}
+
 std::string_view cpu_name() { return cpu().brand; }
 
 }  // namespace simdbvh

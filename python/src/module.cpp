@@ -71,6 +71,7 @@ public:
             isa_ = *parsed;
         } else {
             isa_ = active_isa();
+            isa_auto_ = true;
         }
         py::gil_scoped_release nogil;
         bvh2_ = Bvh2::build(mesh_);
@@ -88,8 +89,14 @@ public:
             TraceOptions opts;
             opts.threads = check_threads(threads);
             auto wide = [&](const auto& bvh) {
-                if (any) occluded(bvh, rays, hits, opts, isa_);
-                else simdbvh::intersect(bvh, rays, hits, opts, isa_);
+                if (isa_auto_) {  // chosen by speed (bvh8.h), or the forced SIMDBVH_ISA
+                    if (any) occluded(bvh, rays, hits, opts);
+                    else simdbvh::intersect(bvh, rays, hits, opts);
+                } else if (any) {
+                    occluded(bvh, rays, hits, opts, isa_);
+                } else {
+                    simdbvh::intersect(bvh, rays, hits, opts, isa_);
+                }
             };
             if (bvh4_) {
                 wide(*bvh4_);
@@ -269,12 +276,17 @@ public:
 
     const Mesh& mesh() const { return mesh_; }
     const std::string& method() const { return method_; }
-    std::string isa() const { return std::string(name(bvh4_ || bvh8_ || bvh16_ ? isa_ : Isa::scalar)); }
+    std::string isa() const {
+        if (!(bvh4_ || bvh8_ || bvh16_)) return std::string(name(Isa::scalar));
+        const int w = bvh4_ ? 4 : (bvh8_ ? 8 : 16);
+        return std::string(name(isa_auto_ ? traversal_isa_choice(w, false).isa : isa_));
+    }
 
 private:
     Mesh mesh_;
     std::string method_;
     Isa isa_ = Isa::scalar;
+    bool isa_auto_ = false;  // isa=None
     Bvh2 bvh2_;
     std::optional<Bvh4> bvh4_;
     std::optional<Bvh8> bvh8_;
@@ -331,7 +343,7 @@ PYBIND11_MODULE(_simdbvh, m) {
     py::class_<Bvh>(m, "BVH", "A bounding volume hierarchy over a mesh, and its queries.")
         .def(py::init<Mesh, const std::string&, const std::optional<std::string>&>(), py::arg("mesh"),
              py::arg("method") = "bvh8", py::arg("isa") = py::none(),
-             "method: 'bvh8' (default), 'bvh4' or 'bvh16' (SIMD wide trees), 'bvh2' or 'brute'; isa: 'scalar', 'avx2', 'avx512' or None (best). "
+             "method: 'bvh8' (default), 'bvh4' or 'bvh16' (SIMD wide trees), 'bvh2' or 'brute'; isa: 'scalar', 'avx2', 'avx512' or None (chosen by speed: the faster SIMD path measured once per process on the first batch of 8192 rays or more, or SIMDBVH_ISA when set). "
              "Point queries, crossing counts and all hits use the BVH2 (or brute force).")
         .def_property_readonly("method", &Bvh::method)
         .def_property_readonly("isa", &Bvh::isa)

@@ -83,19 +83,50 @@ using Bvh8 = BvhN<8>;
 using Bvh16 = BvhN<16>;
 
 // Closest hit and any hit, bit-identical to the BVH2 (same kernels, same tie
-// rule). One switch on `isa` per batch; an unsupported isa throws simdbvh::Error.
-// TraceOptions::stats: nodes_visited counts wide nodes; box_tests and
-// triangle_tests count lanes (N per node test, kBlockWidth per Tri8 block).
-// Defined for N = 4, 8, 16.
+// rule) on every ISA. TraceOptions::stats: nodes_visited counts wide nodes;
+// box_tests and triangle_tests count lanes (N per node test, kBlockWidth per
+// Tri8 block). Defined for N = 4, 8, 16.
+//
+// With `isa`: that ISA's code runs (one switch per batch; an unsupported isa
+// throws simdbvh::Error). Without it, the ISA is chosen by speed: the forced
+// one when SIMDBVH_ISA or set_active_isa() sets it (forced_isa()); otherwise,
+// once per process and per (width, query), the first batch of at least
+// kIsaCalibrationRays rays times its first rays with every SIMD ISA the CPU
+// has (the same rays with each, so the results are those of any path) and
+// keeps the fastest, preferring the widest unless another is more than 3%
+// faster; before that, the best detected ISA. traversal_isa_choice() reports it.
 template <int N>
-void intersect(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& opts = {},
-               Isa isa = active_isa());
+void intersect(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& opts,
+               Isa isa);
 template <int N>
-void occluded(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& opts = {},
-              Isa isa = active_isa());
+void occluded(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& opts,
+              Isa isa);
 template <int N>
-Hit intersect(const BvhN<N>& bvh, const Ray& ray, const TraceOptions& opts = {}, Isa isa = active_isa());
+void intersect(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& opts = {});
 template <int N>
-Hit occluded(const BvhN<N>& bvh, const Ray& ray, const TraceOptions& opts = {}, Isa isa = active_isa());
+void occluded(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& opts = {});
+template <int N>
+Hit intersect(const BvhN<N>& bvh, const Ray& ray, const TraceOptions& opts, Isa isa);
+template <int N>
+Hit occluded(const BvhN<N>& bvh, const Ray& ray, const TraceOptions& opts, Isa isa);
+template <int N>
+Hit intersect(const BvhN<N>& bvh, const Ray& ray, const TraceOptions& opts = {});
+template <int N>
+Hit occluded(const BvhN<N>& bvh, const Ray& ray, const TraceOptions& opts = {});
+
+// Batches smaller than this never calibrate (they use the current choice).
+inline constexpr std::size_t kIsaCalibrationRays = 8192;
+
+// The ISA the overloads without `isa` use now for this width (4, 8, 16) and
+// query, and why. ns_per_ray[int(isa)]: the calibration's measured time per
+// ray and ISA (0 for an ISA not measured).
+struct TraversalIsaChoice {
+    Isa isa = Isa::scalar;
+    bool forced = false;      // SIMDBVH_ISA or set_active_isa()
+    bool calibrated = false;  // chosen by the calibration (else: the best detected, not yet calibrated)
+    double ns_per_ray[3] = {0, 0, 0};
+    std::size_t rays_timed = 0;  // rays timed per ISA
+};
+TraversalIsaChoice traversal_isa_choice(int width, bool any_hit);
 
 }  // namespace simdbvh

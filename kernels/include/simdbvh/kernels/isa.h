@@ -23,6 +23,9 @@ bool supported(Isa isa);
 Isa active_isa();
 // Forces the active ISA; throws simdbvh::Error when the CPU lacks it.
 void set_active_isa(Isa isa);
+// The ISA set_active_isa() or a non-empty SIMDBVH_ISA forces, if any (entry
+// points that choose their ISA by speed, e.g. the wide BVH traversal, obey it).
+std::optional<Isa> forced_isa();
 // Throws simdbvh::Error with a clear message when the CPU lacks the ISA.
 void require(Isa isa);
 
