@@ -4,6 +4,10 @@
 // counters count lanes (N per node, 8 per Tri8 block).
 #include <benchmark/benchmark.h>
 
+#include <sstream>
+#include <string>
+#include <vector>
+
 #include "traversal_fixture.h"
 
 namespace {
@@ -65,6 +69,37 @@ void BM_Bvh16(benchmark::State& st, Isa isa, Collapse collapse, RayKind kind, bo
         ->Unit(benchmark::kMillisecond);                                                                            \
     BENCHMARK_CAPTURE(fn, isa##_##collapse##_diffuse_any, Isa::isa, Collapse::collapse, RayKind::diffuse, true)         \
         ->Unit(benchmark::kMillisecond)
+
+// Without an explicit ISA: the choice by speed (bvh8.h, traversal_isa_choice;
+// the untimed warm-up's batch calibrates it when it is the process's first).
+void BM_Bvh8Auto(benchmark::State& st, RayKind kind, bool any) {
+    const auto& bvh = bench::traversal_scene().bvh8;
+    const auto& rays = bench::rays_of(kind);
+    std::vector<simdbvh::Hit> hits(rays.size());
+    auto pass = [&] {
+        if (any) simdbvh::occluded(bvh, rays, hits);
+        else simdbvh::intersect(bvh, rays, hits);
+    };
+    pass();
+    for (auto _ : st) {
+        pass();
+        benchmark::DoNotOptimize(hits.data());
+    }
+    st.counters["rays/s"] = benchmark::Counter(double(rays.size()), benchmark::Counter::kIsIterationInvariantRate);
+    const simdbvh::TraversalIsaChoice c = simdbvh::traversal_isa_choice(8, any);
+    std::ostringstream label;
+    label << "bvh8 auto->" << simdbvh::name(c.isa) << " (" << (c.forced ? "forced" : (c.calibrated ? "calibrated" : "detected"));
+    for (Isa isa : simdbvh::kAllIsas)
+        if (c.ns_per_ray[int(isa)] > 0) label << " " << simdbvh::name(isa) << "=" << int(c.ns_per_ray[int(isa)]) << "ns";
+    label << ") " << simdbvh::scene::name(kind) << (any ? " any" : " closest");
+    st.SetLabel(label.str());
+}
+#define SIMDBVH_AUTO_BENCH(kind)                                                                                   \
+    BENCHMARK_CAPTURE(BM_Bvh8Auto, auto_sah_##kind##_closest, RayKind::kind, false)->Unit(benchmark::kMillisecond); \
+    BENCHMARK_CAPTURE(BM_Bvh8Auto, auto_sah_##kind##_any, RayKind::kind, true)->Unit(benchmark::kMillisecond)
+SIMDBVH_AUTO_BENCH(primary);
+SIMDBVH_AUTO_BENCH(incoherent);
+SIMDBVH_AUTO_BENCH(diffuse);
 
 SIMDBVH_WIDE_BENCH(BM_Bvh8, scalar, sah);
 SIMDBVH_WIDE_BENCH(BM_Bvh8, avx2, sah);

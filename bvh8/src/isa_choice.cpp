@@ -3,6 +3,7 @@
 // on a CPU, the default must not pick it).
 #include "isa_choice.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <string>
@@ -14,9 +15,9 @@ namespace simdbvh::bvh8::detail {
 namespace {
 
 constexpr int kUnknown = -1, kCalibrating = -2;
-// Chunks of leading rays, each traced with every candidate ISA (the order
-// alternates per chunk); the first chunk is an untimed warm-up.
-constexpr std::size_t kChunk = 512, kChunks = 5;
+// Chunks each traced with every candidate ISA (the order alternates per
+// chunk); the first chunk is an untimed warm-up.
+constexpr std::size_t kChunk = kCalibrationChunk, kChunks = kCalibrationChunks;
 static_assert(kChunk * kChunks <= kIsaCalibrationRays);
 // The widest ISA keeps the choice unless another is more than this much faster.
 constexpr double kMargin = 0.97;
@@ -47,41 +48,62 @@ Isa current_isa(int width, bool any_hit) {
     return s >= 0 ? static_cast<Isa>(s) : detected_isa();
 }
 
-std::size_t calibrate(int width, bool any_hit, std::size_t rays,
-                      const std::function<void(Isa, std::size_t, std::size_t)>& trace) {
-    if (rays < kIsaCalibrationRays || forced_isa()) return 0;
+Range calibration_chunk(std::size_t c, std::size_t rays) {
+    const std::size_t b = c * (rays / kChunks);  // rays >= kIsaCalibrationRays: the chunks never overlap
+    return {b, b + kChunk};
+}
+
+bool calibrate(int width, bool any_hit, std::size_t rays,
+               const std::function<void(Isa, std::size_t, std::size_t)>& trace) {
+    if (rays < kIsaCalibrationRays || forced_isa()) return false;
     Slot& s = slot(width, any_hit);
-    if (s.state.load(std::memory_order_acquire) != kUnknown) return 0;
+    if (s.state.load(std::memory_order_acquire) != kUnknown) return false;
     const std::vector<Isa> cands = candidates();
-    if (cands.size() < 2) return 0;
+    if (cands.size() < 2) return false;
     int expected = kUnknown;
-    if (!s.state.compare_exchange_strong(expected, kCalibrating, std::memory_order_acq_rel)) return 0;
-    double ns[3] = {0, 0, 0};
+    if (!s.state.compare_exchange_strong(expected, kCalibrating, std::memory_order_acq_rel)) return false;
+    // t[isa][c]: chunk c's time with isa. Per chunk, the ratio to the widest
+    // ISA's time on the same rays; the median ratio decides (a chunk that a
+    // preemption stretched is an outlier, not a verdict).
+    double t[3][kChunks] = {};
     try {
         for (std::size_t c = 0; c < kChunks; ++c) {
-            const std::size_t b = c * kChunk, e = b + kChunk;
+            const auto [b, e] = calibration_chunk(c, rays);
             for (std::size_t k = 0; k < cands.size(); ++k) {
                 const Isa isa = cands[c % 2 == 0 ? k : cands.size() - 1 - k];
                 const auto t0 = std::chrono::steady_clock::now();
                 trace(isa, b, e);
-                const auto t1 = std::chrono::steady_clock::now();
-                if (c > 0) ns[int(isa)] += std::chrono::duration<double, std::nano>(t1 - t0).count();
+                t[int(isa)][c] = std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count();
             }
         }
     } catch (...) {
         s.state.store(kUnknown, std::memory_order_release);
         throw;
     }
-    Isa best = cands.back();  // the widest
-    for (Isa isa : cands)
-        if (ns[int(isa)] < kMargin * ns[int(best)]) best = isa;
+    auto median_timed = [&](auto value) {  // over chunks 1..kChunks-1 (chunk 0 is the warm-up)
+        std::vector<double> v;
+        for (std::size_t c = 1; c < kChunks; ++c) v.push_back(value(c));
+        std::sort(v.begin(), v.end());
+        const std::size_t n = v.size();
+        return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+    };
+    const Isa widest = cands.back();
+    Isa best = widest;
+    double best_ratio = 1.0;
+    for (Isa isa : cands) {
+        const double r = median_timed([&](std::size_t c) { return t[int(isa)][c] / t[int(widest)][c]; });
+        if (r < kMargin && r < best_ratio) {
+            best = isa;
+            best_ratio = r;
+        }
+    }
     TraversalIsaChoice& ch = s.choice;
     ch.isa = best;
     ch.calibrated = true;
     ch.rays_timed = kChunk * (kChunks - 1);
-    for (Isa isa : cands) ch.ns_per_ray[int(isa)] = ns[int(isa)] / double(ch.rays_timed);
+    for (Isa isa : cands) ch.ns_per_ray[int(isa)] = median_timed([&](std::size_t c) { return t[int(isa)][c]; }) / double(kChunk);
     s.state.store(int(best), std::memory_order_release);
-    return kChunk * kChunks;
+    return true;
 }
 
 }  // namespace simdbvh::bvh8::detail

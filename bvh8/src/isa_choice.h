@@ -15,10 +15,16 @@ Isa current_isa(int width, bool any_hit);
 // Calibrates this (width, query) when it has no choice yet, nothing forces an
 // ISA, the CPU has two SIMD ISAs, `rays` >= kIsaCalibrationRays and no other
 // thread is calibrating it. trace(isa, begin, end) must trace rays [begin, end)
-// with `isa` (every candidate traces the same leading rays, so their hits are
-// final whichever ran last). Returns how many leading rays were traced (0:
-// none, no calibration).
-std::size_t calibrate(int width, bool any_hit, std::size_t rays,
-                      const std::function<void(Isa, std::size_t, std::size_t)>& trace);
+// with `isa` (every candidate traces the same rays, so their hits are final
+// whichever ran last). The calibration traces kCalibrationChunks chunks spread
+// evenly over the batch (the rays of a primary image differ from row to row);
+// returns whether it did (then calibration_chunk(c, rays) are the traced ranges).
+inline constexpr std::size_t kCalibrationChunk = 512, kCalibrationChunks = 5;
+struct Range {
+    std::size_t begin, end;
+};
+Range calibration_chunk(std::size_t c, std::size_t rays);
+bool calibrate(int width, bool any_hit, std::size_t rays,
+               const std::function<void(Isa, std::size_t, std::size_t)>& trace);
 
 }  // namespace simdbvh::bvh8::detail

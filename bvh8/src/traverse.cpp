@@ -39,14 +39,21 @@ void run(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, con
 template <int N, bool kAnyHit>
 void run_auto(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o) {
     if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
-    std::size_t done = 0;
-    if (!o.stats)
-        done = bvh8::detail::calibrate(N, kAnyHit, rays.size(), [&](Isa isa, std::size_t b, std::size_t e) {
+    const bool calibrated =
+        !o.stats && bvh8::detail::calibrate(N, kAnyHit, rays.size(), [&](Isa isa, std::size_t b, std::size_t e) {
             TraceOptions one = o;
             one.threads = 1;
             run<N, kAnyHit>(bvh, rays.subspan(b, e - b), hits.subspan(b, e - b), one, isa);
         });
-    run<N, kAnyHit>(bvh, rays.subspan(done), hits.subspan(done), o, bvh8::detail::current_isa(N, kAnyHit));
+    const Isa isa = bvh8::detail::current_isa(N, kAnyHit);
+    if (!calibrated) return run<N, kAnyHit>(bvh, rays, hits, o, isa);
+    std::size_t b = 0;  // the rays between the calibration's chunks
+    for (std::size_t c = 0; c <= bvh8::detail::kCalibrationChunks; ++c) {
+        const std::size_t e =
+            c < bvh8::detail::kCalibrationChunks ? bvh8::detail::calibration_chunk(c, rays.size()).begin : rays.size();
+        if (e > b) run<N, kAnyHit>(bvh, rays.subspan(b, e - b), hits.subspan(b, e - b), o, isa);
+        if (c < bvh8::detail::kCalibrationChunks) b = bvh8::detail::calibration_chunk(c, rays.size()).end;
+    }
 }
 
 }  // namespace
