@@ -72,7 +72,9 @@ inline PreparedRay prepare(const Ray& r) {
     const bool dir_ok = is_finite(r.dir) && (r.dir.x != 0.0f || r.dir.y != 0.0f || r.dir.z != 0.0f);
     p.valid = dir_ok && is_finite(r.org) && !std::isnan(r.tmin) && !std::isnan(r.tmax) && r.tmin <= r.tmax;
     if (dir_ok) {
-        const float m = std::fmax(std::fabs(r.dir.x), std::fmax(std::fabs(r.dir.y), std::fabs(r.dir.z)));
+        // Finite components here, so a plain comparison is fmax (std::fmax is a libm call without -ffinite-math-only).
+        const float ax = std::fabs(r.dir.x), ay = std::fabs(r.dir.y), az = std::fabs(r.dir.z);
+        const float m = ax > ay ? (ax > az ? ax : az) : (ay > az ? ay : az);
         if (m < kRescaleBelow || m > kRescaleAbove) {
             const int k = -std::ilogb(m);  // m * 2^k in [1, 2)
             p.dir = {std::ldexp(r.dir.x, k), std::ldexp(r.dir.y, k), std::ldexp(r.dir.z, k)};
