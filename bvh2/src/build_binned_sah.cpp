@@ -120,6 +120,7 @@ Split best_split(const BuildContext& ctx, const Bins3& bins, int nbins, const fl
                  std::uint32_t n) {
     Split best;
     T best_num = std::numeric_limits<T>::infinity();
+    int best_axis = -1, best_bin = 0;
     T right_area[kMaxBins];
     std::uint32_t right_count[kMaxBins];
     int used[kMaxBins];
@@ -127,8 +128,10 @@ Split best_split(const BuildContext& ctx, const Bins3& bins, int nbins, const fl
         if (scale[axis] == 0.0f) continue;
         const Bin* bn = bins.bins[axis];
         int k = 0;
-        for (int b = 0; b < nbins; ++b)
-            if (bn[b].count) used[k++] = b;
+        for (int b = 0; b < nbins; ++b) {  // branch-free: empty bins are unpredictable in small nodes
+            used[k] = b;
+            k += bn[b].count != 0;
+        }
         if (k < 2) continue;
         Box4 acc;
         std::uint32_t cnt = 0;
@@ -144,13 +147,14 @@ Split best_split(const BuildContext& ctx, const Bins3& bins, int nbins, const fl
             acc.grow(bn[used[j - 1]].box);
             cnt += bn[used[j - 1]].count;
             const T num = half_area<T>(acc) * T(cnt) + right_area[j] * T(right_count[j]);
-            if (num < best_num) {
-                best_num = num;
-                best.axis = axis;
-                best.bin = used[j - 1] + 1;
-            }
+            const bool better = num < best_num;  // selects, not branches (unpredictable)
+            best_num = better ? num : best_num;
+            best_axis = better ? axis : best_axis;
+            best_bin = better ? used[j - 1] + 1 : best_bin;
         }
     }
+    best.axis = best_axis;
+    best.bin = best_bin;
     // A flat parent (zero area: collinear or coincident boxes) makes every split cost the same.
     const T parent_area = sah_area<T>(node_box);
     const T ct = T(ctx.opts.traversal_cost), ci = T(ctx.opts.intersection_cost);
@@ -159,13 +163,8 @@ Split best_split(const BuildContext& ctx, const Bins3& bins, int nbins, const fl
     return best;
 }
 
-}  // namespace
-
-SplitResult split_binned_sah(BuildContext& ctx, std::uint32_t begin, std::uint32_t end, const Aabb& node_box,
-                             const Aabb& centroid_box, int /*depth*/) {
-    const int nbins = std::clamp(ctx.opts.bins, 2, kMaxBins);
-    const std::uint32_t n = end - begin;
-    float scale[3];
+// Bin scales per axis: nbins / centroid extent, 0 for a flat (or non-finite) axis.
+Binner make_binner(const Aabb& centroid_box, int nbins, float scale[3]) {
     for (int a = 0; a < 3; ++a) {
         const float extent = centroid_box.hi[a] - centroid_box.lo[a];
         scale[a] = extent > 0.0f ? float(nbins) / extent : 0.0f;
@@ -173,46 +172,49 @@ SplitResult split_binned_sah(BuildContext& ctx, std::uint32_t begin, std::uint32
             scale[a] = float(double(nbins) / (double(centroid_box.hi[a]) - double(centroid_box.lo[a])));
         if (!std::isfinite(scale[a])) scale[a] = 0.0f;
     }
-    const Binner binner(centroid_box, nbins, scale);
-    thread_local Bins3 tl_bins;  // one per thread: no allocation per node
+    return Binner(centroid_box, nbins, scale);
+}
+
+// Bins refs[begin, end), on several threads when the range is large. The
+// result is in a thread_local table (no allocation per node).
+const Bins3& fill_bins(const BuildContext& ctx, std::uint32_t begin, std::uint32_t end, const Binner& binner) {
+    thread_local Bins3 tl_bins;
     Bins3* bins = &tl_bins;
+    const std::uint32_t n = end - begin;
     const int workers = n >= kParallelBinMin ? std::min(ctx.opts.threads, 8) : 1;
-    if (workers > 1) {
-        std::vector<std::unique_ptr<Bins3>> parts(std::size_t(workers - 1));
-        std::vector<std::future<void>> futs;
-        const std::uint32_t chunk = (n + std::uint32_t(workers) - 1) / std::uint32_t(workers);
-        for (int w = 1; w < workers; ++w) {
-            parts[std::size_t(w - 1)] = std::make_unique<Bins3>();
-            const std::uint32_t b = std::min(end, begin + chunk * std::uint32_t(w));
-            const std::uint32_t e = std::min(end, b + chunk);
-            Bins3* out = parts[std::size_t(w - 1)].get();
-            auto task = [&, b, e, out] { bin_range(ctx, b, e, binner, *out); };
-            try {  // no thread (a process or memory limit): bin this chunk here
-                futs.push_back(std::async(std::launch::async, task));
-            } catch (const std::exception&) {
-                task();
-            }
-        }
-        bin_range(ctx, begin, std::min(end, begin + chunk), binner, *bins);
-        for (auto& f : futs) f.get();
-        for (const auto& part : parts)
-            for (int a = 0; a < 3; ++a)
-                for (int b = 0; b < nbins; ++b) {
-                    bins->bins[a][b].box.grow(part->bins[a][b].box);
-                    bins->bins[a][b].count += part->bins[a][b].count;
-                }
-    } else {
+    if (workers <= 1) {
         bin_range(ctx, begin, end, binner, *bins);
+        return *bins;
     }
+    std::vector<std::unique_ptr<Bins3>> parts(std::size_t(workers - 1));
+    std::vector<std::future<void>> futs;
+    const std::uint32_t chunk = (n + std::uint32_t(workers) - 1) / std::uint32_t(workers);
+    for (int w = 1; w < workers; ++w) {
+        parts[std::size_t(w - 1)] = std::make_unique<Bins3>();
+        const std::uint32_t b = std::min(end, begin + chunk * std::uint32_t(w));
+        const std::uint32_t e = std::min(end, b + chunk);
+        Bins3* out = parts[std::size_t(w - 1)].get();
+        auto task = [&, b, e, out] { bin_range(ctx, b, e, binner, *out); };
+        try {  // no thread (a process or memory limit): bin this chunk here
+            futs.push_back(std::async(std::launch::async, task));
+        } catch (const std::exception&) {
+            task();
+        }
+    }
+    bin_range(ctx, begin, std::min(end, begin + chunk), binner, *bins);
+    for (auto& f : futs) f.get();
+    for (const auto& part : parts)
+        for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < binner.nbins; ++b) {
+                bins->bins[a][b].box.grow(part->bins[a][b].box);
+                bins->bins[a][b].count += part->bins[a][b].count;
+            }
+    return *bins;
+}
 
-    const Split best = ctx.float_costs ? best_split<float>(ctx, *bins, nbins, scale, node_box, n)
-                                       : best_split<double>(ctx, *bins, nbins, scale, node_box, n);
-    SplitResult r;
-    if (best.axis < 0) return r;  // no usable split: the caller falls back
-    r.make_leaf = best.leaf;
-    if (r.make_leaf) return r;
-
-    // Partition in place, gathering both children's bounds on the way.
+// Partitions refs[begin, end) in place by the split's bin boundary, gathering
+// both children's bounds on the way.
+SplitResult partition(BuildContext& ctx, std::uint32_t begin, std::uint32_t end, const Binner& binner, const Split& best) {
     alignas(16) std::int32_t idx[4];
     auto goes_left = [&](const PrimRef& p) {
         _mm_store_si128(reinterpret_cast<__m128i*>(idx), binner.index(load_c(p)));
@@ -239,12 +241,31 @@ SplitResult split_binned_sah(BuildContext& ctx, std::uint32_t begin, std::uint32
         add_left(refs[i++]);
         add_right(refs[--j]);
     }
+    SplitResult r;
     r.mid = i;
     r.found = true;
     r.has_bounds = true;
     r.left = {lbox.aabb(), lcbox.aabb()};
     r.right = {rbox.aabb(), rcbox.aabb()};
     return r;
+}
+
+}  // namespace
+
+SplitResult split_binned_sah(BuildContext& ctx, std::uint32_t begin, std::uint32_t end, const Aabb& node_box,
+                             const Aabb& centroid_box, int /*depth*/) {
+    const int nbins = std::clamp(ctx.opts.bins, 2, kMaxBins);
+    const std::uint32_t n = end - begin;
+    float scale[3];
+    const Binner binner = make_binner(centroid_box, nbins, scale);
+    const Bins3& bins = fill_bins(ctx, begin, end, binner);
+    const Split best = ctx.float_costs ? best_split<float>(ctx, bins, nbins, scale, node_box, n)
+                                       : best_split<double>(ctx, bins, nbins, scale, node_box, n);
+    SplitResult r;
+    if (best.axis < 0) return r;  // no usable split: the caller falls back
+    r.make_leaf = best.leaf;
+    if (r.make_leaf) return r;
+    return partition(ctx, begin, end, binner, best);
 }
 
 }  // namespace simdbvh::detail
