@@ -109,20 +109,64 @@ void bin_range(const BuildContext& ctx, std::uint32_t begin, std::uint32_t end, 
 // (min/max and integer counts), so the result does not depend on the count.
 constexpr std::uint32_t kParallelBinMin = 128 * 1024;
 
-// The SAH sweep over the bins, costs in T (BuildContext::float_costs).
+// The best split so far over all axes: the minimal SAH numerator, first
+// axis then first bin boundary on ties (the order of the sweeps).
+template <class T>
+struct Best {
+    T num = std::numeric_limits<T>::infinity();
+    int axis = -1, bin = 0;
+};
+
+// The SAH sweep over one axis, costs in T (BuildContext::float_costs).
 // The minimum needs only the numerator A_L N_L + A_R N_R: the cost is
 // Ct + Ci * numerator / A, monotonic in it. Only boundaries between
-// non-empty bins give distinct partitions, so the sweeps visit the
-// non-empty bins only (small nodes have few); the chosen split is the
-// first minimal bin boundary, as a sweep over every bin would pick.
+// non-empty bins give distinct partitions, so the sweep visits the k >= 2
+// non-empty bins only, in bin order: box(j), count(j), index(j); the chosen
+// split is the first minimal bin boundary, as a sweep over every bin would pick.
+template <class T, class BoxAt, class CountAt, class IndexAt>
+void sweep_axis(int axis, int k, BoxAt box, CountAt count, IndexAt index, Best<T>& best) {
+    T right_area[kMaxBins];
+    std::uint32_t right_count[kMaxBins];
+    Box4 acc;
+    std::uint32_t cnt = 0;
+    for (int j = k - 1; j > 0; --j) {
+        acc.grow(box(j));
+        cnt += count(j);
+        right_area[j] = half_area<T>(acc);
+        right_count[j] = cnt;
+    }
+    acc = Box4{};
+    cnt = 0;
+    for (int j = 1; j < k; ++j) {
+        acc.grow(box(j - 1));
+        cnt += count(j - 1);
+        const T num = half_area<T>(acc) * T(cnt) + right_area[j] * T(right_count[j]);
+        const bool better = num < best.num;  // selects, not branches (unpredictable)
+        best.num = better ? num : best.num;
+        best.axis = better ? axis : best.axis;
+        best.bin = better ? index(j - 1) + 1 : best.bin;
+    }
+}
+
+// The leaf test of the best split: the SAH cost against the leaf cost.
+template <class T>
+Split finish(const BuildContext& ctx, const Best<T>& b, const Aabb& node_box, std::uint32_t n) {
+    Split best;
+    best.axis = b.axis;
+    best.bin = b.bin;
+    // A flat parent (zero area: collinear or coincident boxes) makes every split cost the same.
+    const T parent_area = sah_area<T>(node_box);
+    const T ct = T(ctx.opts.traversal_cost), ci = T(ctx.opts.intersection_cost);
+    const T cost = parent_area > T(0) ? ct + ci * b.num / parent_area : ct;
+    best.leaf = cost >= ci * T(n) && n <= std::uint32_t(ctx.opts.max_leaf_size);
+    return best;
+}
+
+// The best split over the filled bins.
 template <class T>
 Split best_split(const BuildContext& ctx, const Bins3& bins, int nbins, const float scale[3], const Aabb& node_box,
                  std::uint32_t n) {
-    Split best;
-    T best_num = std::numeric_limits<T>::infinity();
-    int best_axis = -1, best_bin = 0;
-    T right_area[kMaxBins];
-    std::uint32_t right_count[kMaxBins];
+    Best<T> best;
     int used[kMaxBins];
     for (int axis = 0; axis < 3; ++axis) {
         if (scale[axis] == 0.0f) continue;
@@ -133,34 +177,58 @@ Split best_split(const BuildContext& ctx, const Bins3& bins, int nbins, const fl
             k += bn[b].count != 0;
         }
         if (k < 2) continue;
-        Box4 acc;
-        std::uint32_t cnt = 0;
-        for (int j = k - 1; j > 0; --j) {
-            acc.grow(bn[used[j]].box);
-            cnt += bn[used[j]].count;
-            right_area[j] = half_area<T>(acc);
-            right_count[j] = cnt;
-        }
-        acc = Box4{};
-        cnt = 0;
-        for (int j = 1; j < k; ++j) {
-            acc.grow(bn[used[j - 1]].box);
-            cnt += bn[used[j - 1]].count;
-            const T num = half_area<T>(acc) * T(cnt) + right_area[j] * T(right_count[j]);
-            const bool better = num < best_num;  // selects, not branches (unpredictable)
-            best_num = better ? num : best_num;
-            best_axis = better ? axis : best_axis;
-            best_bin = better ? used[j - 1] + 1 : best_bin;
-        }
+        sweep_axis<T>(axis, k, [&](int j) -> const Box4& { return bn[used[j]].box; },
+                      [&](int j) { return bn[used[j]].count; }, [&](int j) { return used[j]; }, best);
     }
-    best.axis = best_axis;
-    best.bin = best_bin;
-    // A flat parent (zero area: collinear or coincident boxes) makes every split cost the same.
-    const T parent_area = sah_area<T>(node_box);
-    const T ct = T(ctx.opts.traversal_cost), ci = T(ctx.opts.intersection_cost);
-    const T cost = parent_area > T(0) ? ct + ci * best_num / parent_area : ct;
-    best.leaf = cost >= ci * T(n) && n <= std::uint32_t(ctx.opts.max_leaf_size);
-    return best;
+    return finish(ctx, best, node_box, n);
+}
+
+// Ranges this small skip the bin table (resetting and scanning 3 x nbins bins
+// costs more than the primitives): per axis, the primitives are sorted by bin
+// index (stable, so each bin's box grows in range order as bin_range grows
+// it) and the non-empty bins are the runs of equal indices. Same bins, same
+// sweep, same split as the table.
+constexpr std::uint32_t kSmallRange = 16;
+
+template <class T>
+Split best_split_small(const BuildContext& ctx, std::uint32_t begin, std::uint32_t end, const Binner& binner,
+                       const float scale[3], const Aabb& node_box) {
+    const std::uint32_t n = end - begin;
+    alignas(16) std::int32_t idx[kSmallRange][4];
+    for (std::uint32_t i = 0; i < n; ++i)
+        _mm_store_si128(reinterpret_cast<__m128i*>(idx[i]), binner.index(load_c(ctx.refs[begin + i])));
+    Best<T> best;
+    for (int axis = 0; axis < 3; ++axis) {
+        if (scale[axis] == 0.0f) continue;
+        int order[kSmallRange];
+        for (std::uint32_t i = 0; i < n; ++i) {  // insertion sort by bin index (stable)
+            const int key = idx[i][axis];
+            std::uint32_t j = i;
+            for (; j > 0 && idx[order[j - 1]][axis] > key; --j) order[j] = order[j - 1];
+            order[j] = int(i);
+        }
+        Box4 box[kSmallRange];
+        std::uint32_t count[kSmallRange];
+        int index[kSmallRange];
+        int k = -1;
+        for (std::uint32_t i = 0; i < n; ++i) {
+            const int o = order[i];
+            if (k < 0 || idx[o][axis] != index[k]) {
+                ++k;
+                box[k] = Box4{};
+                count[k] = 0;
+                index[k] = idx[o][axis];
+            }
+            const PrimRef& r = ctx.refs[begin + std::uint32_t(o)];
+            box[k].grow(load_lo(r), load_hi(r));
+            ++count[k];
+        }
+        ++k;
+        if (k < 2) continue;
+        sweep_axis<T>(axis, k, [&](int j) -> const Box4& { return box[j]; }, [&](int j) { return count[j]; },
+                      [&](int j) { return index[j]; }, best);
+    }
+    return finish(ctx, best, node_box, n);
 }
 
 // Bin scales per axis: nbins / centroid extent, 0 for a flat (or non-finite) axis.
@@ -258,9 +326,15 @@ SplitResult split_binned_sah(BuildContext& ctx, std::uint32_t begin, std::uint32
     const std::uint32_t n = end - begin;
     float scale[3];
     const Binner binner = make_binner(centroid_box, nbins, scale);
-    const Bins3& bins = fill_bins(ctx, begin, end, binner);
-    const Split best = ctx.float_costs ? best_split<float>(ctx, bins, nbins, scale, node_box, n)
-                                       : best_split<double>(ctx, bins, nbins, scale, node_box, n);
+    Split best;
+    if (n <= kSmallRange) {
+        best = ctx.float_costs ? best_split_small<float>(ctx, begin, end, binner, scale, node_box)
+                               : best_split_small<double>(ctx, begin, end, binner, scale, node_box);
+    } else {
+        const Bins3& bins = fill_bins(ctx, begin, end, binner);
+        best = ctx.float_costs ? best_split<float>(ctx, bins, nbins, scale, node_box, n)
+                               : best_split<double>(ctx, bins, nbins, scale, node_box, n);
+    }
     SplitResult r;
     if (best.axis < 0) return r;  // no usable split: the caller falls back
     r.make_leaf = best.leaf;
