@@ -62,8 +62,24 @@ struct Bin {
     std::uint32_t count = 0;
 };
 
+// Bins on the three axes. Up to kMaskBins bins, the non-empty ones are also
+// kept as bit masks: the sweep then visits them without scanning the table,
+// and clear() resets only them (small nodes touch a few of the 3 x nbins).
+// The table is empty between uses.
+constexpr int kMaskBins = 64;
 struct Bins3 {
     Bin bins[3][kMaxBins];
+    std::uint64_t used[3] = {};  // nbins <= kMaskBins: bit b = bin b is not empty
+    void clear(int nbins) {
+        for (int a = 0; a < 3; ++a) {
+            if (nbins <= kMaskBins) {
+                for (std::uint64_t m = used[a]; m; m &= m - 1) bins[a][__builtin_ctzll(m)] = Bin{};
+            } else {
+                for (int b = 0; b < nbins; ++b) bins[a][b] = Bin{};
+            }
+            used[a] = 0;
+        }
+    }
 };
 
 struct Split {
@@ -88,11 +104,10 @@ struct Binner {
     __m128i index(__m128 c) const { return _mm_cvttps_epi32(_mm_min_ps(_mm_mul_ps(_mm_sub_ps(c, cmin), scale), top)); }
 };
 
-// Bins refs[begin, end) on all three axes in one pass.
+// Bins refs[begin, end) on all three axes in one pass, into an empty table.
 void bin_range(const BuildContext& ctx, std::uint32_t begin, std::uint32_t end, const Binner& binner, Bins3& out) {
-    for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < binner.nbins; ++b) out.bins[a][b] = Bin{};
     alignas(16) std::int32_t idx[4];
+    std::uint64_t used[3] = {};
     for (std::uint32_t i = begin; i < end; ++i) {
         const PrimRef& r = ctx.refs[i];
         const __m128 lo = load_lo(r), hi = load_hi(r);
@@ -101,8 +116,10 @@ void bin_range(const BuildContext& ctx, std::uint32_t begin, std::uint32_t end, 
             Bin& bin = out.bins[a][idx[a]];
             bin.box.grow(lo, hi);
             bin.count++;
+            used[a] |= std::uint64_t(1) << (idx[a] & (kMaskBins - 1));  // meaningful for nbins <= kMaskBins
         }
     }
+    for (int a = 0; a < 3; ++a) out.used[a] |= used[a];
 }
 
 // Ranges this large are binned by several threads; bins merge exactly
@@ -141,10 +158,11 @@ void sweep_axis(int axis, int k, BoxAt box, CountAt count, IndexAt index, Best<T
         acc.grow(box(j - 1));
         cnt += count(j - 1);
         const T num = half_area<T>(acc) * T(cnt) + right_area[j] * T(right_count[j]);
-        const bool better = num < best.num;  // selects, not branches (unpredictable)
-        best.num = better ? num : best.num;
-        best.axis = better ? axis : best.axis;
-        best.bin = better ? index(j - 1) + 1 : best.bin;
+        // Selects with masks, not branches (the outcome is unpredictable).
+        const int keep = int(num < best.num) - 1;  // 0: take the new split, -1: keep the best
+        best.num = num < best.num ? num : best.num;  // minss
+        best.axis = (best.axis & keep) | (axis & ~keep);
+        best.bin = (best.bin & keep) | ((index(j - 1) + 1) & ~keep);
     }
 }
 
@@ -172,61 +190,17 @@ Split best_split(const BuildContext& ctx, const Bins3& bins, int nbins, const fl
         if (scale[axis] == 0.0f) continue;
         const Bin* bn = bins.bins[axis];
         int k = 0;
-        for (int b = 0; b < nbins; ++b) {  // branch-free: empty bins are unpredictable in small nodes
-            used[k] = b;
-            k += bn[b].count != 0;
+        if (nbins <= kMaskBins) {
+            for (std::uint64_t m = bins.used[axis]; m; m &= m - 1) used[k++] = __builtin_ctzll(m);
+        } else {
+            for (int b = 0; b < nbins; ++b) {  // branch-free: empty bins are unpredictable in small nodes
+                used[k] = b;
+                k += bn[b].count != 0;
+            }
         }
         if (k < 2) continue;
         sweep_axis<T>(axis, k, [&](int j) -> const Box4& { return bn[used[j]].box; },
                       [&](int j) { return bn[used[j]].count; }, [&](int j) { return used[j]; }, best);
-    }
-    return finish(ctx, best, node_box, n);
-}
-
-// Ranges this small skip the bin table (resetting and scanning 3 x nbins bins
-// costs more than the primitives): per axis, the primitives are sorted by bin
-// index (stable, so each bin's box grows in range order as bin_range grows
-// it) and the non-empty bins are the runs of equal indices. Same bins, same
-// sweep, same split as the table.
-constexpr std::uint32_t kSmallRange = 16;
-
-template <class T>
-Split best_split_small(const BuildContext& ctx, std::uint32_t begin, std::uint32_t end, const Binner& binner,
-                       const float scale[3], const Aabb& node_box) {
-    const std::uint32_t n = end - begin;
-    alignas(16) std::int32_t idx[kSmallRange][4];
-    for (std::uint32_t i = 0; i < n; ++i)
-        _mm_store_si128(reinterpret_cast<__m128i*>(idx[i]), binner.index(load_c(ctx.refs[begin + i])));
-    Best<T> best;
-    for (int axis = 0; axis < 3; ++axis) {
-        if (scale[axis] == 0.0f) continue;
-        int order[kSmallRange];
-        for (std::uint32_t i = 0; i < n; ++i) {  // insertion sort by bin index (stable)
-            const int key = idx[i][axis];
-            std::uint32_t j = i;
-            for (; j > 0 && idx[order[j - 1]][axis] > key; --j) order[j] = order[j - 1];
-            order[j] = int(i);
-        }
-        Box4 box[kSmallRange];
-        std::uint32_t count[kSmallRange];
-        int index[kSmallRange];
-        int k = -1;
-        for (std::uint32_t i = 0; i < n; ++i) {
-            const int o = order[i];
-            if (k < 0 || idx[o][axis] != index[k]) {
-                ++k;
-                box[k] = Box4{};
-                count[k] = 0;
-                index[k] = idx[o][axis];
-            }
-            const PrimRef& r = ctx.refs[begin + std::uint32_t(o)];
-            box[k].grow(load_lo(r), load_hi(r));
-            ++count[k];
-        }
-        ++k;
-        if (k < 2) continue;
-        sweep_axis<T>(axis, k, [&](int j) -> const Box4& { return box[j]; }, [&](int j) { return count[j]; },
-                      [&](int j) { return index[j]; }, best);
     }
     return finish(ctx, best, node_box, n);
 }
@@ -245,8 +219,8 @@ Binner make_binner(const Aabb& centroid_box, int nbins, float scale[3]) {
 
 // Bins refs[begin, end), on several threads when the range is large. The
 // result is in a thread_local table (no allocation per node).
-const Bins3& fill_bins(const BuildContext& ctx, std::uint32_t begin, std::uint32_t end, const Binner& binner) {
-    thread_local Bins3 tl_bins;
+Bins3& fill_bins(const BuildContext& ctx, std::uint32_t begin, std::uint32_t end, const Binner& binner) {
+    thread_local Bins3 tl_bins;  // empty between uses (split_binned_sah clears it)
     Bins3* bins = &tl_bins;
     const std::uint32_t n = end - begin;
     const int workers = n >= kParallelBinMin ? std::min(ctx.opts.threads, 8) : 1;
@@ -272,11 +246,13 @@ const Bins3& fill_bins(const BuildContext& ctx, std::uint32_t begin, std::uint32
     bin_range(ctx, begin, std::min(end, begin + chunk), binner, *bins);
     for (auto& f : futs) f.get();
     for (const auto& part : parts)
-        for (int a = 0; a < 3; ++a)
+        for (int a = 0; a < 3; ++a) {
             for (int b = 0; b < binner.nbins; ++b) {
                 bins->bins[a][b].box.grow(part->bins[a][b].box);
                 bins->bins[a][b].count += part->bins[a][b].count;
             }
+            bins->used[a] |= part->used[a];
+        }
     return *bins;
 }
 
@@ -326,15 +302,10 @@ SplitResult split_binned_sah(BuildContext& ctx, std::uint32_t begin, std::uint32
     const std::uint32_t n = end - begin;
     float scale[3];
     const Binner binner = make_binner(centroid_box, nbins, scale);
-    Split best;
-    if (n <= kSmallRange) {
-        best = ctx.float_costs ? best_split_small<float>(ctx, begin, end, binner, scale, node_box)
-                               : best_split_small<double>(ctx, begin, end, binner, scale, node_box);
-    } else {
-        const Bins3& bins = fill_bins(ctx, begin, end, binner);
-        best = ctx.float_costs ? best_split<float>(ctx, bins, nbins, scale, node_box, n)
-                               : best_split<double>(ctx, bins, nbins, scale, node_box, n);
-    }
+    Bins3& bins = fill_bins(ctx, begin, end, binner);
+    const Split best = ctx.float_costs ? best_split<float>(ctx, bins, nbins, scale, node_box, n)
+                                       : best_split<double>(ctx, bins, nbins, scale, node_box, n);
+    bins.clear(nbins);
     SplitResult r;
     if (best.axis < 0) return r;  // no usable split: the caller falls back
     r.make_leaf = best.leaf;

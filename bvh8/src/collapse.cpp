@@ -94,9 +94,11 @@ struct Collapser {
         for (int j = 2; j <= N; ++j) {
             dist[j] = kInf;
             split[j] = 1;
-            for (int k = 1; k < j; ++k) {
+            for (int k = 1; k < j; ++k) {  // selects, not branches (unpredictable)
                 const double d = cl[k - 1] + cr[j - k - 1];
-                if (d < dist[j]) { dist[j] = d; split[j] = std::uint8_t(k); }
+                const bool better = d < dist[j];
+                dist[j] = better ? d : dist[j];
+                split[j] = std::uint8_t(better ? k : split[j]);
             }
         }
         const double c_leaf = leafable(n) ? leaf_cost(n) : kInf;
