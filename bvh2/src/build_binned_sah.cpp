@@ -104,20 +104,54 @@ struct Binner {
     __m128i index(__m128 c) const { return _mm_cvttps_epi32(_mm_min_ps(_mm_mul_ps(_mm_sub_ps(c, cmin), scale), top)); }
 };
 
+// Adds one primitive to its bin on each axis.
+inline void bin_one(const PrimRef& r, const Binner& binner, Bins3& out, std::uint64_t used[3]) {
+    alignas(16) std::int32_t idx[4];
+    const __m128 lo = load_lo(r), hi = load_hi(r);
+    _mm_store_si128(reinterpret_cast<__m128i*>(idx), binner.index(load_c(r)));
+    for (int a = 0; a < 3; ++a) {
+        Bin& bin = out.bins[a][idx[a]];
+        bin.box.grow(lo, hi);
+        bin.count++;
+        used[a] |= std::uint64_t(1) << (idx[a] & (kMaskBins - 1));  // meaningful for nbins <= kMaskBins
+    }
+}
+
+// Merges `from` into `into` and leaves `from` empty.
+void merge_bins(Bins3& into, Bins3& from, int nbins) {
+    for (int a = 0; a < 3; ++a) {
+        for (int b = 0; b < nbins; ++b) {
+            into.bins[a][b].box.grow(from.bins[a][b].box);
+            into.bins[a][b].count += from.bins[a][b].count;
+        }
+        into.used[a] |= from.used[a];
+    }
+    from.clear(nbins);
+}
+
+// Ranges this large are binned into two tables, even and odd primitives,
+// merged at the end: neighbours (often in the same bin) then do not wait on
+// each other's read-modify-write of one bin. The merged bins hold the same
+// primitives; a box differs at most in the sign of a zero coordinate, which
+// no area comparison sees.
+constexpr std::uint32_t kTwoTablesMin = 1024;
+
 // Bins refs[begin, end) on all three axes in one pass, into an empty table.
 void bin_range(const BuildContext& ctx, std::uint32_t begin, std::uint32_t end, const Binner& binner, Bins3& out) {
-    alignas(16) std::int32_t idx[4];
     std::uint64_t used[3] = {};
-    for (std::uint32_t i = begin; i < end; ++i) {
-        const PrimRef& r = ctx.refs[i];
-        const __m128 lo = load_lo(r), hi = load_hi(r);
-        _mm_store_si128(reinterpret_cast<__m128i*>(idx), binner.index(load_c(r)));
-        for (int a = 0; a < 3; ++a) {
-            Bin& bin = out.bins[a][idx[a]];
-            bin.box.grow(lo, hi);
-            bin.count++;
-            used[a] |= std::uint64_t(1) << (idx[a] & (kMaskBins - 1));  // meaningful for nbins <= kMaskBins
+    if (end - begin >= kTwoTablesMin) {
+        thread_local Bins3 odd;  // empty between uses
+        std::uint64_t used_odd[3] = {};
+        std::uint32_t i = begin;
+        for (; i + 1 < end; i += 2) {
+            bin_one(ctx.refs[i], binner, out, used);
+            bin_one(ctx.refs[i + 1], binner, odd, used_odd);
         }
+        if (i < end) bin_one(ctx.refs[i], binner, out, used);
+        for (int a = 0; a < 3; ++a) odd.used[a] |= used_odd[a];
+        merge_bins(out, odd, binner.nbins);
+    } else {
+        for (std::uint32_t i = begin; i < end; ++i) bin_one(ctx.refs[i], binner, out, used);
     }
     for (int a = 0; a < 3; ++a) out.used[a] |= used[a];
 }
@@ -205,6 +239,33 @@ Split best_split(const BuildContext& ctx, const Bins3& bins, int nbins, const fl
     return finish(ctx, best, node_box, n);
 }
 
+// Two primitives (a third of all nodes): the bins the table would hold
+// directly. Every axis that puts them in different bins offers the same
+// partition at the same numerator A_a + A_b (float addition commutes), so
+// the first such axis wins, as in the sweep; no such axis: no split.
+template <class T>
+Split best_split_pair(const BuildContext& ctx, std::uint32_t begin, const Binner& binner, const float scale[3],
+                      const Aabb& node_box) {
+    const PrimRef& p = ctx.refs[begin];
+    const PrimRef& q = ctx.refs[begin + 1];
+    alignas(16) std::int32_t ip[4], iq[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(ip), binner.index(load_c(p)));
+    _mm_store_si128(reinterpret_cast<__m128i*>(iq), binner.index(load_c(q)));
+    Best<T> best;
+    for (int axis = 0; axis < 3; ++axis) {
+        if (scale[axis] == 0.0f || ip[axis] == iq[axis]) continue;
+        const bool p_low = ip[axis] < iq[axis];
+        Box4 low, high;
+        low.grow(load_lo(p_low ? p : q), load_hi(p_low ? p : q));
+        high.grow(load_lo(p_low ? q : p), load_hi(p_low ? q : p));
+        best.num = half_area<T>(low) * T(1) + half_area<T>(high) * T(1);
+        best.axis = axis;
+        best.bin = (p_low ? ip[axis] : iq[axis]) + 1;
+        break;
+    }
+    return finish(ctx, best, node_box, 2);
+}
+
 // Bin scales per axis: nbins / centroid extent, 0 for a flat (or non-finite) axis.
 Binner make_binner(const Aabb& centroid_box, int nbins, float scale[3]) {
     for (int a = 0; a < 3; ++a) {
@@ -245,14 +306,7 @@ Bins3& fill_bins(const BuildContext& ctx, std::uint32_t begin, std::uint32_t end
     }
     bin_range(ctx, begin, std::min(end, begin + chunk), binner, *bins);
     for (auto& f : futs) f.get();
-    for (const auto& part : parts)
-        for (int a = 0; a < 3; ++a) {
-            for (int b = 0; b < binner.nbins; ++b) {
-                bins->bins[a][b].box.grow(part->bins[a][b].box);
-                bins->bins[a][b].count += part->bins[a][b].count;
-            }
-            bins->used[a] |= part->used[a];
-        }
+    for (const auto& part : parts) merge_bins(*bins, *part, binner.nbins);
     return *bins;
 }
 
@@ -302,10 +356,16 @@ SplitResult split_binned_sah(BuildContext& ctx, std::uint32_t begin, std::uint32
     const std::uint32_t n = end - begin;
     float scale[3];
     const Binner binner = make_binner(centroid_box, nbins, scale);
-    Bins3& bins = fill_bins(ctx, begin, end, binner);
-    const Split best = ctx.float_costs ? best_split<float>(ctx, bins, nbins, scale, node_box, n)
-                                       : best_split<double>(ctx, bins, nbins, scale, node_box, n);
-    bins.clear(nbins);
+    Split best;
+    if (n == 2) {
+        best = ctx.float_costs ? best_split_pair<float>(ctx, begin, binner, scale, node_box)
+                               : best_split_pair<double>(ctx, begin, binner, scale, node_box);
+    } else {
+        Bins3& bins = fill_bins(ctx, begin, end, binner);
+        best = ctx.float_costs ? best_split<float>(ctx, bins, nbins, scale, node_box, n)
+                               : best_split<double>(ctx, bins, nbins, scale, node_box, n);
+        bins.clear(nbins);
+    }
     SplitResult r;
     if (best.axis < 0) return r;  // no usable split: the caller falls back
     r.make_leaf = best.leaf;
