@@ -311,8 +311,12 @@ Bins3& fill_bins(const BuildContext& ctx, std::uint32_t begin, std::uint32_t end
 }
 
 // Partitions refs[begin, end) in place by the split's bin boundary, gathering
-// both children's bounds on the way.
-SplitResult partition(BuildContext& ctx, std::uint32_t begin, std::uint32_t end, const Binner& binner, const Split& best) {
+// both children's bounds on the way: a two-sided scan (left from the front,
+// right from the back, swapping the pairs it finds). The left child's bounds
+// grow over its positions in ascending order, the right child's in
+// descending order.
+SplitResult partition_scan(BuildContext& ctx, std::uint32_t begin, std::uint32_t end, const Binner& binner,
+                           const Split& best) {
     alignas(16) std::int32_t idx[4];
     auto goes_left = [&](const PrimRef& p) {
         _mm_store_si128(reinterpret_cast<__m128i*>(idx), binner.index(load_c(p)));
@@ -346,6 +350,64 @@ SplitResult partition(BuildContext& ctx, std::uint32_t begin, std::uint32_t end,
     r.left = {lbox.aabb(), lcbox.aabb()};
     r.right = {rbox.aabb(), rcbox.aabb()};
     return r;
+}
+
+// Ranges up to this size are partitioned without a branch per primitive
+// (which side a primitive goes to is unpredictable); larger ones are
+// memory-bound and take the scan.
+constexpr std::uint32_t kFlagPartitionMax = 2048;
+
+// The same permutation and bounds as partition_scan, without its
+// data-dependent branches: the scan swaps the k-th right-goer from the front
+// with the k-th left-goer from the back, and stops where they cross, at
+// begin + (number of left-goers). So: flags, then both lists of positions
+// (appended without branches), the swaps, and the bounds in the scan's order.
+SplitResult partition_flags(BuildContext& ctx, std::uint32_t begin, std::uint32_t end, const Binner& binner,
+                            const Split& best) {
+    const std::uint32_t n = end - begin;
+    PrimRef* refs = ctx.refs.data() + begin;
+    std::uint8_t left[kFlagPartitionMax];
+    std::uint32_t holes[kFlagPartitionMax], movers[kFlagPartitionMax];
+    alignas(16) std::int32_t idx[4];
+    std::uint32_t nl = 0;
+    for (std::uint32_t i = 0; i < n; ++i) {
+        _mm_store_si128(reinterpret_cast<__m128i*>(idx), binner.index(load_c(refs[i])));
+        left[i] = idx[best.axis] < best.bin;
+        nl += left[i];
+    }
+    std::uint32_t h = 0, m = 0;
+    for (std::uint32_t i = 0; i < nl; ++i) {  // right-goers in the left part, front to back
+        holes[h] = i;
+        h += 1u - left[i];
+    }
+    for (std::uint32_t i = n; i-- > nl;) {  // left-goers in the right part, back to front
+        movers[m] = i;
+        m += left[i];
+    }
+    for (std::uint32_t k = 0; k < h; ++k) std::swap(refs[holes[k]], refs[movers[k]]);
+    Box4 lbox, lcbox, rbox, rcbox;
+    for (std::uint32_t i = 0; i < nl; ++i) {
+        lbox.grow(load_lo(refs[i]), load_hi(refs[i]));
+        const __m128 c = load_c(refs[i]);
+        lcbox.grow(c, c);
+    }
+    for (std::uint32_t i = n; i-- > nl;) {
+        rbox.grow(load_lo(refs[i]), load_hi(refs[i]));
+        const __m128 c = load_c(refs[i]);
+        rcbox.grow(c, c);
+    }
+    SplitResult r;
+    r.mid = begin + nl;
+    r.found = true;
+    r.has_bounds = true;
+    r.left = {lbox.aabb(), lcbox.aabb()};
+    r.right = {rbox.aabb(), rcbox.aabb()};
+    return r;
+}
+
+SplitResult partition(BuildContext& ctx, std::uint32_t begin, std::uint32_t end, const Binner& binner, const Split& best) {
+    return end - begin <= kFlagPartitionMax ? partition_flags(ctx, begin, end, binner, best)
+                                            : partition_scan(ctx, begin, end, binner, best);
 }
 
 }  // namespace
