@@ -26,7 +26,7 @@ struct WideAccess {
         const auto t0 = std::chrono::steady_clock::now();
         const bvh8::WideTopology<N> topo = bvh8::collapse<N>(bvh2, opts);
         BvhN<N> b;
-        bvh8::pack<N>(bvh2, topo, b.nodes_, b.blocks_, b.stats_);
+        bvh8::pack<N>(bvh2, topo, b.nodes_, b.blocks_, b.stats_, opts.threads);
         b.stats_.sah_cost = bvh8::sah_cost(topo, opts);
         b.bounds_ = bvh2.bounds();
         b.stats_.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

@@ -45,9 +45,10 @@ template <int N>
 double sah_cost(const WideTopology<N>& topo, const WideOptions& opts);
 
 // Step 2: packs the topology into NodeN / Tri8 blocks and fills the stats
-// (all but build_ms and sah_cost).
+// (all but build_ms and sah_cost). Nodes are packed on `threads` threads
+// (each node's blocks are placed first, so the result does not depend on it).
 template <int N>
 void pack(const Bvh2& bvh2, const WideTopology<N>& topo, std::vector<NodeN<N>>& nodes, Tri8Blocks& blocks,
-          WideStats& stats);
+          WideStats& stats, int threads = 1);
 
 }  // namespace simdbvh::bvh8
