@@ -21,6 +21,8 @@
 // the dynamic program, so the SAH collapse never costs more under this model.
 #include <algorithm>
 #include <cmath>
+#include <exception>
+#include <future>
 #include <limits>
 #include <string>
 
@@ -75,16 +77,29 @@ struct Collapser {
         return prim_count[n] = nd.is_leaf() ? nd.count : count_prims(left(n)) + count_prims(right(n));
     }
 
-    // C(n, 1..N) bottom-up; records from, distn and leaf1 for n.
-    Costs solve_sah(std::uint32_t n) {
+    // C(n, 1..N) bottom-up; records from, distn and leaf1 for n. Subtrees
+    // of at least kTaskMin triangles, down to `spawn` levels, solve their
+    // right child on another thread: every node writes only its own entries,
+    // so the tables do not depend on the thread count.
+    static constexpr std::uint32_t kTaskMin = 32 * 1024;
+    Costs solve_sah(std::uint32_t n, int spawn = 0) {
         Costs c;
         if (n2[n].is_leaf()) {
             c.fill(leaf_cost(n));
             leaf1[n] = 1;
             return c;
         }
-        const Costs cl = solve_sah(left(n));
-        const Costs cr = solve_sah(right(n));
+        Costs cl, cr;
+        std::future<void> right_task;
+        if (spawn > 0 && prim_count[n] >= kTaskMin) {
+            try {  // no thread (a process or memory limit): solve it here
+                right_task = std::async(std::launch::async, [&] { cr = solve_sah(right(n), spawn - 1); });
+            } catch (const std::exception&) {
+            }
+        }
+        cl = solve_sah(left(n), spawn - 1);
+        if (right_task.valid()) right_task.get();
+        else cr = solve_sah(right(n), spawn - 1);
         if (n == 0) { root_left = cl; root_right = cr; }
         // Costs are finite for finite boxes (areas in double), so a split is
         // always recorded; should one not be (all +inf), k = 1 still names
@@ -190,7 +205,9 @@ struct Collapser {
             from.resize(n2.size());
             distn.resize(n2.size());
             leaf1.assign(n2.size(), 0);
-            solve_sah(0);
+            int spawn = 0;  // levels with tasks: about 2 tasks per thread
+            while (spawn < 6 && (1 << spawn) < 2 * opts.threads) ++spawn;
+            solve_sah(0, opts.threads > 1 ? spawn : 0);
         }
         topo.nodes.reserve(n2.size() / 4 + 1);
         topo.prims.reserve(bvh2.prim_ids().size());
