@@ -24,6 +24,7 @@
 #include <exception>
 #include <future>
 #include <limits>
+#include <span>
 #include <string>
 
 #include "collapse.h"
@@ -39,9 +40,9 @@ double blocks_of(std::uint32_t n) { return double((n + kBlockWidth - 1u) / kBloc
 
 template <int N>
 struct Collapser {
-    const Bvh2& bvh2;
+    std::size_t prims;  // triangles in the BVH2's leaves
     const WideOptions& opts;
-    const std::vector<Node2>& n2;
+    std::span<const Node2> n2;
     std::vector<std::uint32_t> prim_count;  // triangles under each BVH2 node
     // SAH tables (index i - 1 for i = 1..N). The costs C(n, i) live only on
     // the recursion (a parent needs its children's), not in a table per node.
@@ -52,7 +53,7 @@ struct Collapser {
     std::vector<std::uint8_t> leaf1;                 // C(n, 1) is a leaf
     WideTopology<N> topo;
 
-    Collapser(const Bvh2& b, const WideOptions& o) : bvh2(b), opts(o), n2(b.nodes()) {}
+    Collapser(std::span<const Node2> nodes, std::size_t p, const WideOptions& o) : prims(p), opts(o), n2(nodes) {}
 
     std::uint32_t left(std::uint32_t n) const { return n2[n].first; }
     std::uint32_t right(std::uint32_t n) const { return n2[n].first + 1; }
@@ -210,7 +211,7 @@ struct Collapser {
             solve_sah(0, opts.threads > 1 ? spawn : 0);
         }
         topo.nodes.reserve(n2.size() / 4 + 1);
-        topo.prims.reserve(bvh2.prim_ids().size());
+        topo.prims.reserve(prims);
         topo.nodes.emplace_back();
         topo.nodes[0].box = n2[0].box;
         // The root is always a wide node; over a single leaf when that is cheaper (or the BVH2 is one leaf).
@@ -269,13 +270,18 @@ struct Collapser {
 
 template <int N>
 WideTopology<N> collapse(const Bvh2& bvh2, const WideOptions& opts) {
+    return collapse<N>(bvh2.nodes(), bvh2.prim_ids().size(), opts);
+}
+
+template <int N>
+WideTopology<N> collapse(std::span<const Node2> nodes, std::size_t prims, const WideOptions& opts) {
     const std::string what = "BVH" + std::to_string(N);
     if (opts.max_leaf_size < 1) throw Error(what + " max_leaf_size must be at least 1");
     if (!(opts.node_cost >= 0.0f) || !(opts.block_cost >= 0.0f) || !std::isfinite(opts.node_cost) ||
         !std::isfinite(opts.block_cost))
         throw Error(what + " node_cost and block_cost must be finite and >= 0");
-    if (bvh2.nodes().empty()) return {};
-    Collapser<N> c(bvh2, opts);
+    if (nodes.empty()) return {};
+    Collapser<N> c(nodes, prims, opts);
     c.build();
     return std::move(c.topo);
 }
@@ -302,7 +308,8 @@ double sah_cost(const WideTopology<N>& topo, const WideOptions& opts) {
 }
 
 #define SIMDBVH_WIDTH(N)                                                          \
-    template WideTopology<N> collapse<N>(const Bvh2&, const WideOptions&); \
+    template WideTopology<N> collapse<N>(const Bvh2&, const WideOptions&);                            \
+    template WideTopology<N> collapse<N>(std::span<const Node2>, std::size_t, const WideOptions&);     \
     template double sah_cost<N>(const WideTopology<N>&, const WideOptions&);
 SIMDBVH_WIDTH(4)
 SIMDBVH_WIDTH(8)

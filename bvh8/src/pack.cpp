@@ -67,12 +67,11 @@ NodePacking<N> pack_node(const WideNode<N>& w) {
 // Blocks of a leaf too large to share one.
 std::uint32_t own_blocks(const WideChild& c) { return (c.count + kLanes - 1u) / kLanes; }
 
-template <int N>
-void pack(const Bvh2& bvh2, const WideTopology<N>& topo, std::vector<NodeN<N>>& nodes, Tri8Blocks& blocks,
-          WideStats& stats, int threads) {
+// `tri(pos, blk, lane)` writes the triangle at BVH2 leaf position pos.
+template <int N, class SetTri>
+void pack_with(const WideTopology<N>& topo, std::vector<NodeN<N>>& nodes, Tri8Blocks& blocks, WideStats& stats,
+               int threads, SetTri set_tri) {
     using Child = ChildN<N>;
-    const auto& tris = bvh2.triangles();
-    const auto& ids = bvh2.prim_ids();
     // Sequential pass: each node's packing and its first block (a prefix sum),
     // the checks and the counts. The nodes are then independent.
     std::vector<NodePacking<N>> packing(topo.nodes.size());
@@ -103,11 +102,7 @@ void pack(const Bvh2& bvh2, const WideTopology<N>& topo, std::vector<NodeN<N>>& 
     blocks.clear();
     blocks.resize(blocks_needed);
     auto fill = [&](Tri8& blk, int lane0, const WideChild& wc, std::uint32_t from, std::uint32_t n) {
-        for (std::uint32_t k = 0; k < n; ++k) {
-            const std::uint32_t pos = topo.prims[wc.index + from + k];
-            const TriangleVerts& tv = tris[pos];
-            blk.set(lane0 + int(k), tv.v0, tv.v1, tv.v2, ids[pos]);
-        }
+        for (std::uint32_t k = 0; k < n; ++k) set_tri(topo.prims[wc.index + from + k], blk, lane0 + int(k));
     };
     auto pack_one = [&](std::size_t i) {
         const WideNode<N>& w = topo.nodes[i];
@@ -161,8 +156,33 @@ void pack(const Bvh2& bvh2, const WideTopology<N>& topo, std::vector<NodeN<N>>& 
     stats.block_fill = blocks.empty() ? 0.0 : double(stats.triangles) / (double(kLanes) * double(blocks.size()));
 }
 
-template void pack<4>(const Bvh2&, const WideTopology<4>&, std::vector<Node4>&, Tri8Blocks&, WideStats&, int);
-template void pack<8>(const Bvh2&, const WideTopology<8>&, std::vector<Node8>&, Tri8Blocks&, WideStats&, int);
-template void pack<16>(const Bvh2&, const WideTopology<16>&, std::vector<Node16>&, Tri8Blocks&, WideStats&, int);
+template <int N>
+void pack(const Bvh2& bvh2, const WideTopology<N>& topo, std::vector<NodeN<N>>& nodes, Tri8Blocks& blocks,
+          WideStats& stats, int threads) {
+    const auto& tris = bvh2.triangles();
+    const auto& ids = bvh2.prim_ids();
+    pack_with(topo, nodes, blocks, stats, threads, [&](std::uint32_t pos, Tri8& blk, int lane) {
+        const TriangleVerts& tv = tris[pos];
+        blk.set(lane, tv.v0, tv.v1, tv.v2, ids[pos]);
+    });
+}
+
+template <int N>
+void pack(const Mesh& mesh, std::span<const std::uint32_t> prim_ids, const WideTopology<N>& topo,
+          std::vector<NodeN<N>>& nodes, Tri8Blocks& blocks, WideStats& stats, int threads) {
+    pack_with(topo, nodes, blocks, stats, threads, [&](std::uint32_t pos, Tri8& blk, int lane) {
+        const std::uint32_t p = prim_ids[pos];
+        blk.set(lane, mesh.vertex(p, 0), mesh.vertex(p, 1), mesh.vertex(p, 2), p);
+    });
+}
+
+#define SIMDBVH_WIDTH(N)                                                                                          \
+    template void pack<N>(const Bvh2&, const WideTopology<N>&, std::vector<NodeN<N>>&, Tri8Blocks&, WideStats&, int); \
+    template void pack<N>(const Mesh&, std::span<const std::uint32_t>, const WideTopology<N>&, std::vector<NodeN<N>>&, \
+                          Tri8Blocks&, WideStats&, int);
+SIMDBVH_WIDTH(4)
+SIMDBVH_WIDTH(8)
+SIMDBVH_WIDTH(16)
+#undef SIMDBVH_WIDTH
 
 }  // namespace simdbvh::bvh8
