@@ -5,6 +5,7 @@
 #include <emmintrin.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <exception>
 #include <future>
@@ -285,11 +286,23 @@ Binner make_binner(const Aabb& centroid_box, int nbins, float scale[3]) {
 
 // Bins refs[begin, end), on several threads when the range is large. The
 // result is in a thread_local table (no allocation per node).
-Bins3& fill_bins(const BuildContext& ctx, std::uint32_t begin, std::uint32_t end, const Binner& binner) {
+Bins3& fill_bins(BuildContext& ctx, std::uint32_t begin, std::uint32_t end, const Binner& binner) {
     thread_local Bins3 tl_bins;  // empty between uses (split_binned_sah clears it)
     Bins3* bins = &tl_bins;
     const std::uint32_t n = end - begin;
-    const int workers = n >= kParallelBinMin ? std::min(ctx.opts.threads, 8) : 1;
+    // Helpers take spare build threads (BuildContext::spare_threads), so
+    // subtrees already running on every thread are not oversubscribed.
+    struct Helpers {
+        std::atomic<int>& spare;
+        int taken = 0;
+        ~Helpers() { spare.fetch_add(taken); }
+    } helpers{ctx.spare_threads};
+    if (n >= kParallelBinMin) {
+        const int want = std::min(ctx.opts.threads, 8) - 1;
+        for (int s = ctx.spare_threads.load(); helpers.taken < want && s > 0;)
+            if (ctx.spare_threads.compare_exchange_weak(s, s - 1)) ++helpers.taken, s = ctx.spare_threads.load();
+    }
+    const int workers = 1 + helpers.taken;
     if (workers <= 1) {
         bin_range(ctx, begin, end, binner, *bins);
         return *bins;
