@@ -63,6 +63,7 @@ struct Builder {
         std::vector<Node2> right_nodes;
         std::future<void> fut;
         if (n >= kTaskMin && ctx.spare_threads.fetch_sub(1) > 0) {
+            right_nodes.reserve(2 * std::size_t(end - mid));  // address space only: no copies while it grows
             right_nodes.resize(1);
             // The task returns its thread when it ends (not when the parent
             // joins it), so a thread that finished a small side of an uneven
