@@ -83,24 +83,33 @@ struct Collapser {
     // right child on another thread: every node writes only its own entries,
     // so the tables do not depend on the thread count.
     static constexpr std::uint32_t kTaskMin = 32 * 1024;
-    Costs solve_sah(std::uint32_t n, int spawn = 0) {
+    //
+    // `leaves`: BVH2 leaves under n (L). No representation uses more than L
+    // slots, so C(n, i) = C(n, L) for i >= L: C_dist(n, j) for L < j < N
+    // only repeats sums of smaller budgets (never strictly smaller: the same
+    // "same as i - 1" entries) and is not computed; C_dist(n, N) always is.
+    Costs solve_sah(std::uint32_t n, int spawn, std::uint32_t& leaves) {
         Costs c;
         if (n2[n].is_leaf()) {
             c.fill(leaf_cost(n));
             leaf1[n] = 1;
+            leaves = 1;
             return c;
         }
         Costs cl, cr;
+        std::uint32_t ll = 0, lr = 0;
         std::future<void> right_task;
         if (spawn > 0 && prim_count[n] >= kTaskMin) {
             try {  // no thread (a process or memory limit): solve it here
-                right_task = std::async(std::launch::async, [&] { cr = solve_sah(right(n), spawn - 1); });
+                right_task = std::async(std::launch::async, [&] { cr = solve_sah(right(n), spawn - 1, lr); });
             } catch (const std::exception&) {
             }
         }
-        cl = solve_sah(left(n), spawn - 1);
+        cl = solve_sah(left(n), spawn - 1, ll);
         if (right_task.valid()) right_task.get();
-        else cr = solve_sah(right(n), spawn - 1);
+        else cr = solve_sah(right(n), spawn - 1, lr);
+        leaves = ll + lr;
+        const int budget = int(std::min<std::uint32_t>(leaves, N));  // slots worth computing
         if (n == 0) { root_left = cl; root_right = cr; }
         // Costs are finite for finite boxes (areas in double), so a split is
         // always recorded; should one not be (all +inf), k = 1 still names
@@ -110,6 +119,7 @@ struct Collapser {
         for (int j = 2; j <= N; ++j) {
             dist[j] = kInf;
             split[j] = 1;
+            if (j > budget && j < N) continue;  // saturated: see above
             for (int k = 1; k < j; ++k) {  // selects, not branches (unpredictable)
                 const double d = cl[k - 1] + cr[j - k - 1];
                 const bool better = d < dist[j];
@@ -125,7 +135,7 @@ struct Collapser {
         auto& f = from[n];
         f[0] = 0;
         for (int i = 2; i <= N; ++i) {
-            if (dist[i] < c[i - 2]) { c[i - 1] = dist[i]; f[i - 1] = split[i]; }
+            if (i <= budget && dist[i] < c[i - 2]) { c[i - 1] = dist[i]; f[i - 1] = split[i]; }
             else { c[i - 1] = c[i - 2]; f[i - 1] = 0; }
         }
         return c;
@@ -208,7 +218,8 @@ struct Collapser {
             leaf1.assign(n2.size(), 0);
             int spawn = 0;  // levels with tasks: about 2 tasks per thread
             while (spawn < 6 && (1 << spawn) < 2 * opts.threads) ++spawn;
-            solve_sah(0, opts.threads > 1 ? spawn : 0);
+            std::uint32_t leaves = 0;
+            solve_sah(0, opts.threads > 1 ? spawn : 0, leaves);
         }
         topo.nodes.reserve(n2.size() / 4 + 1);
         topo.prims.reserve(prims);
