@@ -1,3 +1,4 @@
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -6,6 +7,7 @@
 #include "tree_shape.h"
 #include "simdbvh/bvh2/bvh2.h"
 #include "simdbvh/kernels/error.h"
+#include "simdbvh/kernels/parallel.h"
 
 namespace simdbvh {
 
@@ -27,16 +29,17 @@ std::optional<Builder> parse_builder(std::string_view s) {
     return std::nullopt;
 }
 
-Bvh2Topology build_topology(std::span<const Aabb> boxes, std::span<const Vec3> centroids, const BuildOptions& opts) {
-    if (boxes.size() != centroids.size()) throw Error("build_topology: boxes and centroids differ in size");
+namespace {
+
+void check_options(const BuildOptions& opts) {
     if (opts.max_depth < 1 || opts.max_depth > kMaxDepth)
         throw Error("max_depth " + std::to_string(opts.max_depth) + " outside 1.." + std::to_string(kMaxDepth));
     if (opts.max_leaf_size < 1) throw Error("max_leaf_size must be at least 1");
-    detail::BuildContext ctx;
-    ctx.opts = opts;
-    ctx.refs.reserve(boxes.size());
-    for (std::size_t i = 0; i < boxes.size(); ++i)
-        if (!boxes[i].is_empty()) ctx.refs.push_back({boxes[i].lo, std::uint32_t(i), boxes[i].hi, 0.0f, centroids[i], 0.0f});
+}
+
+// Builds over ctx.refs (filled by the caller) with the chosen split rule.
+Bvh2Topology build_refs(detail::BuildContext& ctx) {
+    const BuildOptions& opts = ctx.opts;
     switch (opts.builder) {
     case Builder::sah_binned:
         return detail::build_top_down(ctx, detail::split_binned_sah, std::uint32_t(opts.max_leaf_size));
@@ -50,17 +53,51 @@ Bvh2Topology build_topology(std::span<const Aabb> boxes, std::span<const Vec3> c
     throw Error("unknown builder");
 }
 
+// Build passes over every primitive run on the build threads, never pinned
+// (the host decides where its threads run).
+ParallelOptions build_parallel() {
+    ParallelOptions p;
+    p.grain = 64 * 1024;
+    p.pin = false;
+    return p;
+}
+
+}  // namespace
+
+Bvh2Topology build_topology(std::span<const Aabb> boxes, std::span<const Vec3> centroids, const BuildOptions& opts) {
+    if (boxes.size() != centroids.size()) throw Error("build_topology: boxes and centroids differ in size");
+    check_options(opts);
+    detail::BuildContext ctx;
+    ctx.opts = opts;
+    ctx.refs.reserve(boxes.size());
+    for (std::size_t i = 0; i < boxes.size(); ++i)
+        if (!boxes[i].is_empty()) ctx.refs.push_back({boxes[i].lo, std::uint32_t(i), boxes[i].hi, 0.0f, centroids[i], 0.0f});
+    return build_refs(ctx);
+}
+
+// The same references as boxes and centroids from the mesh would give (box of
+// the three vertices, centroid = box centre), written directly: no
+// intermediate arrays, one pass, on the build threads.
 Bvh2Topology build_topology(const Mesh& mesh, const BuildOptions& opts) {
+    check_options(opts);
     const std::size_t n = mesh.triangles.size();
-    std::vector<Aabb> boxes(n);
-    std::vector<Vec3> centroids(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        Aabb b;
-        for (int k = 0; k < 3; ++k) b.grow(mesh.vertex(i, k));
-        boxes[i] = b;
-        centroids[i] = b.center();
-    }
-    return build_topology(boxes, centroids, opts);
+    detail::BuildContext ctx;
+    ctx.opts = opts;
+    ctx.refs.resize(n);
+    std::atomic<bool> any_empty{false};
+    parallel_for(n, opts.threads, [&](std::size_t b, std::size_t e) {
+        bool empty = false;
+        for (std::size_t i = b; i < e; ++i) {
+            Aabb box;
+            for (int k = 0; k < 3; ++k) box.grow(mesh.vertex(i, k));
+            empty |= box.is_empty();
+            ctx.refs[i] = {box.lo, std::uint32_t(i), box.hi, 0.0f, box.center(), 0.0f};
+        }
+        if (empty) any_empty = true;
+    }, build_parallel());
+    if (any_empty)  // primitives with an empty box are left out (they can never be hit)
+        std::erase_if(ctx.refs, [](const detail::PrimRef& r) { return r.box().is_empty(); });
+    return build_refs(ctx);
 }
 
 double sah_cost(const Bvh2Topology& topo, float ct, float ci) {
@@ -84,10 +121,12 @@ Bvh2 Bvh2::build(const Mesh& mesh, const BuildOptions& opts) {
     Bvh2 bvh;
     bvh.opts_ = opts;
     bvh.tris_.resize(topo.prim_ids.size());
-    for (std::size_t i = 0; i < topo.prim_ids.size(); ++i) {
-        const std::uint32_t p = topo.prim_ids[i];
-        bvh.tris_[i] = {mesh.vertex(p, 0), mesh.vertex(p, 1), mesh.vertex(p, 2)};
-    }
+    parallel_for(topo.prim_ids.size(), opts.threads, [&](std::size_t b, std::size_t e) {
+        for (std::size_t i = b; i < e; ++i) {
+            const std::uint32_t p = topo.prim_ids[i];
+            bvh.tris_[i] = {mesh.vertex(p, 0), mesh.vertex(p, 1), mesh.vertex(p, 2)};
+        }
+    }, build_parallel());
     const auto t1 = std::chrono::steady_clock::now();
     BuildStats& s = bvh.stats_;
     s.build_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();

@@ -63,14 +63,23 @@ struct Builder {
         std::vector<Node2> right_nodes;
         std::future<void> fut;
         if (n >= kTaskMin && ctx.spare_threads.fetch_sub(1) > 0) {
+            right_nodes.reserve(2 * std::size_t(end - mid));  // address space only: no copies while it grows
             right_nodes.resize(1);
-            fut = start_task([&] { build(right_nodes, 0, mid, end, depth + 1, r.right); });
+            // The task returns its thread when it ends (not when the parent
+            // joins it), so a thread that finished a small side of an uneven
+            // split picks up work in the larger side.
+            fut = start_task([&] {
+                struct Release {
+                    std::atomic<int>& n;
+                    ~Release() { n.fetch_add(1); }
+                } release{ctx.spare_threads};
+                build(right_nodes, 0, mid, end, depth + 1, r.right);
+            });
         }
         if (n >= kTaskMin && !fut.valid()) ctx.spare_threads.fetch_add(1);
         build(nodes, left, begin, mid, depth + 1, r.left);
         if (fut.valid()) {
             fut.get();
-            ctx.spare_threads.fetch_add(1);
             splice(nodes, left + 1, right_nodes);
         } else {
             build(nodes, left + 1, mid, end, depth + 1, r.right);

@@ -26,9 +26,26 @@ struct WideAccess {
         const auto t0 = std::chrono::steady_clock::now();
         const bvh8::WideTopology<N> topo = bvh8::collapse<N>(bvh2, opts);
         BvhN<N> b;
-        bvh8::pack<N>(bvh2, topo, b.nodes_, b.blocks_, b.stats_);
+        bvh8::pack<N>(bvh2, topo, b.nodes_, b.blocks_, b.stats_, opts.threads);
         b.stats_.sah_cost = bvh8::sah_cost(topo, opts);
         b.bounds_ = bvh2.bounds();
+        b.stats_.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        return b;
+    }
+
+    // The same tree as from Bvh2::build(mesh), without the BVH2's gathered
+    // triangles and statistics: the topology is collapsed and packed from the mesh.
+    template <int N>
+    static BvhN<N> build(const Mesh& mesh, const BuildOptions& bvh2_opts, const WideOptions& opts) {
+        validate(mesh);
+        Bvh2Topology topo2 = build_topology(mesh, bvh2_opts);
+        const auto t0 = std::chrono::steady_clock::now();  // build_ms: collapse + pack, as from a Bvh2
+        const bvh8::WideTopology<N> topo = bvh8::collapse<N>(topo2.nodes, topo2.prim_ids.size(), opts);
+        BvhN<N> b;
+        b.bounds_ = topo2.nodes.empty() ? Aabb{} : topo2.nodes[0].box;
+        std::vector<Node2>().swap(topo2.nodes);  // not needed by pack: lowers the peak memory
+        bvh8::pack<N>(mesh, topo2.prim_ids, topo, b.nodes_, b.blocks_, b.stats_, opts.threads);
+        b.stats_.sah_cost = bvh8::sah_cost(topo, opts);
         b.stats_.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         return b;
     }
@@ -41,7 +58,7 @@ BvhN<N> BvhN<N>::build(const Bvh2& bvh2, const WideOptions& opts) {
 
 template <int N>
 BvhN<N> BvhN<N>::build(const Mesh& mesh, const BuildOptions& bvh2_opts, const WideOptions& opts) {
-    return build(Bvh2::build(mesh, bvh2_opts), opts);
+    return WideAccess::build<N>(mesh, bvh2_opts, opts);
 }
 
 template class BvhN<4>;

@@ -21,7 +21,10 @@
 // the dynamic program, so the SAH collapse never costs more under this model.
 #include <algorithm>
 #include <cmath>
+#include <exception>
+#include <future>
 #include <limits>
+#include <span>
 #include <string>
 
 #include "collapse.h"
@@ -37,37 +40,23 @@ double blocks_of(std::uint32_t n) { return double((n + kBlockWidth - 1u) / kBloc
 
 template <int N>
 struct Collapser {
-    const Bvh2& bvh2;
+    std::size_t prims;  // triangles in the BVH2's leaves
     const WideOptions& opts;
-    const std::vector<Node2>& n2;
+    std::span<const Node2> n2;
     std::vector<std::uint32_t> prim_count;  // triangles under each BVH2 node
-    // SAH tables (index i - 1 for i = 1..N).
-    std::vector<std::array<double, N>> cost;
+    // SAH tables (index i - 1 for i = 1..N). The costs C(n, i) live only on
+    // the recursion (a parent needs its children's), not in a table per node.
+    using Costs = std::array<double, N>;
+    Costs root_left{}, root_right{};                 // C(left(0), .), C(right(0), .): the root's leaf test
     std::vector<std::array<std::uint8_t, N>> from;   // i >= 2: 0 = same as i - 1, k = C_dist split (k left slots)
     std::vector<std::uint8_t> distn;                 // split of C_dist(n, N) (the children of an inner node)
     std::vector<std::uint8_t> leaf1;                 // C(n, 1) is a leaf
     WideTopology<N> topo;
 
-    Collapser(const Bvh2& b, const WideOptions& o) : bvh2(b), opts(o), n2(b.nodes()) {}
+    Collapser(std::span<const Node2> nodes, std::size_t p, const WideOptions& o) : prims(p), opts(o), n2(nodes) {}
 
     std::uint32_t left(std::uint32_t n) const { return n2[n].first; }
     std::uint32_t right(std::uint32_t n) const { return n2[n].first + 1; }
-
-    // Parents before children.
-    std::vector<std::uint32_t> preorder() const {
-        std::vector<std::uint32_t> order, stack{0u};
-        order.reserve(n2.size());
-        while (!stack.empty()) {
-            const std::uint32_t n = stack.back();
-            stack.pop_back();
-            order.push_back(n);
-            if (!n2[n].is_leaf()) {
-                stack.push_back(right(n));
-                stack.push_back(left(n));
-            }
-        }
-        return order;
-    }
 
     bool leafable(std::uint32_t n) const { return prim_count[n] <= std::uint32_t(opts.max_leaf_size); }
 
@@ -83,51 +72,73 @@ struct Collapser {
         return double(opts.block_cost) * blocks_of(prim_count[n]) * area(n);
     }
 
-    void count_prims(const std::vector<std::uint32_t>& order) {
-        prim_count.assign(n2.size(), 0);
-        for (auto it = order.rbegin(); it != order.rend(); ++it) {
-            const Node2& nd = n2[*it];
-            prim_count[*it] = nd.is_leaf() ? nd.count : prim_count[nd.first] + prim_count[nd.first + 1];
-        }
+    // Triangles under n (recursion depth <= the BVH2's depth <= kMaxDepth).
+    std::uint32_t count_prims(std::uint32_t n) {
+        const Node2& nd = n2[n];
+        return prim_count[n] = nd.is_leaf() ? nd.count : count_prims(left(n)) + count_prims(right(n));
     }
 
-    void solve_sah(const std::vector<std::uint32_t>& order) {
-        cost.assign(n2.size(), {});
-        from.assign(n2.size(), {});
-        distn.assign(n2.size(), 0);
-        leaf1.assign(n2.size(), 0);
-        for (auto it = order.rbegin(); it != order.rend(); ++it) {
-            const std::uint32_t n = *it;
-            if (n2[n].is_leaf()) {
-                cost[n].fill(leaf_cost(n));
-                leaf1[n] = 1;
-                continue;
-            }
-            const auto& cl = cost[left(n)];
-            const auto& cr = cost[right(n)];
-            // Costs are finite for finite boxes (areas in double), so a split is
-            // always recorded; should one not be (all +inf), k = 1 still names
-            // a valid partition of the j slots: resolve never sees slot 0.
-            double dist[N + 1];
-            std::uint8_t split[N + 1] = {};
-            for (int j = 2; j <= N; ++j) {
-                dist[j] = kInf;
-                split[j] = 1;
-                for (int k = 1; k < j; ++k) {
-                    const double c = cl[k - 1] + cr[j - k - 1];
-                    if (c < dist[j]) { dist[j] = c; split[j] = std::uint8_t(k); }
-                }
-            }
-            const double c_leaf = leafable(n) ? leaf_cost(n) : kInf;
-            const double c_inner = dist[N] + double(opts.node_cost) * area(n);
-            leaf1[n] = c_leaf <= c_inner;
-            cost[n][0] = std::min(c_leaf, c_inner);
-            distn[n] = split[N];
-            for (int i = 2; i <= N; ++i) {
-                if (dist[i] < cost[n][i - 2]) { cost[n][i - 1] = dist[i]; from[n][i - 1] = split[i]; }
-                else { cost[n][i - 1] = cost[n][i - 2]; from[n][i - 1] = 0; }
+    // C(n, 1..N) bottom-up; records from, distn and leaf1 for n. Subtrees
+    // of at least kTaskMin triangles, down to `spawn` levels, solve their
+    // right child on another thread: every node writes only its own entries,
+    // so the tables do not depend on the thread count.
+    static constexpr std::uint32_t kTaskMin = 32 * 1024;
+    //
+    // `leaves`: BVH2 leaves under n (L). No representation uses more than L
+    // slots, so C(n, i) = C(n, L) for i >= L: C_dist(n, j) for L < j < N
+    // only repeats sums of smaller budgets (never strictly smaller: the same
+    // "same as i - 1" entries) and is not computed; C_dist(n, N) always is.
+    Costs solve_sah(std::uint32_t n, int spawn, std::uint32_t& leaves) {
+        Costs c;
+        if (n2[n].is_leaf()) {
+            c.fill(leaf_cost(n));
+            leaf1[n] = 1;
+            leaves = 1;
+            return c;
+        }
+        Costs cl, cr;
+        std::uint32_t ll = 0, lr = 0;
+        std::future<void> right_task;
+        if (spawn > 0 && prim_count[n] >= kTaskMin) {
+            try {  // no thread (a process or memory limit): solve it here
+                right_task = std::async(std::launch::async, [&] { cr = solve_sah(right(n), spawn - 1, lr); });
+            } catch (const std::exception&) {
             }
         }
+        cl = solve_sah(left(n), spawn - 1, ll);
+        if (right_task.valid()) right_task.get();
+        else cr = solve_sah(right(n), spawn - 1, lr);
+        leaves = ll + lr;
+        const int budget = int(std::min<std::uint32_t>(leaves, N));  // slots worth computing
+        if (n == 0) { root_left = cl; root_right = cr; }
+        // Costs are finite for finite boxes (areas in double), so a split is
+        // always recorded; should one not be (all +inf), k = 1 still names
+        // a valid partition of the j slots: resolve never sees slot 0.
+        double dist[N + 1];
+        std::uint8_t split[N + 1] = {};
+        for (int j = 2; j <= N; ++j) {
+            dist[j] = kInf;
+            split[j] = 1;
+            if (j > budget && j < N) continue;  // saturated: see above
+            for (int k = 1; k < j; ++k) {  // selects, not branches (unpredictable)
+                const double d = cl[k - 1] + cr[j - k - 1];
+                const bool better = d < dist[j];
+                dist[j] = better ? d : dist[j];
+                split[j] = std::uint8_t(better ? k : split[j]);
+            }
+        }
+        const double c_leaf = leafable(n) ? leaf_cost(n) : kInf;
+        const double c_inner = dist[N] + double(opts.node_cost) * area(n);
+        leaf1[n] = c_leaf <= c_inner;
+        c[0] = std::min(c_leaf, c_inner);
+        distn[n] = split[N];
+        auto& f = from[n];
+        f[0] = 0;
+        for (int i = 2; i <= N; ++i) {
+            if (i <= budget && dist[i] < c[i - 2]) { c[i - 1] = dist[i]; f[i - 1] = split[i]; }
+            else { c[i - 1] = c[i - 2]; f[i - 1] = 0; }
+        }
+        return c;
     }
 
     // The BVH2 nodes that fill at most i slots for n's subtree (SAH tables).
@@ -176,11 +187,12 @@ struct Collapser {
         }
     }
 
+    std::vector<std::uint32_t> stack;  // make_leaf's, reused
     WideChild make_leaf(std::uint32_t n) {
         WideChild c;
         c.box = n2[n].box;
         c.index = std::uint32_t(topo.prims.size());
-        std::vector<std::uint32_t> stack{n};
+        stack.assign(1, n);
         while (!stack.empty()) {
             const std::uint32_t m = stack.back();
             stack.pop_back();
@@ -197,19 +209,27 @@ struct Collapser {
     }
 
     void build() {
-        const std::vector<std::uint32_t> order = preorder();
-        count_prims(order);
+        prim_count.resize(n2.size());
+        count_prims(0);
         float_areas = std::isfinite(n2[0].box.half_area_float());
-        if (opts.collapse == Collapse::sah) solve_sah(order);
+        if (opts.collapse == Collapse::sah) {
+            from.resize(n2.size());
+            distn.resize(n2.size());
+            leaf1.assign(n2.size(), 0);
+            int spawn = 0;  // levels with tasks: about 2 tasks per thread
+            while (spawn < 6 && (1 << spawn) < 2 * opts.threads) ++spawn;
+            std::uint32_t leaves = 0;
+            solve_sah(0, opts.threads > 1 ? spawn : 0, leaves);
+        }
         topo.nodes.reserve(n2.size() / 4 + 1);
-        topo.prims.reserve(bvh2.prim_ids().size());
+        topo.prims.reserve(prims);
         topo.nodes.emplace_back();
         topo.nodes[0].box = n2[0].box;
         // The root is always a wide node; over a single leaf when that is cheaper (or the BVH2 is one leaf).
         bool root_leaf = n2[0].is_leaf();
         if (!root_leaf) {
             if (opts.collapse == Collapse::sah) {
-                root_leaf = leafable(0) && leaf_cost(0) <= cost[left(0)][distn[0] - 1] + cost[right(0)][N - distn[0] - 1];
+                root_leaf = leafable(0) && leaf_cost(0) <= root_left[distn[0] - 1] + root_right[N - distn[0] - 1];
             } else {
                 root_leaf = greedy_leaf(0);
             }
@@ -261,13 +281,18 @@ struct Collapser {
 
 template <int N>
 WideTopology<N> collapse(const Bvh2& bvh2, const WideOptions& opts) {
+    return collapse<N>(bvh2.nodes(), bvh2.prim_ids().size(), opts);
+}
+
+template <int N>
+WideTopology<N> collapse(std::span<const Node2> nodes, std::size_t prims, const WideOptions& opts) {
     const std::string what = "BVH" + std::to_string(N);
     if (opts.max_leaf_size < 1) throw Error(what + " max_leaf_size must be at least 1");
     if (!(opts.node_cost >= 0.0f) || !(opts.block_cost >= 0.0f) || !std::isfinite(opts.node_cost) ||
         !std::isfinite(opts.block_cost))
         throw Error(what + " node_cost and block_cost must be finite and >= 0");
-    if (bvh2.nodes().empty()) return {};
-    Collapser<N> c(bvh2, opts);
+    if (nodes.empty()) return {};
+    Collapser<N> c(nodes, prims, opts);
     c.build();
     return std::move(c.topo);
 }
@@ -294,7 +319,8 @@ double sah_cost(const WideTopology<N>& topo, const WideOptions& opts) {
 }
 
 #define SIMDBVH_WIDTH(N)                                                          \
-    template WideTopology<N> collapse<N>(const Bvh2&, const WideOptions&); \
+    template WideTopology<N> collapse<N>(const Bvh2&, const WideOptions&);                            \
+    template WideTopology<N> collapse<N>(std::span<const Node2>, std::size_t, const WideOptions&);     \
     template double sah_cost<N>(const WideTopology<N>&, const WideOptions&);
 SIMDBVH_WIDTH(4)
 SIMDBVH_WIDTH(8)

@@ -5,6 +5,7 @@
 // Instantiated for N = 4, 8, 16.
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "simdbvh/bvh2/bvh2.h"
@@ -38,6 +39,9 @@ struct WideTopology {
 // (kept whole). Throws simdbvh::Error when the result is deeper than kMaxDepth.
 template <int N>
 WideTopology<N> collapse(const Bvh2& bvh2, const WideOptions& opts);
+// The same over a BVH2's nodes and the number of triangles in its leaves.
+template <int N>
+WideTopology<N> collapse(std::span<const Node2> nodes, std::size_t prims, const WideOptions& opts);
 
 // SAH cost of a wide topology with the WideOptions cost model: sum over nodes
 // of node_cost * A(n)/A(root) + over leaves of block_cost * ceil(n/kBlockWidth) * A(leaf)/A(root).
@@ -45,9 +49,15 @@ template <int N>
 double sah_cost(const WideTopology<N>& topo, const WideOptions& opts);
 
 // Step 2: packs the topology into NodeN / Tri8 blocks and fills the stats
-// (all but build_ms and sah_cost).
+// (all but build_ms and sah_cost). Nodes are packed on `threads` threads
+// (each node's blocks are placed first, so the result does not depend on it).
 template <int N>
 void pack(const Bvh2& bvh2, const WideTopology<N>& topo, std::vector<NodeN<N>>& nodes, Tri8Blocks& blocks,
-          WideStats& stats);
+          WideStats& stats, int threads = 1);
+// The same from the mesh and the BVH2's leaf order (prim_ids), for a BVH2
+// that never gathered its triangles (BvhN::build(mesh)).
+template <int N>
+void pack(const Mesh& mesh, std::span<const std::uint32_t> prim_ids, const WideTopology<N>& topo,
+          std::vector<NodeN<N>>& nodes, Tri8Blocks& blocks, WideStats& stats, int threads = 1);
 
 }  // namespace simdbvh::bvh8

@@ -8,10 +8,12 @@
 // Larger leaves own their blocks. A node's blocks are contiguous, in slot
 // order of their first leaf.
 #include <algorithm>
+#include <limits>
 #include <string>
 
 #include "collapse.h"
 #include "simdbvh/kernels/error.h"
+#include "simdbvh/kernels/parallel.h"
 
 namespace simdbvh::bvh8 {
 
@@ -62,49 +64,62 @@ NodePacking<N> pack_node(const WideNode<N>& w) {
 
 }  // namespace
 
-template <int N>
-void pack(const Bvh2& bvh2, const WideTopology<N>& topo, std::vector<NodeN<N>>& nodes, Tri8Blocks& blocks,
-          WideStats& stats) {
+// Blocks of a leaf too large to share one.
+std::uint32_t own_blocks(const WideChild& c) { return (c.count + kLanes - 1u) / kLanes; }
+
+// `tri(pos, blk, lane)` writes the triangle at BVH2 leaf position pos.
+template <int N, class SetTri>
+void pack_with(const WideTopology<N>& topo, std::vector<NodeN<N>>& nodes, Tri8Blocks& blocks, WideStats& stats,
+               int threads, SetTri set_tri) {
     using Child = ChildN<N>;
-    const auto& tris = bvh2.triangles();
-    const auto& ids = bvh2.prim_ids();
+    // Sequential pass: each node's packing and its first block (a prefix sum),
+    // the checks and the counts. The nodes are then independent.
+    std::vector<NodePacking<N>> packing(topo.nodes.size());
+    std::vector<std::uint32_t> first_block(topo.nodes.size() + 1);
+    std::size_t blocks_needed = 0, used_slots = 0, leaves = 0, shared = 0;
+    for (std::size_t i = 0; i < topo.nodes.size(); ++i) {
+        const WideNode<N>& w = topo.nodes[i];
+        packing[i] = pack_node(w);
+        first_block[i] = std::uint32_t(blocks_needed);
+        blocks_needed += std::size_t(packing[i].bins);
+        for (int b = 0; b < packing[i].bins; ++b) shared += __builtin_popcount(packing[i].bin_slots[b]) > 1;
+        used_slots += std::size_t(w.child_count);
+        for (int c = 0; c < w.child_count; ++c) {
+            const WideChild& wc = w.children[c];
+            if (!wc.is_leaf()) continue;
+            ++leaves;
+            if (is_small(wc)) continue;
+            if (own_blocks(wc) > Child::kMaxBlocks)
+                throw Error("BVH" + std::to_string(N) + " leaf of " + std::to_string(wc.count) + " triangles exceeds " +
+                            std::to_string(Child::kMaxBlocks) + " Tri8 blocks");
+            blocks_needed += own_blocks(wc);
+        }
+        if (blocks_needed > std::size_t(std::numeric_limits<std::uint32_t>::max()))
+            throw Error("BVH" + std::to_string(N) + ": more than 2^32 Tri8 blocks");
+    }
+    first_block.back() = std::uint32_t(blocks_needed);
     nodes.assign(topo.nodes.size(), NodeN<N>{});
     blocks.clear();
-    std::size_t blocks_needed = 0, used_slots = 0, leaves = 0, shared = 0;
-    for (const WideNode<N>& w : topo.nodes) {
-        blocks_needed += std::size_t(pack_node(w).bins);
-        for (int c = 0; c < w.child_count; ++c)
-            if (w.children[c].is_leaf() && !is_small(w.children[c]))
-                blocks_needed += (w.children[c].count + kLanes - 1u) / kLanes;
-    }
-    blocks.reserve(blocks_needed);
+    blocks.resize(blocks_needed);
     auto fill = [&](Tri8& blk, int lane0, const WideChild& wc, std::uint32_t from, std::uint32_t n) {
-        for (std::uint32_t k = 0; k < n; ++k) {
-            const std::uint32_t pos = topo.prims[wc.index + from + k];
-            const TriangleVerts& tv = tris[pos];
-            blk.set(lane0 + int(k), tv.v0, tv.v1, tv.v2, ids[pos]);
-        }
+        for (std::uint32_t k = 0; k < n; ++k) set_tri(topo.prims[wc.index + from + k], blk, lane0 + int(k));
     };
-    for (std::size_t i = 0; i < topo.nodes.size(); ++i) {
+    auto pack_one = [&](std::size_t i) {
         const WideNode<N>& w = topo.nodes[i];
         NodeN<N>& n = nodes[i];
         n.boxes.clear();
         for (int c = 0; c < N; ++c) n.children[c] = Child::empty();
-        const NodePacking<N> p = pack_node(w);
-        const std::uint32_t base = std::uint32_t(blocks.size());
-        for (int b = 0; b < p.bins; ++b) {
-            blocks.emplace_back().clear();
-            if (__builtin_popcount(p.bin_slots[b]) > 1) ++shared;
-        }
+        const NodePacking<N>& p = packing[i];
+        const std::uint32_t base = first_block[i];
+        for (std::uint32_t b = base; b < first_block[i + 1]; ++b) blocks[b].clear();
+        std::uint32_t next = base + std::uint32_t(p.bins);  // the large leaves' own blocks, in slot order
         for (int c = 0; c < w.child_count; ++c) {
             const WideChild& wc = w.children[c];
             n.boxes.set(c, wc.box);
-            ++used_slots;
             if (!wc.is_leaf()) {
                 n.children[c] = Child::inner(wc.index);
                 continue;
             }
-            ++leaves;
             if (is_small(wc)) {
                 const int b = p.bin_of[c];
                 fill(blocks[base + std::uint32_t(b)], p.lane_of[c], wc, 0, wc.count);
@@ -113,19 +128,19 @@ void pack(const Bvh2& bvh2, const WideTopology<N>& topo, std::vector<NodeN<N>>& 
                 n.children[c] = Child::small_leaf(base + std::uint32_t(b), lanes, sharing);
                 continue;
             }
-            const std::uint32_t first = std::uint32_t(blocks.size());
-            const std::uint32_t count = (wc.count + kLanes - 1u) / kLanes;
-            if (count > Child::kMaxBlocks)
-                throw Error("BVH" + std::to_string(N) + " leaf of " + std::to_string(wc.count) + " triangles exceeds " +
-                            std::to_string(Child::kMaxBlocks) + " Tri8 blocks");
-            for (std::uint32_t b = 0; b < count; ++b) {
-                Tri8& blk = blocks.emplace_back();
-                blk.clear();
-                fill(blk, 0, wc, b * kLanes, std::min(kLanes, wc.count - b * kLanes));
-            }
-            n.children[c] = Child::leaf(first, count);
+            const std::uint32_t count = own_blocks(wc);
+            for (std::uint32_t b = 0; b < count; ++b)
+                fill(blocks[next + b], 0, wc, b * kLanes, std::min(kLanes, wc.count - b * kLanes));
+            n.children[c] = Child::leaf(next, count);
+            next += count;
         }
-    }
+    };
+    ParallelOptions po;
+    po.grain = 256;
+    po.pin = false;
+    parallel_for(topo.nodes.size(), threads, [&](std::size_t b, std::size_t e) {
+        for (std::size_t i = b; i < e; ++i) pack_one(i);
+    }, po);
     stats.nodes = nodes.size();
     stats.leaves = leaves;
     stats.blocks = blocks.size();
@@ -141,8 +156,33 @@ void pack(const Bvh2& bvh2, const WideTopology<N>& topo, std::vector<NodeN<N>>& 
     stats.block_fill = blocks.empty() ? 0.0 : double(stats.triangles) / (double(kLanes) * double(blocks.size()));
 }
 
-template void pack<4>(const Bvh2&, const WideTopology<4>&, std::vector<Node4>&, Tri8Blocks&, WideStats&);
-template void pack<8>(const Bvh2&, const WideTopology<8>&, std::vector<Node8>&, Tri8Blocks&, WideStats&);
-template void pack<16>(const Bvh2&, const WideTopology<16>&, std::vector<Node16>&, Tri8Blocks&, WideStats&);
+template <int N>
+void pack(const Bvh2& bvh2, const WideTopology<N>& topo, std::vector<NodeN<N>>& nodes, Tri8Blocks& blocks,
+          WideStats& stats, int threads) {
+    const auto& tris = bvh2.triangles();
+    const auto& ids = bvh2.prim_ids();
+    pack_with(topo, nodes, blocks, stats, threads, [&](std::uint32_t pos, Tri8& blk, int lane) {
+        const TriangleVerts& tv = tris[pos];
+        blk.set(lane, tv.v0, tv.v1, tv.v2, ids[pos]);
+    });
+}
+
+template <int N>
+void pack(const Mesh& mesh, std::span<const std::uint32_t> prim_ids, const WideTopology<N>& topo,
+          std::vector<NodeN<N>>& nodes, Tri8Blocks& blocks, WideStats& stats, int threads) {
+    pack_with(topo, nodes, blocks, stats, threads, [&](std::uint32_t pos, Tri8& blk, int lane) {
+        const std::uint32_t p = prim_ids[pos];
+        blk.set(lane, mesh.vertex(p, 0), mesh.vertex(p, 1), mesh.vertex(p, 2), p);
+    });
+}
+
+#define SIMDBVH_WIDTH(N)                                                                                          \
+    template void pack<N>(const Bvh2&, const WideTopology<N>&, std::vector<NodeN<N>>&, Tri8Blocks&, WideStats&, int); \
+    template void pack<N>(const Mesh&, std::span<const std::uint32_t>, const WideTopology<N>&, std::vector<NodeN<N>>&, \
+                          Tri8Blocks&, WideStats&, int);
+SIMDBVH_WIDTH(4)
+SIMDBVH_WIDTH(8)
+SIMDBVH_WIDTH(16)
+#undef SIMDBVH_WIDTH
 
 }  // namespace simdbvh::bvh8

@@ -33,6 +33,7 @@ struct WideOptions {
     // block_cost per Tri8 block, i.e. block_cost * ceil(n / kBlockWidth) for n triangles.
     float node_cost = 1.0f;
     float block_cost = 1.0f;
+    int threads = 1;  // collapse + pack threads; the tree is identical for every count
 };
 using Bvh8Options = WideOptions;
 

@@ -1,0 +1,159 @@
+// SPDX-License-Identifier: MIT
+// Build times: BVH2 (Bvh2::build), collapse + pack (Bvh8::build from a BVH2),
+// the whole Bvh8::build(mesh) a user waits for, and Embree 3 medium (the
+// EmbreeScene constructor: buffers + rtcCommitScene), on one thread and on all
+// hardware threads. Each row: one untimed warm-up build whose time is the
+// counter cold_ms (the first build of its kind in the process), then
+// repetitions of one timed build each; read the _median rows.
+// Scenes: $SIMDBVH_BENCH_BUILD_SCENES, comma separated (default
+// "dragon,soup-1000000"; dragon is skipped when not cached).
+// One-thread figures: run pinned, e.g. taskset -c 1 simdbvh_bench_build --benchmark_filter=/t1.
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <map>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "simdbvh/bvh2/bvh2.h"
+#include "simdbvh/bvh8/bvh8.h"
+#include "simdbvh/compare/embree.h"
+#include "simdbvh/kernels/isa.h"
+#include "simdbvh/scene/scenes.h"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+const simdbvh::Mesh& mesh_of(const std::string& name) {
+    static std::map<std::string, std::unique_ptr<simdbvh::Mesh>> cache;
+    auto& m = cache[name];
+    if (!m) m = std::make_unique<simdbvh::Mesh>(simdbvh::scene::load_scene(name));
+    return *m;
+}
+
+int all_threads() { return int(std::max(1u, std::thread::hardware_concurrency())); }
+
+enum class Row { bvh2, collapse_pack, bvh8, embree_medium };
+
+// One build of `row`; returns its wall time in ms and the SAH cost (0 for Embree).
+struct Timed {
+    double ms = 0, sah = 0;
+};
+Timed build_once(Row row, const simdbvh::Mesh& mesh, int threads, const simdbvh::Bvh2* bvh2) {
+    simdbvh::BuildOptions bo;
+    bo.threads = threads;
+    simdbvh::Bvh8Options wo;
+    wo.threads = threads;
+    Timed t;
+    const auto t0 = Clock::now();
+    switch (row) {
+    case Row::bvh2: {
+        const simdbvh::Bvh2 b = simdbvh::Bvh2::build(mesh, bo);
+        t.ms = ms_since(t0);
+        t.sah = b.stats().sah_cost;
+        break;
+    }
+    case Row::collapse_pack: {
+        const simdbvh::Bvh8 b = simdbvh::Bvh8::build(*bvh2, wo);
+        t.ms = ms_since(t0);
+        t.sah = b.stats().sah_cost;
+        break;
+    }
+    case Row::bvh8: {
+        const simdbvh::Bvh8 b = simdbvh::Bvh8::build(mesh, bo, wo);
+        t.ms = ms_since(t0);
+        t.sah = b.stats().sah_cost;
+        break;
+    }
+    case Row::embree_medium: {
+        simdbvh::compare::EmbreeOptions eo;
+        eo.threads = threads;
+        const simdbvh::compare::EmbreeScene s(mesh, eo);
+        t.ms = ms_since(t0);
+        break;
+    }
+    }
+    return t;
+}
+
+void BM_Build(benchmark::State& st, Row row, std::string scene, bool all, std::string key) {
+    const int threads = all ? all_threads() : 1;
+    const simdbvh::Mesh* mesh = nullptr;
+    try {
+        mesh = &mesh_of(scene);
+    } catch (const std::exception& e) {
+        st.SkipWithError(e.what());
+        return;
+    }
+    static std::map<std::string, std::unique_ptr<simdbvh::Bvh2>> bvh2s;  // collapse + pack input, per row
+    auto& bvh2 = bvh2s[key];
+    if (row == Row::collapse_pack && !bvh2) {
+        simdbvh::BuildOptions bo;
+        bo.threads = threads;
+        bvh2 = std::make_unique<simdbvh::Bvh2>(simdbvh::Bvh2::build(*mesh, bo));
+    }
+    // The untimed warm-up, once per row (not per repetition): its time is the cold build.
+    static std::map<std::string, double> cold;
+    if (!cold.count(key)) cold[key] = build_once(row, *mesh, threads, bvh2.get()).ms;
+    Timed t;
+    for (auto _ : st) {
+        t = build_once(row, *mesh, threads, bvh2.get());
+        st.SetIterationTime(t.ms / 1000.0);
+    }
+    st.counters["cold_ms"] = cold[key];
+    st.counters["threads"] = threads;
+    st.counters["Mtri/s"] = benchmark::Counter(double(mesh->size()) * 1e-6, benchmark::Counter::kIsIterationInvariantRate);
+    if (t.sah > 0) st.counters["sah"] = t.sah;
+}
+
+std::vector<std::string> scenes() {
+    const char* env = std::getenv("SIMDBVH_BENCH_BUILD_SCENES");
+    const std::string list = env && *env ? env : "dragon,soup-1000000";
+    std::vector<std::string> out;
+    std::size_t at = 0;
+    while (at <= list.size()) {
+        const std::size_t comma = std::min(list.find(',', at), list.size());
+        const std::string s = list.substr(at, comma - at);
+        if (!s.empty() && (s != "dragon" || simdbvh::scene::is_cached(s))) out.push_back(s);
+        at = comma + 1;
+    }
+    return out;
+}
+
+void register_all() {
+    const std::pair<Row, const char*> rows[] = {{Row::bvh2, "bvh2"},
+                                                {Row::collapse_pack, "collapse_pack"},
+                                                {Row::bvh8, "bvh8"},
+                                                {Row::embree_medium, "embree_medium"}};
+    for (const std::string& s : scenes())
+        for (bool all : {false, true})
+            for (const auto& [row, label] : rows) {
+                const std::string name = "build/" + s + "/" + label + (all ? "/tall" : "/t1");
+                benchmark::RegisterBenchmark(name.c_str(), BM_Build, row, s, all, name)
+                    ->UseManualTime()
+                    ->Unit(benchmark::kMillisecond)
+                    ->Iterations(1)
+                    ->Repetitions(5)
+                    ->DisplayAggregatesOnly(true);
+            }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    benchmark::Initialize(&argc, argv);
+    if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+    register_all();
+    benchmark::AddCustomContext("active_isa", std::string(simdbvh::name(simdbvh::active_isa())));
+    benchmark::AddCustomContext("all_threads", std::to_string(all_threads()));
+    benchmark::AddCustomContext("embree", simdbvh::compare::EmbreeScene::version());
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+    return 0;
+}
