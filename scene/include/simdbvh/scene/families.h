@@ -1,7 +1,7 @@
 #pragma once
-// Adversarial ray families (ACCURACY.md, "Families of rays that make methods
+// Adversarial ray families (docs/accuracy.md, "Families of rays that make methods
 // fail"): deterministic, seeded scenes and rays, each ray with the answer
-// ACCURACY.md gives for it (must hit, must miss, no self-hit, or "ask the
+// docs/accuracy.md gives for it (must hit, must miss, no self-hit, or "ask the
 // double reference"). A family has one or more cases; a case is one mesh and
 // the rays traced against it.
 #include <cstdint>
