@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 // simdbvh bench, the run. Fair comparison: the same rays and mesh for every
-// method; an untimed warm-up trace before each timed row, then the median of
-// c.reps traces; builds: the first (cold) and the median of c.build_reps more
-// (warm), for every method, Embree included.
+// method; an untimed warm-up trace of every method before each row group, then
+// c.reps timed traces, the methods interleaved, the median per method; builds:
+// the first (cold) and the median of c.build_reps more (warm), for every
+// method, Embree included.
 #include "bench_run.h"
 
 #include <algorithm>
@@ -108,19 +109,7 @@ Built build_method(const Mesh& mesh, MethodSpec spec, int threads, int warm_reps
     return b;
 }
 
-// Median Mrays/s of c.reps timed traces after one untimed warm-up.
-double time_rays(Tracer& t, std::span<const Ray> rays, std::span<Hit> hits, bool any, int reps) {
-    t.trace(rays, hits, any, nullptr);
-    std::vector<double> mr;
-    for (int r = 0; r < reps; ++r) {
-        const auto t0 = std::chrono::steady_clock::now();
-        t.trace(rays, hits, any, nullptr);
-        mr.push_back(double(rays.size()) / seconds_since(t0) / 1e6);
-    }
-    return median(mr);
-}
-
-// The traversal counters per ray on the first c.stats_rays rays (our trees only).
+// The traversal counters per ray (our trees only).
 void count_visits(Tracer& t, std::span<const Ray> rays, bool any, Record& rec) {
     std::vector<Hit> hits(rays.size());
     TraceStats st;
@@ -130,31 +119,75 @@ void count_visits(Tracer& t, std::span<const Ray> rays, bool any, Record& rec) {
     rec.box_tests_per_ray = double(st.box_tests) / double(st.rays);
 }
 
-class MethodBench {
-public:
-    MethodBench(const BenchConfig& c, const Mesh& mesh, const std::string& scene, const BenchRays& rays)
-        : c_(c), mesh_(mesh), scene_(scene), r_(rays), hits_(c.rays) {}
+// Every k-th ray, at most n (a primary set's first rows may all miss).
+std::vector<Ray> spaced(const std::vector<Ray>& rays, std::size_t n) {
+    std::vector<Ray> out;
+    const std::size_t stride = std::max<std::size_t>(1, rays.size() / std::max<std::size_t>(1, n));
+    for (std::size_t i = 0; i < rays.size() && out.size() < n; i += stride) out.push_back(rays[i]);
+    return out;
+}
 
-    // Every row of one method: kinds x queries x {1 thread, all cores (unless one_thread)}.
-    void run(const MethodSpec& base, bool one_thread, std::vector<Record>& out) {
-        Built one = build_method(mesh_, base, 1, c_.build_reps);
-        Built all;
+// All methods on one scene. The methods are built first (cold, then warm) and
+// kept; each row group (ray kind x query x thread count) then warms every
+// method up and times the methods in turn, repetition by repetition, so a
+// period of load from elsewhere on a shared machine falls on all of them
+// instead of on one: the ratios within a run stay comparable.
+class SceneBench {
+public:
+    SceneBench(const BenchConfig& c, const Mesh& mesh, const std::string& scene, const BenchRays& rays)
+        : c_(c), mesh_(mesh), scene_(scene), r_(rays), hits_(c.rays) {
+        for (const auto& k : r_.rays) stats_.push_back(spaced(k, c.stats_rays));
+    }
+
+    // Rows for kinds x queries x {1 thread, all cores (unless one_thread)}.
+    void run(const std::vector<MethodSpec>& methods, bool one_thread, std::vector<Record>& out) {
         const bool many = c_.threads_all > 1 && !one_thread;
-        if (many) all = build_method(mesh_, base, c_.threads_all, base.method == "brute" ? 0 : c_.build_reps);
-        for (int k = 0; k < 3; ++k)
-            for (bool any : {false, true}) {
-                out.push_back(row(base, one, all, *one.tracer, 1, k, any));
-                if (many) out.push_back(row(base, one, all, *all.tracer, c_.threads_all, k, any));
-            }
-        progress("done " + base.label(), true);
+        std::vector<Built> one, all;
+        for (const MethodSpec& m : methods) one.push_back(build_method(mesh_, m, 1, c_.build_reps));
+        if (many)
+            for (const MethodSpec& m : methods)
+                all.push_back(build_method(mesh_, m, c_.threads_all, m.method == "brute" ? 0 : c_.build_reps));
+        for (int threads : {1, c_.threads_all}) {
+            if (threads != 1 && !many) break;
+            progress("timing " + std::to_string(methods.size()) + " methods on " + scene_ + ", " +
+                         std::to_string(threads) + " thread" + (threads > 1 ? "s" : ""),
+                     true);
+            for (int k = 0; k < 3; ++k)
+                for (bool any : {false, true}) group(methods, one, all, threads, k, any, out);
+        }
     }
 
 private:
+    // Brute force is timed on a small slice of the sample only (it is O(triangles) per ray).
+    std::span<const Ray> rays_for(const MethodSpec& m, int k) const {
+        if (m.method != "brute") return r_.rays[k];
+        return std::span<const Ray>(r_.rays[k]).first(std::min<std::size_t>(r_.closest[k].size(), 100));
+    }
+
+    void group(const std::vector<MethodSpec>& methods, const std::vector<Built>& one, const std::vector<Built>& all,
+               int threads, int k, bool any, std::vector<Record>& out) {
+        auto tracer = [&](std::size_t i) -> Tracer& { return threads == 1 ? *one[i].tracer : *all[i].tracer; };
+        auto trace = [&](std::size_t i) {
+            const std::span<const Ray> rs = rays_for(methods[i], k);
+            const auto t0 = std::chrono::steady_clock::now();
+            tracer(i).trace(rs, std::span(hits_).first(rs.size()), any, nullptr);
+            return double(rs.size()) / seconds_since(t0) / 1e6;
+        };
+        for (std::size_t i = 0; i < methods.size(); ++i) trace(i);  // untimed warm-up
+        std::vector<std::vector<double>> mr(methods.size());
+        for (int rep = 0; rep < c_.reps; ++rep)
+            for (std::size_t i = 0; i < methods.size(); ++i)
+                if (rep == 0 || methods[i].method != "brute") mr[i].push_back(trace(i));
+        for (std::size_t i = 0; i < methods.size(); ++i) {
+            Record rec = row(methods[i], one[i], all.empty() ? one[i] : all[i], tracer(i), threads, k, any);
+            rec.mrays_per_s = median(mr[i]);
+            out.push_back(std::move(rec));
+        }
+    }
+
+    // Everything but the speed: builds, memory, counters, agreement on the sample.
     Record row(const MethodSpec& base, const Built& one, const Built& all, Tracer& t, int threads, int k, bool any) {
-        const bool brute = base.method == "brute";
-        // Brute force is timed on a small slice of the sample only (it is O(triangles) per ray).
-        const std::size_t brute_n = std::min<std::size_t>(r_.closest[k].size(), 100);
-        const std::span<const Ray> rs = brute ? std::span<const Ray>(r_.rays[k]).first(brute_n) : std::span<const Ray>(r_.rays[k]);
+        const std::span<const Ray> rs = rays_for(base, k);
         const std::span<const Hit> ref =
             std::span<const Hit>(any ? r_.any[k] : r_.closest[k]).first(std::min(rs.size(), r_.closest[k].size()));
         Record rec;
@@ -166,21 +199,21 @@ private:
         rec.ray_kind = std::string(scene::name(kKinds[k]));
         rec.query = any ? "any" : "closest";
         rec.threads = threads;
-        rec.mrays_per_s = time_rays(t, rs, std::span(hits_).first(rs.size()), any, brute ? 1 : c_.reps);
         rec.build_ms = one.cold_ms;
         rec.build_ms_warm = one.warm_ms;
-        rec.build_ms_all = all.tracer ? all.cold_ms : one.cold_ms;
-        rec.build_ms_all_warm = all.tracer ? all.warm_ms : one.warm_ms;
+        rec.build_ms_all = all.cold_ms;
+        rec.build_ms_all_warm = all.warm_ms;
         rec.collapse_ms = one.collapse_ms;
         rec.bytes_per_triangle = t.bytes_per_triangle;
         rec.sah_cost = t.sah_cost;
         rec.rays = rs.size();
         rec.sample = ref.size();
-        rec.tally = classify_sample(mesh_, std::span<const Ray>(r_.rays[k]).first(ref.size()), ref,
-                                    std::span<const Hit>(hits_).first(ref.size()), any);
+        const std::span<const Ray> sample = std::span<const Ray>(r_.rays[k]).first(ref.size());
+        std::span<Hit> got = std::span(hits_).first(ref.size());
+        t.trace(sample, got, any, nullptr);
+        rec.tally = classify_sample(mesh_, sample, ref, got, any);
         rec.agreement = rec.tally.agreement_rate();
-        if (rec.width && threads == 1)
-            count_visits(t, std::span<const Ray>(r_.rays[k]).first(std::min(c_.stats_rays, r_.rays[k].size())), any, rec);
+        if (rec.width && threads == 1) count_visits(t, stats_[std::size_t(k)], any, rec);
         return rec;
     }
 
@@ -188,6 +221,7 @@ private:
     const Mesh& mesh_;
     std::string scene_;
     const BenchRays& r_;
+    std::vector<std::vector<Ray>> stats_;  // evenly spaced counter sample per kind
     std::vector<Hit> hits_;
 };
 
@@ -197,8 +231,7 @@ BenchResults run_bench(const BenchConfig& c, const Mesh& mesh, const std::vector
     BenchResults out;
     {
         const BenchRays rays = make_rays(c, mesh);
-        MethodBench mb(c, mesh, c.scene, rays);
-        for (const MethodSpec& m : bench_methods(false)) mb.run(m, false, out.records);
+        SceneBench(c, mesh, c.scene, rays).run(bench_methods(false), false, out.records);
     }
     out.width_scene_sizes.emplace_back(c.scene, mesh.size());
     for (const Record& r : out.records)
@@ -206,8 +239,7 @@ BenchResults run_bench(const BenchConfig& c, const Mesh& mesh, const std::vector
     for (const NamedMesh& w : width_meshes) {
         progress("wide-vs-binary scene: " + w.name, true);
         const BenchRays rays = make_rays(c, w.mesh);
-        MethodBench mb(c, w.mesh, w.name, rays);
-        for (const MethodSpec& m : bench_methods(true)) mb.run(m, true, out.widths);
+        SceneBench(c, w.mesh, w.name, rays).run(bench_methods(true), true, out.widths);
         out.width_scene_sizes.emplace_back(w.name, w.mesh.size());
     }
     return out;

@@ -16,7 +16,7 @@ struct BenchConfig {
     std::vector<std::string> width_scenes;  // further scenes for the wide-vs-binary chart (tree methods only)
     bool quick = false;
     int threads_all = 1;
-    int reps = 5;        // timed traces per row (median), after one untimed warm-up
+    int reps = 5;        // timed traces per row (median), after one untimed warm-up; methods interleaved
     int build_reps = 3;  // warm builds per method (median), after the cold (first) one
     std::size_t rays = 262144, sample = 1000, stats_rays = 16384;
     std::string json_file, report_dir, readme;  // report_dir empty: --no-report
