@@ -70,17 +70,22 @@ Json bench_json(const BenchConfig& c, const Mesh& mesh, const BenchResults& res)
 }
 
 const char* kMethodNote =
-    "Mrays/s: median of the timed traces after one untimed warm-up, the same rays and mesh for every method. "
+    "Mrays/s: median of the timed traces after one untimed warm-up, the methods interleaved, the same rays and "
+    "mesh for every method. "
     "Builds: cold = the first build of that method in the process, warm = the median of the further builds.";
 
-std::string width_section(const BenchConfig& c, const BenchResults& res, const std::string& img_dir, bool chart) {
+// The wide-vs-binary tables per scene; `heading` starts each scene's title line ("### " in the report,
+// "**" in the README block, whose headings are above it).
+std::string width_section(const BenchConfig& c, const BenchResults& res, const std::string& img_dir, bool chart,
+                          const std::string& heading) {
     std::ostringstream s;
     s << "Trees from the same BVH2 (binned SAH); width 2 is the BVH2 (scalar), 4/8/16 the collapsed BVHs per ISA. "
          "One thread. In parentheses the ratio to the BVH2 in the same run. nodes / boxes: wide nodes visited and "
-         "box tests per ray (TraceStats on the first "
-      << c.stats_rays << " rays of each set; a wide node test counts all N lanes, empty ones too).\n\n";
+         "box tests per ray (TraceStats on "
+      << c.stats_rays << " evenly spaced rays of each set; a wide node test counts all N lanes, empty ones too).\n\n";
+    const std::string end = heading == "**" ? "**" : "";
     for (const auto& [scene, n] : res.width_scene_sizes)
-        s << "### " << scene << " (" << n << " triangles)\n\n"
+        s << heading << scene << " (" << n << " triangles)" << end << "\n\n"
           << width_speed_table(res.widths, scene).markdown() << "\n"
           << width_count_table(res.widths, scene).markdown() << "\n";
     if (chart) s << "![wide vs binary](" << img_dir << "widths.png)\n\n";
@@ -103,7 +108,7 @@ void bench_markdown(const BenchConfig& c, const Mesh& mesh, const BenchResults& 
     if (c.threads_all > 1)
         md << "## All cores (" << c.threads_all << " threads, pinned)\n\n" << speed_table(recs, c.threads_all).markdown() << "\n";
     md << "## Builds\n\n" << build_table(recs, c.threads_all).markdown() << "\n"
-       << "## Wide vs binary\n\n" << width_section(c, res, "", charts)
+       << "## Wide vs binary\n\n" << width_section(c, res, "", charts, "### ")
        << "## Accuracy against the brute-force reference (sample, all ray kinds and queries, one thread)\n\n"
        << accuracy_table(recs).markdown()
        << "\nOur paths are compared bit for bit with the float brute force; differences (and all of Embree's) are "
@@ -145,7 +150,7 @@ void update_readme(const BenchConfig& c, const Mesh& mesh, const BenchResults& r
     if (c.threads_all > 1)
         block << "All cores (" << c.threads_all << " threads):\n\n" << speed_table(recs, c.threads_all).markdown() << "\n";
     block << "Builds:\n\n" << build_table(recs, c.threads_all).markdown() << "\n"
-          << "#### Wide vs binary\n\n" << width_section(c, res, "docs/results/", charts)
+          << "Wide vs binary:\n\n" << width_section(c, res, "docs/results/", charts, "**")
           << "Accuracy on the sample, all ray kinds and queries:\n\n" << accuracy_table(recs).markdown() << "\n"
           << "![Mrays/s](docs/results/mrays.png)\n![speed against accuracy](docs/results/speed_accuracy.png)\n"
           << "![render](docs/results/render_bvh8.png) ![BVH2 nodes](docs/results/heat_bvh2.png) "

@@ -61,15 +61,15 @@ Mesh torus(int n, int m, float major_r, float minor_r, Vec3 center) {
 
 // Wachter and Binder, "A Fast and Robust Method for Avoiding Self-Intersection"
 // (Ray Tracing Gems, ch. 6): move p by 256 ulps along n per component; within
-// 1/32 of the origin, by n / 65536.
-Vec3 offset_ray_origin(Vec3 p, Vec3 n) {
+// 1/32 (times scale) of the origin, by n / 65536 (times scale).
+Vec3 offset_ray_origin(Vec3 p, Vec3 n, float scale) {
     constexpr float kOrigin = 1.0f / 32.0f, kFloatScale = 1.0f / 65536.0f, kIntScale = 256.0f;
     Vec3 out;
     for (int k = 0; k < 3; ++k) {
         const auto of = std::int32_t(kIntScale * n[k]);
         const auto bits = std::bit_cast<std::int32_t>(p[k]);
         const float pi = std::bit_cast<float>(bits + (p[k] < 0.0f ? -of : of));
-        out[k] = std::fabs(p[k]) < kOrigin ? p[k] + kFloatScale * n[k] : pi;
+        out[k] = std::fabs(p[k]) < kOrigin * scale ? p[k] + kFloatScale * scale * n[k] : pi;
     }
     return out;
 }
