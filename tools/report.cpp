@@ -2,6 +2,7 @@
 #include "report.h"
 
 #include <fcntl.h>
+#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -85,16 +86,16 @@ bool run_chart_script(const std::string& script, const std::string& json_file, c
     const std::string py = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
     const std::string path = std::string(SIMDBVH_SOURCE_DIR) + "/scripts/" + script;
     std::cout.flush();
-    const pid_t pid = ::fork();
-    if (pid == 0) {  // the child: stdout to /dev/null (the script's own output is noise here)
-        const int devnull = ::open("/dev/null", O_WRONLY);
-        if (devnull >= 0) ::dup2(devnull, STDOUT_FILENO);
-        const char* argv[] = {py.c_str(), path.c_str(), json_file.c_str(), out_dir.c_str(), nullptr};
-        ::execvp(argv[0], const_cast<char* const*>(argv));
-        ::_exit(127);
-    }
+    // posix_spawn, no shell: the paths reach the script as they are. Its stdout (noise here) goes to /dev/null.
+    posix_spawn_file_actions_t fa;
+    posix_spawn_file_actions_init(&fa);
+    posix_spawn_file_actions_addopen(&fa, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+    const char* argv[] = {py.c_str(), path.c_str(), json_file.c_str(), out_dir.c_str(), nullptr};
+    pid_t pid = 0;
+    const int err = ::posix_spawnp(&pid, argv[0], &fa, nullptr, const_cast<char* const*>(argv), environ);
+    posix_spawn_file_actions_destroy(&fa);
     int status = 0;
-    const bool ok = pid > 0 && ::waitpid(pid, &status, 0) == pid && WIFEXITED(status) && WEXITSTATUS(status) == 0;
+    const bool ok = err == 0 && ::waitpid(pid, &status, 0) == pid && WIFEXITED(status) && WEXITSTATUS(status) == 0;
     if (!ok)
         std::cerr << "[simdbvh] warning: chart script failed (" << py << " " << path << " " << json_file << " "
                   << out_dir << "; needs matplotlib); the report has tables only\n";
