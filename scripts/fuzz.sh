@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Fuzz the mesh loaders and the ray/hit readers with libFuzzer + ASan + UBSan
-# (ACCURACY.md). Configures a Clang build in build/fuzz (fuzz/ as the top
+# (docs/accuracy.md). Configures a Clang build in build/fuzz (fuzz/ as the top
 # level), builds fuzz_load_mesh and fuzz_read_rays, and runs each for SECONDS
 # (default 60) over a working copy of fuzz/corpus/<target>.
 #   scripts/fuzz.sh [SECONDS] [TARGET...]

@@ -22,6 +22,11 @@ import matplotlib.pyplot as plt  # noqa: E402
 FLOOR = 0.1  # zero disagreements are drawn here on the log axis
 
 
+def num(v):
+    """A JSON number; null (the report layer writes non-finite numbers as null) is NaN: not drawn."""
+    return float("nan") if v is None else v
+
+
 def pareto(points):
     """Indices of points not dominated (higher Mrays/s and lower dpm is better)."""
     front = []
@@ -59,7 +64,7 @@ def speed_vs_accuracy(rows, out):
     for k, fam in enumerate(families):
         ax = axes[k // cols][k % cols]
         rs = [r for r in fam_rows if r["family"] == fam]
-        pts = [(max(r["disagreements_per_million"], FLOOR), r["mrays_per_s"]) for r in rs]
+        pts = [(max(num(r["disagreements_per_million"]), FLOOR), num(r["mrays_per_s"])) for r in rs]
         for r, (x, y) in zip(rs, pts):
             m, c = style(r["method"])
             h = ax.scatter([x], [y], marker=m, color=c, s=46, zorder=3, label=r["method"])
@@ -99,7 +104,7 @@ def offsets(rows, out):
         rs = sorted((r for r in off_rows if r["method"] == m), key=lambda r: r["offset"])
         xs = [r["offset"] for r in rs]
         leak = [max(r["leak"] / r["rays"], 1e-6) if r["rays"] else 1e-6 for r in rs]
-        terr = [max(r["max_rel_t_error"], 1e-9) for r in rs]
+        terr = [max(num(r["max_rel_t_error"]), 1e-9) for r in rs]
         mk, c = style(m)
         a1.plot(xs, leak, marker=mk, color=c, label=m)
         a2.plot(xs, terr, marker=mk, color=c, label=m)

@@ -10,6 +10,11 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 
+def num(v):
+    """A JSON number; null (the report layer writes non-finite numbers as null) is NaN: not drawn."""
+    return float("nan") if v is None else v
+
+
 def label(r):
     m = r["method"]
     return f"{m}/{r['isa']}" if m in ("bvh4", "bvh8", "bvh16") else m
@@ -29,7 +34,7 @@ def main(json_file, out_dir):
     for ax, query in zip(axes, ["closest", "any"]):
         w = 0.8 / max(1, len(methods))
         for i, m in enumerate(methods):
-            vals = [next((r["mrays_per_s"] for r in one if label(r) == m and r["ray_kind"] == k and r["query"] == query), 0)
+            vals = [next((num(r["mrays_per_s"]) for r in one if label(r) == m and r["ray_kind"] == k and r["query"] == query), 0)
                     for k in kinds]
             ax.bar([x + i * w for x in range(len(kinds))], vals, w, label=m)
         ax.set_xticks([x + 0.4 - w / 2 for x in range(len(kinds))], kinds)
@@ -49,7 +54,7 @@ def main(json_file, out_dir):
         rs = [r for r in one if label(r) == m and r["query"] == "closest"]
         if not rs:
             continue
-        speed = sum(r["mrays_per_s"] for r in rs) / len(rs)
+        speed = sum(num(r["mrays_per_s"]) for r in rs) / len(rs)
         dis = sum(sum(r["disagreements"][c] for c in ("leak", "false_hit", "wrong_triangle", "t_error")) for r in rs)
         sample = sum(r["sample"] for r in rs) or 1
         ppm = max(dis / sample * 1e6, 0.5)  # 0 plotted at 0.5 ppm on the log axis
@@ -78,8 +83,8 @@ def main(json_file, out_dir):
     for i, isa in enumerate(isas):
         vals = []
         for k in kinds:
-            b2 = next((r["mrays_per_s"] for r in one if r["method"] == "bvh2" and r["ray_kind"] == k and r["query"] == "closest"), 0)
-            b8 = next((r["mrays_per_s"] for r in one if r["method"] == "bvh8" and r["isa"] == isa and r["ray_kind"] == k and r["query"] == "closest"), 0)
+            b2 = next((num(r["mrays_per_s"]) for r in one if r["method"] == "bvh2" and r["ray_kind"] == k and r["query"] == "closest"), 0)
+            b8 = next((num(r["mrays_per_s"]) for r in one if r["method"] == "bvh8" and r["isa"] == isa and r["ray_kind"] == k and r["query"] == "closest"), 0)
             vals.append(b8 / b2 if b2 else 0)
         ax.bar([x + i * w for x in range(len(kinds))], vals, w, label=f"bvh8/{isa}")
     ax.axhline(1.0, color="k", lw=0.8)
@@ -97,8 +102,11 @@ def main(json_file, out_dir):
     for r in one:
         seen.setdefault(label(r), r)
     names = list(seen)
-    axes[0].bar(range(len(names)), [seen[n]["build_ms"] for n in names], label="1 thread")
-    axes[0].bar(range(len(names)), [seen[n]["build_ms_all_cores"] for n in names], 0.5, label="all cores")
+    x = range(len(names))
+    axes[0].bar([i - 0.27 for i in x], [seen[n]["build_ms"] for n in names], 0.27, label="1 thread, cold (first)")
+    axes[0].bar(x, [seen[n].get("build_ms_warm", 0) for n in names], 0.27, label="1 thread, warm (median)")
+    axes[0].bar([i + 0.27 for i in x], [seen[n].get("build_ms_all_cores_warm", 0) for n in names], 0.27,
+                label="all cores, warm (median)")
     axes[0].set_ylabel("build ms")
     axes[0].legend(fontsize=8)
     axes[1].bar(range(len(names)), [seen[n]["bytes_per_triangle"] for n in names])
@@ -108,6 +116,70 @@ def main(json_file, out_dir):
         ax.grid(axis="y", alpha=0.3)
     fig.tight_layout()
     fig.savefig(out / "build.png", dpi=110)
+    plt.close(fig)
+
+    widths_chart(data, out)
+
+
+KIND_COLORS = {"primary": "tab:blue", "incoherent": "tab:orange", "diffuse": "tab:green"}
+ISA_STYLES = {"scalar": ":", "avx2": "--", "avx512": "-"}
+
+
+def widths_chart(data, out):
+    """Wide vs binary: one row of panels per scene, x = node width (2 = BVH2, scalar)."""
+    rows = [r for r in data.get("widths", []) if r["threads"] == 1 and r["width"]]
+    scenes = [s["scene"] for s in data.get("width_scenes", [])]
+    if not rows or not scenes:
+        return
+    isas = [i for i in ISA_STYLES if any(r["isa"] == i for r in rows if r["width"] > 2)]
+    cols = [("mrays_per_s", "closest", "Mrays/s, closest hit"), ("mrays_per_s", "any", "Mrays/s, any hit"),
+            ("nodes_per_ray", "closest", "nodes visited / ray (closest)"),
+            ("box_tests_per_ray", "closest", "box tests (lanes) / ray (closest)")]
+    fig, axes = plt.subplots(len(scenes), len(cols) + 1, figsize=(4.2 * (len(cols) + 1), 3.6 * len(scenes)),
+                             squeeze=False)
+    for si, scene in enumerate(scenes):
+        rs = [r for r in rows if r["scene"] == scene]
+        tris = next((s["triangles"] for s in data["width_scenes"] if s["scene"] == scene), 0)
+        for ci, (key, query, title) in enumerate(cols):
+            ax = axes[si][ci]
+            counters = key != "mrays_per_s"
+            for kind, color in KIND_COLORS.items():
+                for isa in (isas[:1] if counters else isas):
+                    pts = []
+                    for w in (2, 4, 8, 16):
+                        want = "scalar" if w == 2 else isa
+                        v = next((num(r[key]) for r in rs if r["width"] == w and r["isa"] == want
+                                  and r["ray_kind"] == kind and r["query"] == query), None)
+                        if v is not None:
+                            pts.append((w, v))
+                    if pts:
+                        ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="o", color=color,
+                                ls="-" if counters else ISA_STYLES[isa], label=kind if counters else f"{kind} {isa}")
+            ax.set_xscale("log", base=2)
+            ax.set_xticks([2, 4, 8, 16], ["2", "4", "8", "16"])
+            ax.set_title(f"{scene}: {title}", fontsize=9)
+            ax.set_xlabel("node width (2 = BVH2)")
+            ax.grid(alpha=0.3)
+            if si == 0 and ci in (0, 2):
+                ax.legend(fontsize=6)
+        ax = axes[si][len(cols)]
+        per_w = {}
+        for r in rs:
+            per_w.setdefault(r["width"], r)
+        ws = sorted(per_w)
+        ax.bar([str(w) for w in ws], [per_w[w]["bytes_per_triangle"] for w in ws], color="tab:gray", label="bytes/triangle")
+        ax.set_ylabel("bytes / triangle")
+        ax2 = ax.twinx()
+        # The collapse does not depend on the ISA: the median over the width's rows.
+        coll = [sorted(r["collapse_ms"] for r in rs if r["width"] == w and r["ray_kind"] == "primary"
+                       and r["query"] == "closest") for w in ws]
+        ax2.plot([str(w) for w in ws], [c[len(c) // 2] if w > 2 and c else 0 for w, c in zip(ws, coll)], "ko-",
+                 label="collapse ms")
+        ax2.set_ylabel("collapse ms (warm, median over ISAs)")
+        ax.set_title(f"{scene} ({tris:,} triangles): memory, collapse", fontsize=9)
+    fig.suptitle("Wide vs binary, one thread (median of timed traces after a warm-up; line style = ISA)")
+    fig.tight_layout()
+    fig.savefig(out / "widths.png", dpi=100)
     plt.close(fig)
 
 

@@ -19,8 +19,13 @@ KINDS = ["primary", "incoherent", "diffuse"]
 MARKERS = {"primary": "o", "incoherent": "s", "diffuse": "^"}
 
 
+def num(v):
+    """A JSON number; null (the report layer writes non-finite numbers as null) is NaN: not drawn."""
+    return float("nan") if v is None else v
+
+
 def mean(xs):
-    return sum(xs) / len(xs) if xs else 0.0
+    return sum(num(x) for x in xs) / len(xs) if xs else 0.0
 
 
 def main(json_file, out_dir):
@@ -54,8 +59,8 @@ def main(json_file, out_dir):
     ax = axes[1]
     for r in rows:
         c = colors[r["name"]]
-        ax.scatter(r["build_ms_1"], r["frame_ms"], color=c, s=45)
-        ax.annotate(r["name"], (r["build_ms_1"], r["frame_ms"]), fontsize=7, xytext=(4, 3), textcoords="offset points")
+        ax.scatter(r["build_ms_1"], num(r["frame_ms"]), color=c, s=45)
+        ax.annotate(r["name"], (r["build_ms_1"], num(r["frame_ms"])), fontsize=7, xytext=(4, 3), textcoords="offset points")
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("build time, 1 thread (ms, log)")
@@ -74,7 +79,7 @@ def main(json_file, out_dir):
             if key == "mrays_bvh8" and r["name"] == "spheres":
                 continue
             for k, kind in enumerate(KINDS):
-                ax.scatter(r["sah_cost"], r[key][k], color=colors[r["name"]], marker=MARKERS[kind], s=40)
+                ax.scatter(r["sah_cost"], num(r[key][k]), color=colors[r["name"]], marker=MARKERS[kind], s=40)
             ax.annotate(r["name"], (r["sah_cost"], r[key][0]), fontsize=7, xytext=(4, 3), textcoords="offset points")
         for kind in KINDS:
             ax.scatter([], [], color="gray", marker=MARKERS[kind], label=kind)

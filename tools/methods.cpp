@@ -145,6 +145,7 @@ public:
         bvh_ = BvhN<N>::build(b2, s.bvh8);
         build_ms = ms_since(t0);
         const WideStats& st = bvh_.stats();
+        collapse_ms = st.build_ms;
         bytes_per_triangle = st.bytes_per_triangle;
         sah_cost = st.sah_cost;
         depth = st.depth;

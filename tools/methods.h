@@ -33,6 +33,7 @@ public:
     virtual ~Tracer() = default;
     virtual void trace(std::span<const Ray> rays, std::span<Hit> hits, bool any_hit, TraceStats* stats) = 0;
     double build_ms = 0;
+    double collapse_ms = 0;  // the wide BVHs: collapse + pack (part of build_ms)
     double bytes_per_triangle = 0;
     double sah_cost = 0;
     int depth = 0;

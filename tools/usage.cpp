@@ -41,9 +41,12 @@ constexpr CommandText kCommands[] = {
            exact inside/outside per point: one byte (0 outside, 1 inside, 2 on the surface)
 )"},
     {"bench", R"(bench    [--scene S] [--quick] [--threads N] [--json FILE] [--report DIR] [--readme README.md]
-           [--reps N] [--rays N] [--sample N] [--no-report]
-           every method (bvh4, bvh8, bvh16 at every ISA the CPU has): build, Mrays/s (1 thread, all cores),
-           accuracy; report with charts and pictures
+           [--reps N] [--build-reps N] [--rays N] [--sample N] [--stats-rays N] [--no-report]
+           [--width-scenes S1,S2|none]
+           every method (bvh4, bvh8, bvh16 at every ISA the CPU has): builds cold and warm, Mrays/s (1 thread,
+           all cores; median of --reps after a warm-up), accuracy; wide vs binary (width 2/4/8/16 per ISA:
+           Mrays/s, nodes and box tests per ray, bytes/triangle, collapse time) on S and the width scenes
+           (default: terrain; none with --quick); report with charts and pictures
 )"},
     {"render", R"(render   --scene S --out IMG.png [--method M] [--heatmap] [--width W] [--height H]
 )"},

@@ -2,11 +2,11 @@
 // bounces. Float math with + - * /, sqrt, sin and cos only; own PRNG.
 #include "simdbvh/scene/rays.h"
 
-#include <bit>
 #include <cmath>
 
 #include "rng.h"
 #include "simdbvh/kernels/error.h"
+#include "simdbvh/scene/families.h"
 
 namespace simdbvh::scene {
 namespace {
@@ -33,22 +33,6 @@ void onb(Vec3 n, Vec3& t, Vec3& b) {
     const float c = n.x * n.y * a;
     t = Vec3{1.0f + s * n.x * n.x * a, s * c, -s * n.x};
     b = Vec3{c, s + n.y * n.y * a, -n.y};
-}
-
-// Wachter and Binder, Ray Tracing Gems ch. 6 ("A Fast and Robust Method for
-// Avoiding Self-Intersection"): move p along n by a few hundred ulps; near
-// the origin, by a small absolute amount. We scale that absolute part by the
-// scene size `scale` so that scaling a scene by 2^k scales every offset exactly.
-Vec3 offset_ray(Vec3 p, Vec3 n, float scale) {
-    constexpr float kOrigin = 1.0f / 32.0f, kFloatScale = 1.0f / 65536.0f, kIntScale = 256.0f;
-    Vec3 out;
-    for (int k = 0; k < 3; ++k) {
-        const auto of = std::int32_t(kIntScale * n[k]);
-        const auto bits = std::bit_cast<std::int32_t>(p[k]);
-        const float pi = std::bit_cast<float>(bits + (p[k] < 0.0f ? -of : of));
-        out[k] = std::fabs(p[k]) < kOrigin * scale ? p[k] + kFloatScale * scale * n[k] : pi;
-    }
-    return out;
 }
 
 }  // namespace
@@ -166,7 +150,7 @@ std::vector<Ray> diffuse_rays(const Mesh& mesh, std::span<const Ray> primary, st
         const float r = std::sqrt(u1), phi = kTwoPi * u2;
         const float lz = std::sqrt(std::fmax(0.0f, 1.0f - u1));
         Ray ray;
-        ray.org = offset_ray(p, ng, scale);
+        ray.org = offset_ray_origin(p, ng, scale);  // Wachter and Binder, RT Gems ch. 6
         ray.dir = normalize(t * (r * std::cos(phi)) + bt * (r * std::sin(phi)) + ng * lz);
         rays.push_back(ray);
     }

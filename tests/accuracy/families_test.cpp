@@ -1,5 +1,5 @@
 // The validated path (watertight triangle test + conservative box test) on every
-// ray family (ACCURACY.md): no leak, false hit or wrong triangle against the
+// ray family (docs/accuracy.md): no leak, false hit or wrong triangle against the
 // double reference, every case of every family (each offset is a case), and
 // BVH2, BVH2 with stats and BVH8 on every supported ISA bit-identical.
 #include <gtest/gtest.h>
@@ -143,7 +143,7 @@ TEST(FamilyShapes, OffsetsCoverEveryDecadeAndGrazingHasCoplanarRays) {
     EXPECT_EQ(t.size(), 2u * 12 * 8);
 }
 
-// The comparison variants are wired and do what ACCURACY.md measured: the
+// The comparison variants are wired and do what docs/accuracy.md measured: the
 // plain box test and Moller-Trumbore leak on the watertight family.
 TEST(Variants, PlainBoxAndMollerLeakWhereTheDefaultDoesNot) {
     scene::FamilyOptions fo;

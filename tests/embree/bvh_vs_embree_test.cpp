@@ -1,7 +1,7 @@
 // BVH2 and BVH8 (every supported ISA) against Embree 3 (quality medium and
 // high, default and robust), closest and any hit, on real and procedural
 // scenes and three ray kinds. Where we and Embree differ, both answers are
-// classified against the double reference (ACCURACY.md): no disagreement may be
+// classified against the double reference (docs/accuracy.md): no disagreement may be
 // ours; Embree's own are reported (stdout and RecordProperty).
 #include <gtest/gtest.h>
 
@@ -157,7 +157,7 @@ std::vector<Case> cases() {
 
 INSTANTIATE_TEST_SUITE_P(Scenes, VsEmbree, testing::ValuesIn(cases()), case_name);
 
-// The watertight family (ACCURACY.md): a closed icosphere, rays from inside
+// The watertight family (docs/accuracy.md): a closed icosphere, rays from inside
 // aimed at every vertex and every edge midpoint, also with the scene translated
 // far from the origin. Every ray must hit; this is where a non-watertight test
 // leaks, so Embree's default and robust modes separate here.

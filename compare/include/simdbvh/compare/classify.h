@@ -1,6 +1,6 @@
 #pragma once
 // Classification of a method's answers against the double reference
-// (ACCURACY.md, "Agreement with a reference"):
+// (docs/accuracy.md, "Agreement with a reference"):
 //   agree           both miss, or the method hit the reference's closest triangle with |t - t_ref| <= tau
 //   tie             an agreement on another triangle of the tie-set
 //   leak            the reference hits, the method misses

@@ -1,5 +1,5 @@
 #pragma once
-// The accuracy reference (ACCURACY.md, "Agreement with a reference"): brute
+// The accuracy reference (docs/accuracy.md, "Agreement with a reference"): brute
 // force over every triangle, the watertight test (Woop, Benthin, Wald 2013)
 // evaluated in double on the same float inputs: same permutation (largest |d|
 // component becomes z, winding kept), shear constants, edge functions, det and

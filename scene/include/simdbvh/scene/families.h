@@ -1,7 +1,7 @@
 #pragma once
-// Adversarial ray families (ACCURACY.md, "Families of rays that make methods
+// Adversarial ray families (docs/accuracy.md, "Families of rays that make methods
 // fail"): deterministic, seeded scenes and rays, each ray with the answer
-// ACCURACY.md gives for it (must hit, must miss, no self-hit, or "ask the
+// docs/accuracy.md gives for it (must hit, must miss, no self-hit, or "ask the
 // double reference"). A family has one or more cases; a case is one mesh and
 // the rays traced against it.
 #include <cstdint>
@@ -74,8 +74,10 @@ std::vector<FamilyCase> make_family(Family f, const FamilyOptions& opts = {});
 // Procedural pieces the families use.
 // Closed torus around the z axis: major radius R, minor radius r, n x m quads (2 n m triangles).
 Mesh torus(int n, int m, float major_radius = 1.0f, float minor_radius = 0.35f, Vec3 center = {});
-// The float offset point of Wachter and Binder (RT Gems ch. 6) for a hit point p with normal n.
-Vec3 offset_ray_origin(Vec3 p, Vec3 n);
+// The float offset point of Wachter and Binder (RT Gems ch. 6) for a hit point p with normal n. `scale`
+// (the scene size) scales the absolute offset used near the origin, so that scaling a scene by 2^k scales
+// every offset exactly.
+Vec3 offset_ray_origin(Vec3 p, Vec3 n, float scale = 1.0f);
 
 // Binary little-endian PLY (float x y z, uchar/uint faces), written atomically; encode_ply: its bytes.
 std::vector<unsigned char> encode_ply(const Mesh& mesh);
