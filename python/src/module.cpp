@@ -81,7 +81,7 @@ public:
     }
 
     py::dict intersect(const py::handle& o, const py::handle& d, const py::handle& tmin, const py::handle& tmax,
-                       int threads, bool any) const {
+                       int threads, bool any, bool points = false, bool normals = false) const {
         const std::vector<Ray> rays = make_rays(o, d, tmin, tmax);
         std::vector<Hit> hits(rays.size());
         {
@@ -130,7 +130,51 @@ public:
         out["prim"] = prim;
         out["u"] = u;
         out["v"] = v;
+        if (points) out["points"] = hit_points(hits);
+        if (normals) out["normals"] = hit_normals(hits);
         return out;
+    }
+
+    // (1 - u - v) v0 + u v1 + v v2 in double, rounded once: on the hit triangle
+    // (origin + t * direction can miss its plane by the rounding of t). NaN rows for misses.
+    py::array_t<float> hit_points(const std::vector<Hit>& hits) const {
+        auto a = empty_points(hits.size());
+        float* p = a.mutable_data();
+        for (std::size_t i = 0; i < hits.size(); ++i, p += 3) {
+            const Hit& h = hits[i];
+            if (!h.hit()) {
+                p[0] = p[1] = p[2] = std::numeric_limits<float>::quiet_NaN();
+                continue;
+            }
+            const double w = 1.0 - double(h.u) - double(h.v);
+            for (int k = 0; k < 3; ++k)
+                p[k] = float(w * mesh_.vertex(h.prim, 0)[k] + double(h.u) * mesh_.vertex(h.prim, 1)[k] +
+                             double(h.v) * mesh_.vertex(h.prim, 2)[k]);
+        }
+        return a;
+    }
+    // Unit geometric normal (v1 - v0) x (v2 - v0) in double, by the triangle's
+    // winding (not turned toward the ray). NaN rows for misses.
+    py::array_t<float> hit_normals(const std::vector<Hit>& hits) const {
+        auto a = empty_points(hits.size());
+        float* p = a.mutable_data();
+        for (std::size_t i = 0; i < hits.size(); ++i, p += 3) {
+            const Hit& h = hits[i];
+            if (!h.hit()) {
+                p[0] = p[1] = p[2] = std::numeric_limits<float>::quiet_NaN();
+                continue;
+            }
+            double e1[3], e2[3];
+            for (int k = 0; k < 3; ++k) {
+                e1[k] = double(mesh_.vertex(h.prim, 1)[k]) - mesh_.vertex(h.prim, 0)[k];
+                e2[k] = double(mesh_.vertex(h.prim, 2)[k]) - mesh_.vertex(h.prim, 0)[k];
+            }
+            const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                                 e1[0] * e2[1] - e1[1] * e2[0]};
+            const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+            for (int k = 0; k < 3; ++k) p[k] = len > 0 ? float(n[k] / len) : 0.0f;
+        }
+        return a;
     }
 
     py::dict closest(const py::handle& points, float max_distance, int threads) const {
@@ -348,10 +392,15 @@ PYBIND11_MODULE(_simdbvh, m) {
         .def_property_readonly("method", &Bvh::method)
         .def_property_readonly("isa", &Bvh::isa)
         .def("intersect", [](const Bvh& b, const py::handle& o, const py::handle& d, const py::handle& tmin,
-                             const py::handle& tmax, int threads) { return b.intersect(o, d, tmin, tmax, threads, false); },
+                             const py::handle& tmax, int threads, bool points, bool normals) {
+            return b.intersect(o, d, tmin, tmax, threads, false, points, normals);
+        },
              py::arg("origins"), py::arg("directions"), py::arg("tmin") = 0.0f, py::arg("tmax") = kInf,
-             py::arg("threads") = 1,
-             "Closest hits: dict of hit (bool), t, prim (-1 for a miss), u, v. Ties at equal t go to the lower id.")
+             py::arg("threads") = 1, py::arg("points") = false, py::arg("normals") = false,
+             "Closest hits: dict of hit (bool), t, prim (-1 for a miss), u, v. Ties at equal t go to the lower id. "
+             "points=True adds 'points' (n, 3): (1-u-v) v0 + u v1 + v v2 evaluated in double, rounded to float32 "
+             "(on the hit triangle); normals=True adds 'normals' (n, 3): the unit geometric normal "
+             "(v1 - v0) x (v2 - v0) by the triangle's winding, not turned toward the ray. Misses: NaN rows.")
         .def("occluded", [](const Bvh& b, const py::handle& o, const py::handle& d, const py::handle& tmin,
                             const py::handle& tmax, int threads) {
             return b.intersect(o, d, tmin, tmax, threads, true)["hit"];

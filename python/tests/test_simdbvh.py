@@ -64,6 +64,36 @@ def test_hits_on_the_cube(cube):
         assert bvh.intersect(o, d, tmin=np.array([2.0, 0.0, 0.0]))["t"][0] == 2.0  # the top face
 
 
+def test_hit_points_and_normals(cube):
+    bvh = simdbvh.BVH(cube)
+    o = np.array([[0.25, 0.5, -1.0], [0.5, 0.5, 0.5], [2.0, 2.0, 2.0], [0.3, 0.7, 5.0]], dtype=np.float32)
+    d = np.array([[0, 0, 1], [1, 0, 0], [1, 0, 0], [0, 0, -1]], dtype=np.float32)
+    h = bvh.intersect(o, d, points=True, normals=True)
+    assert h["hit"].tolist() == [True, True, False, True]
+    # By hand: the floor z = 0 (outward normal -z), the wall x = 1 (+x), a miss, the top z = 1 (+z).
+    np.testing.assert_allclose(h["points"][[0, 1, 3]], [[0.25, 0.5, 0], [1, 0.5, 0.5], [0.3, 0.7, 1]], atol=1e-6)
+    np.testing.assert_array_equal(h["normals"][[0, 1, 3]], [[0, 0, -1], [1, 0, 0], [0, 0, 1]])
+    assert np.isnan(h["points"][2]).all() and np.isnan(h["normals"][2]).all()
+    assert "points" not in bvh.intersect(o, d)
+    # On a sphere: points lie on their triangle's plane, normals are unit and orthogonal to its edges.
+    mesh = sphere_mesh(16)
+    rng = np.random.default_rng(3)
+    org = rng.uniform(-3, 3, (2000, 3)).astype(np.float32)
+    to = rng.uniform(-0.5, 0.5, (2000, 3)).astype(np.float32)
+    h = simdbvh.BVH(mesh).intersect(org, to - org, points=True, normals=True)
+    hit = h["hit"]
+    assert hit.sum() > 1000
+    tri = mesh.vertices.astype(np.float64)[mesh.faces[h["prim"][hit]]]
+    n = h["normals"][hit].astype(np.float64)
+    np.testing.assert_allclose(np.linalg.norm(n, axis=1), 1.0, atol=1e-6)
+    for e in (tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]):
+        assert np.abs(np.einsum("ij,ij->i", n, e)).max() < 1e-5
+    off_plane = np.einsum("ij,ij->i", n, h["points"][hit] - tri[:, 0])
+    assert np.abs(off_plane).max() < 1e-6
+    # And they agree with origin + t * direction up to the rounding of t.
+    np.testing.assert_allclose(h["points"][hit], org[hit] + h["t"][hit, None] * (to - org)[hit], atol=1e-5)
+
+
 def test_every_path_and_isa_bit_identical():
     mesh = sphere_mesh()
     rng = np.random.default_rng(1)
