@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "simdbvh/bvh2/spheres.h"
+#include "simdbvh/bvh8/brute_force8.h"
 #include "simdbvh/compare/embree.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/kernels/parallel.h"
@@ -19,7 +20,8 @@ int MethodSpec::width() const {
 }
 
 std::string MethodSpec::label() const {
-    if (is_wide(method)) return method + "/" + std::string(name(isa)) + (test == TriangleTest::moller ? "/moller" : "");
+    if (is_wide(method) || method == "brute8")
+        return method + "/" + std::string(name(isa)) + (test == TriangleTest::moller ? "/moller" : "");
     if (method == "embree") return "embree/" + quality + (robust ? "/robust" : "/default");
     // Non-default variants are named: bvh2/moller, bvh2/plain-box, brute/moller.
     std::string l = method;
@@ -29,7 +31,7 @@ std::string MethodSpec::label() const {
 }
 std::string MethodSpec::isa_name() const {
     if (is_wide(method) && isa_auto) return std::string(name(traversal_isa_choice(width(), false).isa));
-    if (is_wide(method)) return std::string(name(isa));
+    if (is_wide(method) || method == "brute8") return std::string(name(isa));
     if (method == "embree") return "embree-internal";
     return "scalar";
 }
@@ -49,8 +51,9 @@ void add_method_options(std::set<std::string>& valued, std::set<std::string>& fl
 MethodSpec parse_method(const Options& o) {
     MethodSpec s;
     s.method = o.get("method", "bvh2");
-    if (s.method != "brute" && s.method != "bvh2" && !is_wide(s.method) && s.method != "embree" && s.method != "spheres")
-        throw UsageError("unknown --method '" + s.method + "' (brute, bvh2, bvh4, bvh8, bvh16, embree, spheres)");
+    if (s.method != "brute" && s.method != "brute8" && s.method != "bvh2" && !is_wide(s.method) && s.method != "embree" &&
+        s.method != "spheres")
+        throw UsageError("unknown --method '" + s.method + "' (brute, brute8, bvh2, bvh4, bvh8, bvh16, embree, spheres)");
     if (o.has("isa")) {
         auto isa = parse_isa(o.get("isa"));
         if (!isa) throw UsageError("unknown --isa '" + o.get("isa") + "' (scalar, avx2, avx512)");
@@ -109,6 +112,25 @@ public:
 private:
     const Mesh& mesh_;
     MethodSpec spec_;
+};
+
+// SIMD brute force (bvh8/brute_force8.h): Tri8 blocks, no tree, the ISA of --isa.
+class Brute8Tracer final : public Tracer {
+public:
+    Brute8Tracer(const Mesh& m, const MethodSpec& s) : spec_(s), brute_(BruteForce8::build(m)) {
+        build_ms = brute_.build_ms();
+        bytes_per_triangle = m.size() ? double(brute_.blocks().size() * sizeof(Tri8)) / double(m.size()) : 0.0;
+    }
+    void trace(std::span<const Ray> rays, std::span<Hit> hits, bool any, TraceStats*) override {
+        TraceOptions o;
+        o.test = spec_.test;
+        o.threads = spec_.threads;
+        any ? occluded(brute_, rays, hits, o, spec_.isa) : intersect(brute_, rays, hits, o, spec_.isa);
+    }
+
+private:
+    MethodSpec spec_;
+    BruteForce8 brute_;
 };
 
 class Bvh2Tracer final : public Tracer {
@@ -224,6 +246,7 @@ private:
 
 std::unique_ptr<Tracer> make_tracer(const Mesh& mesh, const MethodSpec& spec) {
     if (spec.method == "brute") return std::make_unique<BruteTracer>(mesh, spec);
+    if (spec.method == "brute8") return std::make_unique<Brute8Tracer>(mesh, spec);
     if (spec.method == "bvh2") return std::make_unique<Bvh2Tracer>(mesh, spec);
     if (spec.method == "bvh4") return std::make_unique<WideTracer<4>>(mesh, spec);
     if (spec.method == "bvh8") return std::make_unique<WideTracer<8>>(mesh, spec);

@@ -27,7 +27,7 @@ constexpr CommandText kCommands[] = {
     {"trace", R"(trace    --scene S --rays RAYS.bin --out HITS.bin [--method M] [--query Q] [--any-hit] [--stats] [--threads N]
            [--isa I] [--builder B] [--bins N] [--collapse C] [--test watertight|moller]
            [--box conservative|plain] [--quality medium|high] [--robust] [--drop-invalid]
-           M: brute | bvh2 | bvh4 | bvh8 | bvh16 | embree | spheres
+           M: brute | brute8 | bvh2 | bvh4 | bvh8 | bvh16 | embree | spheres
            Q: closest | any (= --any-hit) | count (int32 winding per ray) | all [--max-hits N] (20-byte
               records: ray, t, u, v, prim); count and all run on bvh2 or brute, every crossing once
 )"},

@@ -141,6 +141,35 @@ TEST_F(Cli, MethodWidthsAtEveryIsa) {
         }
 }
 
+// --method brute8 (SIMD brute force, no tree) at every ISA: the same hit
+// files, byte for byte, as the scalar brute force; closest and any hit.
+TEST_F(Cli, SimdBruteForceEqualsBruteForceAtEveryIsa) {
+    const std::string rays = path("r.bin");
+    ASSERT_EQ(run_cli("gen-rays --scene soup-2000 --kind incoherent --count 3000 --seed 4 --out " + rays).status, 0);
+    const std::string base = "trace --scene soup-2000 --rays " + rays;
+    for (const std::string any : {"", " --any-hit"}) {
+        const std::string ref = path("brute" + std::to_string(any.size()) + ".hits");
+        ASSERT_EQ(run_cli(base + " --method brute" + any + " --out " + ref).status, 0);
+        const auto want = scene::read_hits(ref);
+        std::size_t hit = 0;
+        for (const Hit& h : want) hit += h.hit();
+        EXPECT_GT(hit, want.size() / 10);
+        for (Isa isa : kAllIsas) {
+            if (!supported(isa)) continue;
+            const std::string out = path("b8" + std::string(name(isa)) + std::to_string(any.size()) + ".hits");
+            CliRun t = run_cli(base + " --method brute8 --isa " + std::string(name(isa)) + " --threads 2" + any + " --out " + out);
+            ASSERT_EQ(t.status, 0) << t.output;
+            EXPECT_NE(t.output.find("method brute8/" + std::string(name(isa))), std::string::npos) << t.output;
+            const auto got = scene::read_hits(out);
+            ASSERT_EQ(got.size(), want.size());
+            for (std::size_t i = 0; i < got.size(); ++i) {
+                if (any.empty()) ASSERT_EQ(got[i], want[i]) << name(isa) << " ray " << i;
+                else ASSERT_EQ(got[i].hit(), want[i].hit()) << name(isa) << " any hit, ray " << i;
+            }
+        }
+    }
+}
+
 // info reports every width collapsed from the same BVH2: a block per width and
 // one table whose nodes and depth are the API's.
 TEST_F(Cli, InfoReportsEveryWidth) {
