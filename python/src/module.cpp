@@ -135,35 +135,31 @@ public:
         return out;
     }
 
-    // (1 - u - v) v0 + u v1 + v v2 in double, rounded once: on the hit triangle
-    // (origin + t * direction can miss its plane by the rounding of t). NaN rows for misses.
-    py::array_t<float> hit_points(const std::vector<Hit>& hits) const {
+    // An (n, 3) array with row(hit, out) for each hit and NaN rows for misses.
+    template <class Row>
+    static py::array_t<float> hit_rows(const std::vector<Hit>& hits, Row row) {
         auto a = empty_points(hits.size());
         float* p = a.mutable_data();
         for (std::size_t i = 0; i < hits.size(); ++i, p += 3) {
-            const Hit& h = hits[i];
-            if (!h.hit()) {
-                p[0] = p[1] = p[2] = std::numeric_limits<float>::quiet_NaN();
-                continue;
-            }
+            if (hits[i].hit()) row(hits[i], p);
+            else p[0] = p[1] = p[2] = std::numeric_limits<float>::quiet_NaN();
+        }
+        return a;
+    }
+    // (1 - u - v) v0 + u v1 + v v2 in double, rounded once: on the hit triangle
+    // (origin + t * direction can miss its plane by the rounding of t).
+    py::array_t<float> hit_points(const std::vector<Hit>& hits) const {
+        return hit_rows(hits, [&](const Hit& h, float* p) {
             const double w = 1.0 - double(h.u) - double(h.v);
             for (int k = 0; k < 3; ++k)
                 p[k] = float(w * mesh_.vertex(h.prim, 0)[k] + double(h.u) * mesh_.vertex(h.prim, 1)[k] +
                              double(h.v) * mesh_.vertex(h.prim, 2)[k]);
-        }
-        return a;
+        });
     }
     // Unit geometric normal (v1 - v0) x (v2 - v0) in double, by the triangle's
-    // winding (not turned toward the ray). NaN rows for misses.
+    // winding (not turned toward the ray).
     py::array_t<float> hit_normals(const std::vector<Hit>& hits) const {
-        auto a = empty_points(hits.size());
-        float* p = a.mutable_data();
-        for (std::size_t i = 0; i < hits.size(); ++i, p += 3) {
-            const Hit& h = hits[i];
-            if (!h.hit()) {
-                p[0] = p[1] = p[2] = std::numeric_limits<float>::quiet_NaN();
-                continue;
-            }
+        return hit_rows(hits, [&](const Hit& h, float* p) {
             double e1[3], e2[3];
             for (int k = 0; k < 3; ++k) {
                 e1[k] = double(mesh_.vertex(h.prim, 1)[k]) - mesh_.vertex(h.prim, 0)[k];
@@ -173,8 +169,7 @@ public:
                                  e1[0] * e2[1] - e1[1] * e2[0]};
             const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
             for (int k = 0; k < 3; ++k) p[k] = len > 0 ? float(n[k] / len) : 0.0f;
-        }
-        return a;
+        });
     }
 
     py::dict closest(const py::handle& points, float max_distance, int threads) const {
