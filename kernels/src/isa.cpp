@@ -162,8 +162,11 @@ void set_active_isa(Isa isa) {
 std::optional<Isa> forced_isa() {
     const int forced = g_forced.load(std::memory_order_relaxed);
     if (forced >= 0) return static_cast<Isa>(forced);
-    const char* env = std::getenv("SIMDBVH_ISA");
-    if (env && *env) return env_isa();
+    static const bool env_set = [] {  // read once: the single-ray entry points ask on every call
+        const char* env = std::getenv("SIMDBVH_ISA");
+        return env && *env;
+    }();
+    if (env_set) return env_isa();
     return std::nullopt;
 }
 
