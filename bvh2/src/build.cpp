@@ -100,17 +100,21 @@ Bvh2Topology build_topology(const Mesh& mesh, const BuildOptions& opts) {
     return build_refs(ctx);
 }
 
-double sah_cost(const Bvh2Topology& topo, float ct, float ci) {
-    if (topo.nodes.empty()) return 0.0;
+double sah_cost(std::span<const Node2> nodes, std::size_t prims, float ct, float ci) {
+    if (nodes.empty()) return 0.0;
     // The areas the builders use: float while the root's float area is
     // finite (the same numbers as ever), else double (finite for any finite mesh).
-    const bool fa = std::isfinite(topo.nodes[0].box.half_area_float());
+    const bool fa = std::isfinite(nodes[0].box.half_area_float());
     auto area = [&](const Aabb& b) { return fa ? double(b.half_area_float()) : b.half_area(); };
-    const double root = area(topo.nodes[0].box);
-    if (!(root > 0)) return ci * double(topo.prim_ids.size());
+    const double root = area(nodes[0].box);
+    if (!(root > 0)) return ci * double(prims);
     double cost = 0;
-    for (const Node2& n : topo.nodes) cost += (n.is_leaf() ? ci * double(n.count) : ct) * area(n.box) / root;
+    for (const Node2& n : nodes) cost += (n.is_leaf() ? ci * double(n.count) : ct) * area(n.box) / root;
     return cost;
+}
+
+double sah_cost(const Bvh2Topology& topo, float ct, float ci) {
+    return sah_cost(topo.nodes, topo.prim_ids.size(), ct, ci);
 }
 
 Bvh2 Bvh2::build(const Mesh& mesh, const BuildOptions& opts) {

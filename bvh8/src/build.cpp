@@ -29,6 +29,7 @@ struct WideAccess {
         bvh8::pack<N>(bvh2, topo, b.nodes_, b.blocks_, b.stats_, opts.threads);
         b.stats_.sah_cost = bvh8::sah_cost(topo, opts);
         b.bounds_ = bvh2.bounds();
+        b.opts_ = opts;
         b.stats_.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         return b;
     }
@@ -46,6 +47,7 @@ struct WideAccess {
         std::vector<Node2>().swap(topo2.nodes);  // not needed by pack: lowers the peak memory
         bvh8::pack<N>(mesh, topo2.prim_ids, topo, b.nodes_, b.blocks_, b.stats_, opts.threads);
         b.stats_.sah_cost = bvh8::sah_cost(topo, opts);
+        b.opts_ = opts;
         b.stats_.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         return b;
     }

@@ -51,5 +51,8 @@ Bvh2Topology build_topology(const Mesh& mesh, const BuildOptions& opts = {});
 
 // SAH cost of a topology: C = sum over inner nodes of Ct * A(n)/A(root) + sum over leaves of Ci * N * A(n)/A(root).
 double sah_cost(const Bvh2Topology& topo, float traversal_cost = 1.0f, float intersection_cost = 1.0f);
+// The same over nodes and the number of triangles in the leaves.
+double sah_cost(std::span<const Node2> nodes, std::size_t prims, float traversal_cost = 1.0f,
+                float intersection_cost = 1.0f);
 
 }  // namespace simdbvh

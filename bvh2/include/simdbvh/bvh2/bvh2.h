@@ -49,6 +49,18 @@ public:
     // Validates the mesh (throws simdbvh::Error), builds, gathers triangles.
     static Bvh2 build(const Mesh& mesh, const BuildOptions& opts = {});
 
+    // Refit for a moved mesh: the same triangles (same count and ids), new
+    // vertex positions. Re-gathers the triangles and recomputes every box
+    // bottom-up (leaves on `threads` threads, then one pass over the inner
+    // nodes), in place: no allocation, the topology kept. stats().sah_cost is
+    // recomputed; the rest of the stats are the build's. Hits afterwards are
+    // bit-identical to brute force on the moved mesh (the boxes are exact
+    // unions, as after a build). A mesh with another triangle count, an index
+    // out of range or a non-finite vertex throws simdbvh::Error and leaves the
+    // tree unchanged. A refit with the build's own mesh reproduces the tree
+    // byte for byte.
+    void refit(const Mesh& mesh, int threads = 1);
+
     const std::vector<Node2>& nodes() const { return nodes_; }
     const std::vector<std::uint32_t>& prim_ids() const { return prim_ids_; }
     const std::vector<TriangleVerts>& triangles() const { return tris_; }  // tris_[i] is triangle prim_ids_[i]
