@@ -119,6 +119,7 @@ def main(json_file, out_dir):
     plt.close(fig)
 
     widths_chart(data, out)
+    refit_chart(data, out)
 
 
 KIND_COLORS = {"primary": "tab:blue", "incoherent": "tab:orange", "diffuse": "tab:green"}
@@ -180,6 +181,42 @@ def widths_chart(data, out):
     fig.suptitle("Wide vs binary, one thread (median of timed traces after a warm-up; line style = ISA)")
     fig.tight_layout()
     fig.savefig(out / "widths.png", dpi=100)
+    plt.close(fig)
+
+
+def refit_chart(data, out):
+    """The refit sequence: ms per frame (log) and Mrays/s per frame, ours and Embree's, refit and rebuild."""
+    frames = data.get("refit") or []
+    if not frames:
+        return
+    x = [f["frame"] for f in frames]
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.2))
+    ax = axes[0]
+    for key, lab, style in [("refit_ms", "BVH8 refit, 1 thread", "C0-"), ("refit_ms_all_cores", "BVH8 refit, all cores", "C0:"),
+                            ("rebuild_ms", "BVH8 rebuild, 1 thread", "C0--"), ("embree_refit_ms", "Embree refit, 1 thread", "C3-"),
+                            ("embree_rebuild_ms", "Embree medium rebuild, 1 thread", "C3--")]:
+        ax.plot(x, [num(f[key]) for f in frames], style, marker="o", ms=3, label=lab)
+    ax.set_yscale("log")
+    ax.set_xlabel("frame (0.1 rad more twist per frame)")
+    ax.set_ylabel("ms (median)")
+    ax.set_title("time to update the structure", fontsize=9)
+    ax.legend(fontsize=7)
+    ax.grid(alpha=0.3, which="both")
+    for k, kind in enumerate(["primary", "incoherent"]):
+        ax = axes[1 + k]
+        for key, lab, style in [("mrays_refit", "BVH8 after refit", "C0-"), ("mrays_rebuild", "BVH8 after rebuild", "C0--"),
+                                ("mrays_embree_refit", "Embree after refit", "C3-"),
+                                ("mrays_embree_rebuild", "Embree after rebuild", "C3--")]:
+            ax.plot(x, [num(f[key][k]) for f in frames], style, marker="o", ms=3, label=lab)
+        ax.set_xlabel("frame")
+        ax.set_ylabel("Mrays/s, closest hit, 1 thread")
+        ax.set_title(f"{kind} rays after the update", fontsize=9)
+        ax.set_ylim(bottom=0)
+        ax.legend(fontsize=7)
+        ax.grid(alpha=0.3)
+    fig.suptitle(f"Refit against rebuild on {data.get('scene', '')}: when does a rebuild pay?")
+    fig.tight_layout()
+    fig.savefig(out / "refit.png", dpi=100)
     plt.close(fig)
 
 

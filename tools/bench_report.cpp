@@ -66,6 +66,7 @@ Json bench_json(const BenchConfig& c, const Mesh& mesh, const BenchResults& res)
     for (const Record& r : res.records) j["records"].push_back(json_record(r));
     for (const auto& [s, n] : res.width_scene_sizes) j["width_scenes"].push_back({{"scene", s}, {"triangles", n}});
     for (const Record& r : res.widths) j["widths"].push_back(json_record(r));
+    j["refit"] = refit_json(res.refit);
     return j;
 }
 
@@ -108,6 +109,7 @@ void bench_markdown(const BenchConfig& c, const Mesh& mesh, const BenchResults& 
     if (c.threads_all > 1)
         md << "## All cores (" << c.threads_all << " threads, pinned)\n\n" << speed_table(recs, c.threads_all).markdown() << "\n";
     md << "## Builds\n\n" << build_table(recs, c.threads_all).markdown() << "\n"
+       << (res.refit.empty() ? "" : "## Refit against rebuild\n\n" + refit_markdown(res.refit, "", charts))
        << "## Wide vs binary\n\n" << width_section(c, res, "", charts, "### ")
        << "## Accuracy against the brute-force reference (sample, all ray kinds and queries, one thread)\n\n"
        << accuracy_table(recs).markdown()
@@ -137,7 +139,7 @@ void update_readme(const BenchConfig& c, const Mesh& mesh, const BenchResults& r
         throw Error(c.readme + ": no '" + b + "' ... '" + e + "' block");
     const fs::path docs = fs::path(c.readme).parent_path() / "docs" / "results";
     fs::create_directories(docs);
-    for (const char* img : {"mrays.png", "speed_accuracy.png", "speedup.png", "build.png", "widths.png",
+    for (const char* img : {"mrays.png", "speed_accuracy.png", "speedup.png", "build.png", "widths.png", "refit.png",
                             "render_bvh8.png", "heat_bvh2.png", "heat_bvh8.png"})
         if (fs::exists(fs::path(c.report_dir) / img))
             fs::copy_file(fs::path(c.report_dir) / img, docs / img, fs::copy_options::overwrite_existing);
@@ -150,6 +152,7 @@ void update_readme(const BenchConfig& c, const Mesh& mesh, const BenchResults& r
     if (c.threads_all > 1)
         block << "All cores (" << c.threads_all << " threads):\n\n" << speed_table(recs, c.threads_all).markdown() << "\n";
     block << "Builds:\n\n" << build_table(recs, c.threads_all).markdown() << "\n"
+          << (res.refit.empty() ? "" : "Refit against rebuild:\n\n" + refit_markdown(res.refit, "docs/results/", charts))
           << "Wide vs binary:\n\n" << width_section(c, res, "docs/results/", charts, "**")
           << "Accuracy on the sample, all ray kinds and queries:\n\n" << accuracy_table(recs).markdown() << "\n"
           << "![Mrays/s](docs/results/mrays.png)\n![speed against accuracy](docs/results/speed_accuracy.png)\n"

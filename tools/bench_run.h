@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "accuracy.h"
+#include "refit_run.h"
 #include "simdbvh/mesh.h"
 
 namespace simdbvh::cli {
@@ -18,6 +19,7 @@ struct BenchConfig {
     int threads_all = 1;
     int reps = 5;        // timed traces per row (median), after one untimed warm-up; methods interleaved
     int build_reps = 3;  // warm builds per method (median), after the cold (first) one
+    int refit_frames = 20;  // the refit sequence (refit_run.h); 0: none
     std::size_t rays = 262144, sample = 1000, stats_rays = 16384;
     std::string json_file, report_dir, readme;  // report_dir empty: --no-report
     std::string machine, command;
@@ -42,6 +44,7 @@ struct BenchResults {
     std::vector<Record> records;  // every method on c.scene
     std::vector<Record> widths;   // bvh2 and bvhN per ISA, one thread, on c.scene and every width scene
     std::vector<std::pair<std::string, std::size_t>> width_scene_sizes;  // (scene, triangles)
+    std::vector<RefitFrame> refit;  // the refit sequence on c.scene
 };
 
 struct NamedMesh {

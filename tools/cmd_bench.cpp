@@ -37,7 +37,7 @@ std::vector<std::string> width_scenes(const Options& o, const BenchConfig& c) {
 BenchConfig parse_bench(const std::vector<std::string>& args) {
     const Options o("bench", args,
                     {"scene", "threads", "json", "report", "reps", "build-reps", "rays", "sample", "stats-rays",
-                     "readme", "width-scenes"},
+                     "readme", "width-scenes", "refit-frames"},
                     {"quick", "no-report"});
     BenchConfig c;
     c.scene = o.has("scene") ? o.get("scene") : default_scene(&c.scene_why);
@@ -46,6 +46,7 @@ BenchConfig parse_bench(const std::vector<std::string>& args) {
     c.threads_all = int(o.get_int("threads", std::max(1, topology().physical_cores), 1, 1024));
     c.reps = int(o.get_int("reps", c.quick ? 3 : 5, 1, 100));
     c.build_reps = int(o.get_int("build-reps", 3, 0, 100));
+    c.refit_frames = int(o.get_int("refit-frames", c.quick ? 3 : 20, 0, 1000));
     c.rays = std::size_t(o.get_int("rays", c.quick ? 65536 : 262144, 1024, 1 << 26));
     c.sample = std::size_t(o.get_int("sample", c.quick ? 300 : 1000, 16, 1 << 20));
     c.stats_rays = std::size_t(o.get_int("stats-rays", c.quick ? 4096 : 16384, 16, 1 << 24));
@@ -74,7 +75,9 @@ int cmd_bench(const std::vector<std::string>& args) {
     const Mesh mesh = load_scene_with_progress(c.scene);
     std::vector<NamedMesh> width_meshes;
     for (const std::string& s : c.width_scenes) width_meshes.push_back({s, load_scene_with_progress(s)});
-    report_bench(c, mesh, run_bench(c, mesh, width_meshes));
+    BenchResults res = run_bench(c, mesh, width_meshes);
+    res.refit = run_refit(c, mesh);
+    report_bench(c, mesh, res);
     return 0;
 }
 

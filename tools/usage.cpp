@@ -42,11 +42,13 @@ constexpr CommandText kCommands[] = {
 )"},
     {"bench", R"(bench    [--scene S] [--quick] [--threads N] [--json FILE] [--report DIR] [--readme README.md]
            [--reps N] [--build-reps N] [--rays N] [--sample N] [--stats-rays N] [--no-report]
-           [--width-scenes S1,S2|none]
+           [--width-scenes S1,S2|none] [--refit-frames N]
            every method (bvh4, bvh8, bvh16 at every ISA the CPU has): builds cold and warm, Mrays/s (1 thread,
            all cores; median of --reps after a warm-up), accuracy; wide vs binary (width 2/4/8/16 per ISA:
            Mrays/s, nodes and box tests per ray, bytes/triangle, collapse time) on S and the width scenes
-           (default: terrain; none with --quick); report with charts and pictures
+           (default: terrain; none with --quick); the refit sequence (S twisted 0.1 rad more per frame, N
+           frames, default 20, 3 with --quick: BVH8 refit vs rebuild vs Embree's refit and rebuild);
+           report with charts and pictures
 )"},
     {"render", R"(render   --scene S --out IMG.png [--method M] [--heatmap] [--width W] [--height H]
 )"},

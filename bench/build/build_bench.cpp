@@ -7,6 +7,10 @@
 // repetitions of one timed build each; read the _median rows.
 // Scenes: $SIMDBVH_BENCH_BUILD_SCENES, comma separated (default
 // "dragon,soup-1000000"; dragon is skipped when not cached).
+// Refit rows (refit/<scene>/...): Bvh2::refit, Bvh8::refit and Embree's
+// refit (RTC_BUILD_QUALITY_REFIT, update_vertices) of a structure built once,
+// each repetition alternating between the mesh twisted by 1 rad and the mesh
+// itself (scene::twist), so every timed refit moves every vertex.
 // One-thread figures: run pinned, e.g. taskset -c 1 simdbvh_bench_build --benchmark_filter=/t1.
 #include <benchmark/benchmark.h>
 
@@ -22,6 +26,7 @@
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/compare/embree.h"
 #include "simdbvh/kernels/isa.h"
+#include "simdbvh/scene/deform.h"
 #include "simdbvh/scene/scenes.h"
 
 namespace {
@@ -112,6 +117,55 @@ void BM_Build(benchmark::State& st, Row row, std::string scene, bool all, std::s
     if (t.sah > 0) st.counters["sah"] = t.sah;
 }
 
+enum class Refit { bvh2, bvh8, embree };
+
+// Per row: the structure built once and the two meshes it alternates between.
+struct RefitState {
+    simdbvh::Mesh moved;
+    simdbvh::Bvh2 bvh2;
+    simdbvh::Bvh8 bvh8;
+    std::unique_ptr<simdbvh::compare::EmbreeScene> embree;
+    bool at_moved = false;
+};
+
+double refit_once(Refit what, RefitState& r, const simdbvh::Mesh& mesh, int threads) {
+    r.at_moved = !r.at_moved;
+    const simdbvh::Mesh& to = r.at_moved ? r.moved : mesh;
+    const auto t0 = Clock::now();
+    switch (what) {
+    case Refit::bvh2: r.bvh2.refit(to, threads); break;
+    case Refit::bvh8: r.bvh8.refit(to, threads); break;
+    case Refit::embree: return r.embree->update_vertices(to);  // copy + rtcCommitScene
+    }
+    return ms_since(t0);
+}
+
+void BM_Refit(benchmark::State& st, Refit what, std::string scene, bool all) {
+    const int threads = all ? all_threads() : 1;
+    const simdbvh::Mesh* mesh = nullptr;
+    try {
+        mesh = &mesh_of(scene);
+    } catch (const std::exception& e) {
+        st.SkipWithError(e.what());
+        return;
+    }
+    RefitState r;
+    r.moved = simdbvh::scene::twist(*mesh, 1.0);
+    switch (what) {
+    case Refit::bvh2: r.bvh2 = simdbvh::Bvh2::build(*mesh); break;
+    case Refit::bvh8: r.bvh8 = simdbvh::Bvh8::build(*mesh); break;
+    case Refit::embree:
+        r.embree = std::make_unique<simdbvh::compare::EmbreeScene>(
+            *mesh, simdbvh::compare::EmbreeOptions{simdbvh::compare::EmbreeQuality::refit, false, threads});
+        break;
+    }
+    refit_once(what, r, *mesh, threads);  // untimed warm-up
+    refit_once(what, r, *mesh, threads);
+    for (auto _ : st) st.SetIterationTime(refit_once(what, r, *mesh, threads) / 1000.0);
+    st.counters["threads"] = threads;
+    st.counters["Mtri/s"] = benchmark::Counter(double(mesh->size()) * 1e-6, benchmark::Counter::kIsIterationInvariantRate);
+}
+
 std::vector<std::string> scenes() {
     const char* env = std::getenv("SIMDBVH_BENCH_BUILD_SCENES");
     const std::string list = env && *env ? env : "dragon,soup-1000000";
@@ -140,6 +194,18 @@ void register_all() {
                     ->Unit(benchmark::kMillisecond)
                     ->Iterations(1)
                     ->Repetitions(5)
+                    ->DisplayAggregatesOnly(true);
+            }
+    const std::pair<Refit, const char*> refits[] = {{Refit::bvh2, "bvh2"}, {Refit::bvh8, "bvh8"}, {Refit::embree, "embree"}};
+    for (const std::string& s : scenes())
+        for (bool all : {false, true})
+            for (const auto& [what, label] : refits) {
+                const std::string name = "refit/" + s + "/" + label + (all ? "/tall" : "/t1");
+                benchmark::RegisterBenchmark(name.c_str(), BM_Refit, what, s, all)
+                    ->UseManualTime()
+                    ->Unit(benchmark::kMillisecond)
+                    ->Iterations(1)
+                    ->Repetitions(7)
                     ->DisplayAggregatesOnly(true);
             }
 }

@@ -44,11 +44,18 @@ bool within_large(const Vec3& a) {
 
 }  // namespace
 
-std::string_view name(EmbreeQuality q) { return q == EmbreeQuality::high ? "high" : "medium"; }
+std::string_view name(EmbreeQuality q) {
+    switch (q) {
+    case EmbreeQuality::medium: return "medium";
+    case EmbreeQuality::high: return "high";
+    case EmbreeQuality::refit: return "refit";
+    }
+    return "?";
+}
 
 std::optional<EmbreeQuality> parse_embree_quality(std::string_view s) {
-    if (s == "medium") return EmbreeQuality::medium;
-    if (s == "high") return EmbreeQuality::high;
+    for (EmbreeQuality q : {EmbreeQuality::medium, EmbreeQuality::high, EmbreeQuality::refit})
+        if (s == name(q)) return q;
     return std::nullopt;
 }
 
@@ -123,6 +130,7 @@ EmbreeScene::EmbreeScene(const Mesh& mesh, const EmbreeOptions& opts) : impl_(st
     Impl& s = *impl_;
     s.opts = opts;
     s.stats.triangles = mesh.size();
+    s.stats.vertices = mesh.positions.size();
     s.stats.threads = opts.threads > 0 ? opts.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 
     const auto t0 = Clock::now();
@@ -137,17 +145,22 @@ EmbreeScene::EmbreeScene(const Mesh& mesh, const EmbreeOptions& opts) : impl_(st
 
     s.scene = rtcNewScene(s.device);
     s.check("rtcNewScene");
-    rtcSetSceneFlags(s.scene, opts.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE);
-    rtcSetSceneBuildQuality(s.scene,
-                            opts.quality == EmbreeQuality::high ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
+    const bool refit = opts.quality == EmbreeQuality::refit;
+    rtcSetSceneFlags(s.scene, RTCSceneFlags((opts.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE) |
+                                            (refit ? RTC_SCENE_FLAG_DYNAMIC : RTC_SCENE_FLAG_NONE)));
+    // Refit: Embree uses a geometry's own quality only under a LOW scene (two levels).
+    rtcSetSceneBuildQuality(s.scene, refit ? RTC_BUILD_QUALITY_LOW
+                                     : opts.quality == EmbreeQuality::high ? RTC_BUILD_QUALITY_HIGH
+                                                                            : RTC_BUILD_QUALITY_MEDIUM);
     s.check("rtcSetSceneBuildQuality");
 
     const std::int64_t before_buffers = s.mem_current.load();
     if (!mesh.triangles.empty()) {
         RTCGeometry geom = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_TRIANGLE);
         s.check("rtcNewGeometry");
-        rtcSetGeometryBuildQuality(
-            geom, opts.quality == EmbreeQuality::high ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
+        rtcSetGeometryBuildQuality(geom, refit ? RTC_BUILD_QUALITY_REFIT
+                                         : opts.quality == EmbreeQuality::high ? RTC_BUILD_QUALITY_HIGH
+                                                                                : RTC_BUILD_QUALITY_MEDIUM);
         // rtcSetNewGeometryBuffer over-allocates so the last vertex can be read
         // with a 16-byte load (Embree's padding requirement).
         auto* verts = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
@@ -181,6 +194,34 @@ EmbreeScene::EmbreeScene(const Mesh& mesh, const EmbreeOptions& opts) : impl_(st
     s.stats.peak_bytes = s.mem_peak.load();
     s.stats.bytes_per_triangle =
         mesh.size() == 0 ? 0.0 : double(s.stats.bvh_bytes) / double(mesh.size());
+}
+
+double EmbreeScene::update_vertices(const Mesh& mesh) {
+    Impl& s = *impl_;
+    validate(mesh);
+    if (mesh.size() != s.stats.triangles)
+        throw Error("Embree update_vertices: the mesh has " + std::to_string(mesh.size()) + " triangles, the scene " +
+                    std::to_string(s.stats.triangles));
+    if (mesh.triangles.empty()) return 0.0;
+    RTCGeometry geom = rtcGetGeometry(s.scene, 0);
+    s.check("rtcGetGeometry");
+    const RTCBufferType kVertex = RTC_BUFFER_TYPE_VERTEX, kIndex = RTC_BUFFER_TYPE_INDEX;
+    auto* verts = static_cast<float*>(rtcGetGeometryBufferData(geom, kVertex, 0));
+    const auto* index = static_cast<const std::uint32_t*>(rtcGetGeometryBufferData(geom, kIndex, 0));
+    s.check("rtcGetGeometryBufferData");
+    if (!verts || !index || std::memcmp(index, mesh.triangles.data(), mesh.triangles.size() * sizeof(Triangle)) != 0)
+        throw Error("Embree update_vertices: the triangles differ from the scene's");
+    for (const Triangle& t : mesh.triangles)  // the vertex buffer keeps the size it was made with
+        for (std::uint32_t v : t)
+            if (v >= s.stats.vertices) throw Error("Embree update_vertices: more vertices than the scene's buffer");
+    const auto t0 = Clock::now();
+    std::memcpy(verts, mesh.positions.data(), std::min<std::size_t>(mesh.positions.size(), s.stats.vertices) * sizeof(Vec3));
+    rtcUpdateGeometryBuffer(geom, kVertex, 0);
+    rtcCommitGeometry(geom);
+    rtcCommitScene(s.scene);
+    const double ms = ms_since(t0);
+    s.check("rtcCommitScene");
+    return ms;
 }
 
 EmbreeScene::~EmbreeScene() = default;

@@ -8,6 +8,7 @@
 #include "simdbvh/compare/classify.h"
 #include "simdbvh/compare/embree.h"
 #include "simdbvh/kernels/error.h"
+#include "simdbvh/scene/deform.h"
 #include "simdbvh/scene/rays.h"
 #include "simdbvh/scene/scenes.h"
 #include "support/scene.h"
@@ -148,6 +149,41 @@ TEST(EmbreeScene, AgainstReferenceOnIcosphere) {
         RecordProperty(method_name(s.options()) + "_disagreements", std::to_string(t.disagreements()));
         EXPECT_GT(t.agreement_rate(), 0.95) << to_string(t);
     }
+}
+
+// update_vertices: a refit scene (and a medium one, which rebuilds) answers
+// for the moved mesh: the same prims as a scene built on the moved mesh for
+// almost every ray, and far from the answers before the move.
+TEST(EmbreeScene, UpdateVerticesFollowsTheMovedMesh) {
+    const Mesh m = scene::random_soup(4000, 2);
+    const Mesh moved = scene::twist(m, 2.0);
+    const auto rays = scene::incoherent_rays(moved.bounds(), 2000, 3);
+    const EmbreeScene fresh(moved, {EmbreeQuality::medium, false, 1});
+    std::vector<Hit> want(rays.size());
+    fresh.intersect(rays, want);
+    for (EmbreeQuality q : {EmbreeQuality::refit, EmbreeQuality::medium}) {
+        EmbreeScene s(m, {q, false, 1});
+        std::vector<Hit> before(rays.size()), after(rays.size());
+        s.intersect(rays, before);
+        EXPECT_GE(s.update_vertices(moved), 0.0);
+        s.intersect(rays, after);
+        std::size_t same_before = 0, same_after = 0, hits = 0;
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            same_before += before[i].prim == want[i].prim;
+            same_after += after[i].prim == want[i].prim;
+            hits += want[i].hit();
+        }
+        EXPECT_GT(hits, rays.size() / 4);
+        EXPECT_GE(same_after, rays.size() * 99 / 100) << name(q);
+        EXPECT_LT(same_before, rays.size() * 80 / 100) << name(q);
+        Mesh fewer = moved;
+        fewer.triangles.pop_back();
+        EXPECT_THROW(s.update_vertices(fewer), Error);
+        Mesh other = moved;
+        std::swap(other.triangles[0][0], other.triangles[0][1]);
+        EXPECT_THROW(s.update_vertices(other), Error);
+    }
+    EXPECT_EQ(parse_embree_quality("refit"), EmbreeQuality::refit);
 }
 
 }  // namespace

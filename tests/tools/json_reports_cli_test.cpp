@@ -111,6 +111,16 @@ TEST_F(JsonReports, BenchRecordsEveryWidth) {
         }
     }
     EXPECT_TRUE(embree);
+    // --quick: 3 refit frames, each twisted 0.1 rad more; the refit tree answers as the rebuilt one.
+    ASSERT_EQ(j["refit"].size(), 3u);
+    for (std::size_t f = 0; f < 3; ++f) {
+        const Json& fr = j["refit"][f];
+        EXPECT_EQ(fr["frame"].get<int>(), int(f) + 1);
+        EXPECT_DOUBLE_EQ(fr["radians"].get<double>(), 0.1 * double(f + 1));
+        EXPECT_EQ(fr["differ"].get<int>(), 0) << fr.dump();
+        EXPECT_TRUE(fr["refit_ms"].is_number() && fr["embree_refit_ms"].is_number()) << fr.dump();
+        EXPECT_EQ(fr["mrays_refit"].size(), 2u);
+    }
 }
 
 TEST_F(JsonReports, BadWidthSceneFailsBeforeAnyOutput) {

@@ -25,7 +25,10 @@
 
 namespace simdbvh::compare {
 
-enum class EmbreeQuality : std::uint8_t { medium, high };  // RTC_BUILD_QUALITY_MEDIUM / _HIGH
+// RTC_BUILD_QUALITY_MEDIUM / _HIGH; refit: a dynamic scene (RTC_SCENE_FLAG_DYNAMIC,
+// scene quality LOW) whose geometry has RTC_BUILD_QUALITY_REFIT, so that
+// update_vertices() refits instead of rebuilding.
+enum class EmbreeQuality : std::uint8_t { medium, high, refit };
 std::string_view name(EmbreeQuality q);
 std::optional<EmbreeQuality> parse_embree_quality(std::string_view s);
 
@@ -42,6 +45,7 @@ struct EmbreeStats {
     double build_ms = 0;        // rtcCommitScene only
     int threads = 0;            // threads the device was configured with (resolved when options.threads == 0)
     std::size_t triangles = 0;
+    std::size_t vertices = 0;   // the vertex buffer's size (fixed at construction)
     // From rtcSetDeviceMemoryMonitorFunction (bytes Embree allocated minus freed):
     bool memory_tracked = false;     // false when the monitor never fired
     std::int64_t buffer_bytes = 0;   // vertex + index buffers (Embree's copy of the mesh)
@@ -66,6 +70,12 @@ public:
     // Embree's version, e.g. "3.13.5", and tasking system ("internal", "tbb", "ppl").
     static std::string version();
     std::string tasking_system() const;
+
+    // Moved vertices, the same triangles: copies the positions into Embree's
+    // vertex buffer and commits (a refit with EmbreeQuality::refit, else a
+    // rebuild). Returns the milliseconds of copy + commit. Another triangle
+    // list or more vertices than the buffer holds throws simdbvh::Error.
+    double update_vertices(const Mesh& mesh);
 
     // Closest hit: rtcIntersect1. Safe to call from several threads.
     Hit intersect(const Ray& ray) const;
