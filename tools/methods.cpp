@@ -163,8 +163,9 @@ class WideTracer final : public Tracer {
 public:
     WideTracer(const Mesh& m, const MethodSpec& s) : spec_(s) {
         const auto t0 = std::chrono::steady_clock::now();
-        Bvh2 b2 = Bvh2::build(m, s.build);
-        bvh_ = BvhN<N>::build(b2, s.bvh8);
+        WideOptions wo = s.bvh8;
+        wo.threads = s.build.threads;  // collapse + pack on the build's threads too
+        bvh_ = BvhN<N>::build(m, wide_build_options(s.build), wo);  // what a user of the library waits for
         build_ms = ms_since(t0);
         const WideStats& st = bvh_.stats();
         collapse_ms = st.build_ms;

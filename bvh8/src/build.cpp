@@ -20,6 +20,11 @@ std::optional<Collapse> parse_collapse(std::string_view s) {
     return std::nullopt;
 }
 
+BuildOptions wide_build_options(BuildOptions base) {
+    base.intersection_cost = kWideIntersectionCost;
+    return base;
+}
+
 struct WideAccess {
     template <int N>
     static BvhN<N> build(const Bvh2& bvh2, const WideOptions& opts) {
