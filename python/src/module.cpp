@@ -315,6 +315,26 @@ public:
 
     const Mesh& mesh() const { return mesh_; }
     const std::string& method() const { return method_; }
+    // Moved vertices, the same faces: every tree this BVH holds is refitted in
+    // place. The new positions are checked before anything changes.
+    void refit(const py::handle& vertices, int threads) {
+        const F32 v = as_points(vertices, "vertices");
+        if (std::size_t(v.shape(0)) != mesh_.positions.size())
+            throw Error("vertices: expected " + std::to_string(mesh_.positions.size()) + " rows (the mesh's), got " +
+                        std::to_string(v.shape(0)));
+        Mesh moved;
+        moved.positions.assign(vec3s(v), vec3s(v) + v.shape(0));
+        moved.triangles = mesh_.triangles;
+        validate(moved);
+        check_threads(threads);
+        py::gil_scoped_release nogil;
+        bvh2_.refit(moved, threads);
+        if (bvh4_) bvh4_->refit(moved, threads);
+        if (bvh8_) bvh8_->refit(moved, threads);
+        if (bvh16_) bvh16_->refit(moved, threads);
+        mesh_.positions.swap(moved.positions);
+    }
+
     std::string isa() const {
         if (!(bvh4_ || bvh8_ || bvh16_)) return std::string(name(Isa::scalar));
         const int w = bvh4_ ? 4 : (bvh8_ ? 8 : 16);
@@ -401,6 +421,11 @@ PYBIND11_MODULE(_simdbvh, m) {
             return b.intersect(o, d, tmin, tmax, threads, true)["hit"];
         }, py::arg("origins"), py::arg("directions"), py::arg("tmin") = 0.0f, py::arg("tmax") = kInf,
              py::arg("threads") = 1, "Any hit: a bool per ray.")
+        .def("refit", &Bvh::refit, py::arg("vertices"), py::arg("threads") = 1,
+             "Moves the mesh's vertices ((n, 3), the same n; faces unchanged) and refits the trees in place: "
+             "boxes recomputed bottom-up, topology kept, O(n). Results afterwards are those of a BVH built on the "
+             "moved mesh, bit for bit. Raises simdbvh.Error (the BVH unchanged) for another shape or a non-finite "
+             "vertex.")
         .def("closest_point", &Bvh::closest, py::arg("points"), py::arg("max_distance") = kInf,
              py::arg("threads") = 1,
              "Closest points: dict of distance (inf when none within max_distance), prim (-1), points (n, 3), u, v.")

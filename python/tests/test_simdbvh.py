@@ -110,6 +110,33 @@ def test_every_path_and_isa_bit_identical():
                 np.testing.assert_array_equal(h[k], ref[k], err_msg=f"{bvh.method}/{bvh.isa} {k}")
 
 
+def test_refit_answers_for_the_moved_mesh():
+    mesh = sphere_mesh()
+    v = mesh.vertices
+    moved_v = (v * np.array([1.5, 0.5, 1.0]) + np.array([0.2, 0.0, -0.1])).astype(np.float32)  # an ellipsoid
+    moved = simdbvh.Mesh(moved_v, mesh.faces)
+    rng = np.random.default_rng(3)
+    o = rng.uniform(-2, 2, (4000, 3))
+    d = rng.uniform(-1, 1, (4000, 3)) - 0.3 * o
+    ref = simdbvh.BVH(moved, method="brute").intersect(o, d)
+    before = simdbvh.BVH(mesh, method="brute").intersect(o, d)
+    assert (ref["prim"] != before["prim"]).sum() > 500
+    for method in ("bvh2", "bvh4", "bvh8", "bvh16", "brute"):
+        bvh = simdbvh.BVH(mesh, method=method)
+        bvh.refit(moved_v, threads=2)
+        h = bvh.intersect(o, d)
+        for k in ("t", "u", "v", "prim"):
+            np.testing.assert_array_equal(h[k], ref[k], err_msg=f"{method} {k}")
+        assert bvh.contains(np.array([[1.4, 0.0, -0.1]]))[0]  # inside the ellipsoid, outside the sphere
+        with pytest.raises(simdbvh.Error, match="expected"):
+            bvh.refit(moved_v[:-1])
+        bad = moved_v.copy()
+        bad[5, 1] = np.nan
+        with pytest.raises(simdbvh.Error):
+            bvh.refit(bad)
+        np.testing.assert_array_equal(bvh.intersect(o, d)["prim"], ref["prim"])  # unchanged by the failed calls
+
+
 def test_inside_distance_and_signed_distance(cube):
     bvh = simdbvh.BVH(cube)
     p = np.array([[0.5, 0.5, 0.25], [0.5, 0.5, 3.0], [1.0, 0.5, 0.5], [2.0, 2.0, 0.5], [0.0, 0.0, 0.0]])
