@@ -126,6 +126,43 @@ def offsets(rows, out):
     return path
 
 
+def inside_outside(inside, out):
+    """The inside/outside panel: wrong answers (% of compared points, log) and microseconds per point, per method."""
+    if not inside:
+        return None
+    groups = list(dict.fromkeys((r["mesh"], r["family"]) for r in inside))
+    methods = list(dict.fromkeys(r["method"] for r in inside))
+    fig, axes = plt.subplots(1, 2, figsize=(14, 4.8))
+    w = 0.8 / max(1, len(methods))
+    for i, m in enumerate(methods):
+        wrong, us = [], []
+        for g in groups:
+            r = next((r for r in inside if (r["mesh"], r["family"]) == g and r["method"] == m), None)
+            wrong.append(100.0 * r["wrong"] / r["points"] if r and r["points"] else float("nan"))
+            us.append(num(r["us_per_point"]) if r else float("nan"))
+        xs = [x + i * w for x in range(len(groups))]
+        # 0 wrong answers would vanish on a log axis: drawn at 1e-4 % and labelled.
+        axes[0].bar(xs, [v if v > 0 else 1e-4 for v in wrong], w, label=m)
+        for x, v in zip(xs, wrong):
+            if v == 0:
+                axes[0].text(x, 1.2e-4, "0", ha="center", fontsize=6)
+        axes[1].bar(xs, us, w, label=m)
+    labels = [f"{m}\n{f}" for m, f in groups]
+    for ax in axes:
+        ax.set_xticks([x + 0.4 - w / 2 for x in range(len(groups))], labels, fontsize=6)
+        ax.grid(alpha=0.3, axis="y")
+    axes[0].set_yscale("log")
+    axes[0].set_ylabel("wrong inside/outside answers, % of points (0 drawn at 1e-4)")
+    axes[0].legend(fontsize=7)
+    axes[1].set_ylabel("microseconds per point, one thread")
+    fig.suptitle("Inside/outside against CGAL's exact Side_of_triangle_mesh: where methods fail")
+    fig.tight_layout()
+    path = os.path.join(out, "inside_outside.png")
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
 def main():
     if len(sys.argv) < 2 or sys.argv[1] in ("-h", "--help"):
         print(__doc__)
@@ -134,8 +171,9 @@ def main():
     out = sys.argv[2] if len(sys.argv) > 2 else os.path.dirname(os.path.abspath(src))
     os.makedirs(out, exist_ok=True)
     with open(src) as f:
-        rows = json.load(f)["rows"]
-    for p in (speed_vs_accuracy(rows, out), offsets(rows, out)):
+        data = json.load(f)
+    rows = data["rows"]
+    for p in (speed_vs_accuracy(rows, out), offsets(rows, out), inside_outside(data.get("inside") or [], out)):
         if p:
             print("wrote", p)
     return 0

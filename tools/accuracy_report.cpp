@@ -114,7 +114,8 @@ void report_accuracy(const AccuracyConfig& c, const AccuracyResults& res) {
                     {"quick", c.quick},
                     {"seed", c.families.seed},
                     {"isa", std::string(name(active_isa()))},
-                    {"rows", json_rows(res)}};
+                    {"rows", json_rows(res)},
+                    {"inside", inside_json(res.inside)}};
     write_markdown_tables(c, res, rep.markdown);
     auto save = [&](const fs::path& p) {
         rep.save_json(p);
@@ -122,12 +123,15 @@ void report_accuracy(const AccuracyConfig& c, const AccuracyResults& res) {
     };
     if (!c.json_file.empty()) save(c.json_file);
     if (c.report_dir.empty()) {
+        if (c.inside) rep.markdown << inside_markdown(res.inside, false);
         std::cout << rep.markdown.str();
         return;
     }
     const fs::path dir = c.report_dir;
     save(dir / "accuracy.json");
-    if (run_chart_script("plot_accuracy.py", (dir / "accuracy.json").string(), dir.string()))
+    const bool charts = run_chart_script("plot_accuracy.py", (dir / "accuracy.json").string(), dir.string());
+    if (c.inside) rep.markdown << inside_markdown(res.inside, charts && !res.inside.empty());
+    if (charts)
         rep.markdown << "\n## Charts\n\n![speed against accuracy](speed_vs_accuracy.png)\n\n"
                         "![leak rate and t error against offset](offsets.png)\n";
     std::cout << rep.markdown.str();

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "inside_panel.h"
 #include "methods.h"
 #include "simdbvh/compare/classify.h"
 #include "simdbvh/scene/families.h"
@@ -16,6 +17,7 @@ namespace simdbvh::cli {
 struct AccuracyConfig {
     bool quick = false;
     bool embree = true;
+    bool inside = true;  // the inside/outside panel (default without --family; --inside adds it)
     int threads = 2;  // the double reference only; traces run on one thread
     scene::FamilyOptions families;
     std::vector<scene::Family> which;
@@ -51,6 +53,7 @@ struct AccuracyResults {
     std::vector<AccuracyRow> cases;
     std::map<std::string, std::vector<AccuracyRow>> families;  // family -> one row per method (summed)
     std::map<double, std::vector<AccuracyRow>> offsets;        // the offsets family: per offset, per method
+    std::vector<InsideRow> inside;                             // the inside/outside panel
 };
 
 std::vector<Variant> accuracy_variants(bool with_embree);

@@ -31,10 +31,11 @@ std::vector<scene::Family> parse_families(const Options& o) {
 }
 
 AccuracyConfig parse_accuracy(const std::vector<std::string>& args) {
-    const Options o("accuracy", args, {"report", "json", "seed", "family", "threads", "scene"}, {"quick", "no-embree"});
+    const Options o("accuracy", args, {"report", "json", "seed", "family", "threads", "scene"}, {"quick", "no-embree", "inside"});
     AccuracyConfig c;
     c.quick = o.has("quick");
     c.embree = !o.has("no-embree");
+    c.inside = !o.has("family") || o.has("inside");
     c.families.quick = c.quick;
     c.families.seed = std::uint64_t(o.get_int("seed", 1, 0, (1LL << 62)));
     c.families.random_scene = o.get("scene");
@@ -56,7 +57,9 @@ AccuracyConfig parse_accuracy(const std::vector<std::string>& args) {
 
 int cmd_accuracy(const std::vector<std::string>& args) {
     const AccuracyConfig c = parse_accuracy(args);
-    report_accuracy(c, run_accuracy(c));
+    AccuracyResults res = run_accuracy(c);
+    if (c.inside) res.inside = run_inside_panel(c.quick, c.embree);
+    report_accuracy(c, res);
     return 0;
 }
 

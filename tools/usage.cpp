@@ -56,7 +56,8 @@ constexpr CommandText kCommands[] = {
            [--threads N] [--reps N] [--rays N] [--stats-rays N] [--no-report]
 )"},
     {"accuracy", R"(accuracy [--quick] [--family F] [--report DIR] [--json FILE] [--no-embree]   ray families x method variants
-           [--seed K] [--threads N] [--scene S (for the random family)]
+           [--seed K] [--threads N] [--scene S (for the random family)] [--inside]
+           and the inside/outside panel (ours vs Embree hit parity against CGAL; without --family, or --inside)
 )"},
 };
 

@@ -147,7 +147,9 @@ EmbreeScene::EmbreeScene(const Mesh& mesh, const EmbreeOptions& opts) : impl_(st
     s.check("rtcNewScene");
     const bool refit = opts.quality == EmbreeQuality::refit;
     rtcSetSceneFlags(s.scene, RTCSceneFlags((opts.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE) |
-                                            (refit ? RTC_SCENE_FLAG_DYNAMIC : RTC_SCENE_FLAG_NONE)));
+                                            (refit ? RTC_SCENE_FLAG_DYNAMIC : RTC_SCENE_FLAG_NONE) |
+                                            (opts.count_filter ? RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION
+                                                               : RTC_SCENE_FLAG_NONE)));
     // Refit: Embree uses a geometry's own quality only under a LOW scene (two levels).
     rtcSetSceneBuildQuality(s.scene, refit ? RTC_BUILD_QUALITY_LOW
                                      : opts.quality == EmbreeQuality::high ? RTC_BUILD_QUALITY_HIGH
@@ -245,12 +247,9 @@ std::string EmbreeScene::tasking_system() const {
     }
 }
 
-Hit EmbreeScene::intersect(const Ray& r) const {
-    switch (check_embree_ray(r)) {
-    case EmbreeRayCheck::invalid: impl_->invalid.fetch_add(1, std::memory_order_relaxed); return Hit{};
-    case EmbreeRayCheck::unsupported: impl_->unsupported.fetch_add(1, std::memory_order_relaxed); return Hit{};
-    case EmbreeRayCheck::ok: break;
-    }
+namespace {
+
+RTCRayHit embree_ray_hit(const Ray& r) {
     alignas(16) RTCRayHit rh;
     rh.ray.org_x = r.org.x;
     rh.ray.org_y = r.org.y;
@@ -267,6 +266,50 @@ Hit EmbreeScene::intersect(const Ray& r) const {
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    return rh;
+}
+
+// count_hits: the context Embree passes to the filter, with the count after it.
+struct CountContext {
+    RTCIntersectContext ctx;
+    std::uint32_t count = 0;
+};
+
+void count_and_reject(const RTCFilterFunctionNArguments* args) {
+    auto* c = reinterpret_cast<CountContext*>(args->context);
+    for (unsigned i = 0; i < args->N; ++i)
+        if (args->valid[i] != 0) {
+            ++c->count;
+            args->valid[i] = 0;
+        }
+}
+
+}  // namespace
+
+bool EmbreeScene::passes(const Ray& r) const {
+    switch (check_embree_ray(r)) {
+    case EmbreeRayCheck::invalid: impl_->invalid.fetch_add(1, std::memory_order_relaxed); return false;
+    case EmbreeRayCheck::unsupported: impl_->unsupported.fetch_add(1, std::memory_order_relaxed); return false;
+    case EmbreeRayCheck::ok: break;
+    }
+    return true;
+}
+
+std::uint32_t EmbreeScene::count_hits(const Ray& r) const {
+    if (!impl_->opts.count_filter) throw Error("EmbreeScene::count_hits needs EmbreeOptions::count_filter");
+    if (!passes(r)) return 0;
+    alignas(16) RTCRayHit rh = embree_ray_hit(r);
+    CountContext c;
+    rtcInitIntersectContext(&c.ctx);
+    c.ctx.filter = &count_and_reject;
+    rtcIntersect1(impl_->scene, &c.ctx, &rh);
+    impl_->check("rtcIntersect1");
+    return c.count;
+}
+
+Hit EmbreeScene::intersect(const Ray& r) const {
+    if (!passes(r)) return Hit{};
+    alignas(16) RTCRayHit rh = embree_ray_hit(r);
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     rtcIntersect1(impl_->scene, &ctx, &rh);
@@ -276,24 +319,8 @@ Hit EmbreeScene::intersect(const Ray& r) const {
 }
 
 bool EmbreeScene::occluded(const Ray& r) const {
-    switch (check_embree_ray(r)) {
-    case EmbreeRayCheck::invalid: impl_->invalid.fetch_add(1, std::memory_order_relaxed); return false;
-    case EmbreeRayCheck::unsupported: impl_->unsupported.fetch_add(1, std::memory_order_relaxed); return false;
-    case EmbreeRayCheck::ok: break;
-    }
-    alignas(16) RTCRay ray;
-    ray.org_x = r.org.x;
-    ray.org_y = r.org.y;
-    ray.org_z = r.org.z;
-    ray.tnear = r.tmin;
-    ray.dir_x = r.dir.x;
-    ray.dir_y = r.dir.y;
-    ray.dir_z = r.dir.z;
-    ray.time = 0.0f;
-    ray.tfar = r.tmax;
-    ray.mask = 0xFFFFFFFFu;
-    ray.id = 0;
-    ray.flags = 0;
+    if (!passes(r)) return false;
+    alignas(16) RTCRay ray = embree_ray_hit(r).ray;
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     rtcOccluded1(impl_->scene, &ctx, &ray);

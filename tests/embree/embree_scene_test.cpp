@@ -186,5 +186,22 @@ TEST(EmbreeScene, UpdateVerticesFollowsTheMovedMesh) {
     EXPECT_EQ(parse_embree_quality("refit"), EmbreeQuality::refit);
 }
 
+// count_hits: every hit along the ray, through a closed sphere: one from
+// inside, two from outside, none when the ray points away; a scene without
+// count_filter refuses.
+TEST(EmbreeScene, CountHitsCountsEveryCrossing) {
+    const Mesh m = scene::icosphere(3);
+    const EmbreeScene s(m, {EmbreeQuality::medium, false, 1, true});
+    const Vec3 d{0.0123f, 0.0456f, 1.0f};  // through face interiors, not along the mesh's symmetry planes
+    EXPECT_EQ(s.count_hits(ray({0.01f, 0.02f, 0.0f}, d)), 1u);
+    EXPECT_EQ(s.count_hits(ray({0.01f, 0.02f, -3.0f}, d)), 2u);
+    EXPECT_EQ(s.count_hits(ray({0.01f, 0.02f, 3.0f}, d)), 0u);
+    EXPECT_EQ(s.count_hits(ray({0.01f, 0.02f, -3.0f}, d, 0.0f, 1.0f)), 0u);  // stops before the sphere
+    EXPECT_EQ(s.count_hits(ray({kNaN, 0, 0}, d)), 0u);
+    const EmbreeScene plain(m, {EmbreeQuality::medium, false, 1});
+    EXPECT_THROW(plain.count_hits(ray({0, 0, -3}, d)), Error);
+    EXPECT_EQ(plain.intersect(ray({0.01f, 0.02f, -3.0f}, d)).prim, s.intersect(ray({0.01f, 0.02f, -3.0f}, d)).prim);
+}
+
 }  // namespace
 }  // namespace simdbvh::compare

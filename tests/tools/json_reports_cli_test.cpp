@@ -70,6 +70,30 @@ TEST_F(JsonReports, AccuracyWithInfiniteErrorsParses) {
     EXPECT_GT(nulls, 0u) << "the direction-scale family no longer produces an infinite t error; pick another case";
 }
 
+// The inside/outside panel: ours never wrong against CGAL; Embree's hit parity
+// wrong somewhere (the families exist to break it).
+TEST_F(JsonReports, InsideOutsidePanel) {
+    const fs::path json = dir_ / "inside.json";
+    const test::CliRun r = test::run_cli("accuracy --quick --family watertight --inside --json " +
+                                         shell_quote(json.string()));
+    ASSERT_EQ(r.status, 0) << r.output;
+    const Json j = parse(json);
+    if (j["inside"].empty()) GTEST_SKIP() << "no CGAL in this build";
+    std::size_t ours = 0, embree_wrong = 0;
+    for (const Json& row : j["inside"]) {
+        const std::string m = row["method"].get<std::string>();
+        EXPECT_GT(row["points"].get<int>(), 0) << row.dump();
+        if (m.rfind("simdbvh", 0) == 0) {
+            ++ours;
+            EXPECT_EQ(row["wrong"].get<int>(), 0) << row.dump();
+        } else {
+            embree_wrong += row["wrong"].get<std::size_t>();
+        }
+    }
+    EXPECT_EQ(ours, 12u);  // 2 meshes x 3 point families x 2 rules
+    EXPECT_GT(embree_wrong, 0u);
+}
+
 TEST_F(JsonReports, PanelEscapesSceneAndCommand) {
     const std::string scene = tetra();
     const fs::path json = dir_ / "panel.json";

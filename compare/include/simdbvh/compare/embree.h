@@ -36,6 +36,7 @@ struct EmbreeOptions {
     EmbreeQuality quality = EmbreeQuality::medium;
     bool robust = false;  // RTC_SCENE_FLAG_ROBUST (watertight-ish test, no culling of thin boxes)
     int threads = 0;      // device config "threads=N"; 0: Embree's default (all hardware threads)
+    bool count_filter = false;  // RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION, which count_hits() needs
 };
 // "embree-medium", "embree-high-robust", ... (for tables and chart legends).
 std::string method_name(const EmbreeOptions& o);
@@ -85,12 +86,22 @@ public:
     void intersect(std::span<const Ray> rays, std::span<Hit> hits) const;
     void occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded) const;  // 1 = occluded
 
+    // Every hit along the ray, counted the way Open3D's RaycastingScene
+    // counts intersections: rtcIntersect1 with a context filter that counts
+    // each reported hit and rejects it, so traversal goes on. A ray through a
+    // shared edge or vertex may be reported by several triangles or by none;
+    // that is what this method is here to measure. Needs
+    // EmbreeOptions::count_filter (else throws simdbvh::Error); invalid and
+    // unsupported rays count 0.
+    std::uint32_t count_hits(const Ray& ray) const;
+
     // Rays not passed to Embree since construction (or the last reset).
     std::uint64_t invalid_rays() const;
     std::uint64_t unsupported_rays() const;
     void reset_counters();
 
 private:
+    bool passes(const Ray& ray) const;  // check_embree_ray ok; else counts it and false
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };

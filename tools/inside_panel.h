@@ -1,0 +1,32 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// simdbvh accuracy, the inside/outside panel (issue 15): "where methods
+// fail". Closed meshes and point families built to break parity counting
+// (rays through vertices and along edges of an integer-coordinate mesh,
+// points just off the surface, uniform points), each point's side from CGAL's
+// exact Side_of_triangle_mesh as the reference, and every method's wrong
+// answers and time per point: ours (exact, winding and parity rules) and the
+// parity of Embree's hit count along +z (how Open3D and trimesh users count
+// crossings), default and robust.
+#include <string>
+#include <vector>
+
+#include "report.h"
+
+namespace simdbvh::cli {
+
+struct InsideRow {
+    std::string mesh, family, method;
+    std::size_t points = 0;      // points compared (CGAL's surface points left out)
+    std::size_t on_surface = 0;  // CGAL: ON_BOUNDARY (not compared)
+    std::size_t wrong = 0;       // side differs from CGAL's (ours: "surface" for a point CGAL puts off it, too)
+    double seconds = 0;          // one thread, all `points` (surface ones included)
+};
+
+// Empty (with a message) when the build has no CGAL.
+std::vector<InsideRow> run_inside_panel(bool quick, bool embree);
+
+Json inside_json(const std::vector<InsideRow>& rows);
+std::string inside_markdown(const std::vector<InsideRow>& rows, bool chart);
+
+}  // namespace simdbvh::cli
