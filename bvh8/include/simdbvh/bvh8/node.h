@@ -4,6 +4,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <new>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "simdbvh/kernels/soa.h"
@@ -82,6 +84,17 @@ struct AlignedAllocator {
     T* allocate(std::size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), std::align_val_t(kAlign))); }
     // Unsized aligned delete: clang without -fsized-deallocation has no sized form.
     void deallocate(T* p, std::size_t) noexcept { ::operator delete(p, std::align_val_t(kAlign)); }
+    // resize() default-initializes (no zero fill): every writer of Tri8 blocks
+    // clears or sets each block it allocates (pack, BruteForce8), so a zero
+    // fill would be a wasted pass over the memory.
+    template <class U>
+    void construct(U* p) noexcept(std::is_nothrow_default_constructible_v<U>) {
+        ::new (static_cast<void*>(p)) U;
+    }
+    template <class U, class... Args>
+    void construct(U* p, Args&&... args) {
+        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
     template <class U>
     bool operator==(const AlignedAllocator<U, kAlign>&) const noexcept { return true; }
 };
