@@ -13,6 +13,7 @@
 #include "options.h"
 #include "outputs.h"
 #include "report.h"
+#include "simdbvh/kernels/parallel.h"
 #include "simdbvh/kernels/topology.h"
 
 namespace simdbvh::cli {
@@ -70,6 +71,7 @@ BenchConfig parse_bench(const std::vector<std::string>& args) {
 
 int cmd_bench(const std::vector<std::string>& args) {
     const BenchConfig c = parse_bench(args);
+    set_thread_pinning(true);  // the all-core rows: one worker per core (the library's default is unpinned)
     progress("scene: " + c.scene + (c.scene_why.empty() ? "" : " (" + c.scene_why + ")"), true);
     progress("machine: " + c.machine, true);
     const Mesh mesh = load_scene_with_progress(c.scene);

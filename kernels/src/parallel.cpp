@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <exception>
+#include <memory>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -14,6 +15,28 @@
 
 namespace simdbvh {
 
+namespace {
+
+std::atomic<bool> g_pin{false};
+std::mutex g_executor_mutex;
+std::shared_ptr<const Executor> g_executor;  // null: our own threads
+
+std::shared_ptr<const Executor> current_executor() {
+    std::lock_guard<std::mutex> lock(g_executor_mutex);
+    return g_executor;
+}
+
+}  // namespace
+
+void set_thread_pinning(bool on) { g_pin.store(on, std::memory_order_relaxed); }
+bool thread_pinning() { return g_pin.load(std::memory_order_relaxed); }
+
+void set_executor(Executor executor) {
+    auto e = executor ? std::make_shared<const Executor>(std::move(executor)) : nullptr;
+    std::lock_guard<std::mutex> lock(g_executor_mutex);
+    g_executor = std::move(e);
+}
+
 void parallel_for(std::size_t n, int threads, const std::function<void(std::size_t, std::size_t)>& body,
                   const ParallelOptions& opts) {
     const std::size_t grain = std::max<std::size_t>(1, opts.grain);
@@ -22,10 +45,23 @@ void parallel_for(std::size_t n, int threads, const std::function<void(std::size
         return;
     }
     const std::size_t chunks = (n + grain - 1) / grain;
-    const int workers = int(std::min<std::size_t>(std::size_t(threads), chunks));
-    std::atomic<std::size_t> next{0};
     std::exception_ptr error;
     std::mutex error_mutex;
+    if (const std::shared_ptr<const Executor> ex = current_executor()) {
+        (*ex)(chunks, [&](std::size_t c) {
+            if (c >= chunks) return;
+            try {
+                body(c * grain, std::min(n, (c + 1) * grain));
+            } catch (...) {
+                std::lock_guard<std::mutex> lock(error_mutex);
+                if (!error) error = std::current_exception();
+            }
+        });
+        if (error) std::rethrow_exception(error);
+        return;
+    }
+    const int workers = int(std::min<std::size_t>(std::size_t(threads), chunks));
+    std::atomic<std::size_t> next{0};
     auto work = [&](int k) {
 #ifdef SIMDBVH_CAN_PIN
         // Workers we start are pinned one per core; the caller's thread (k = 0)

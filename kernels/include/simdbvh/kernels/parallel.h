@@ -4,15 +4,37 @@
 // library never starts a thread the caller did not ask for. Threads that
 // cannot start (a process or memory limit) are done without: the ones that
 // started, or the caller alone, finish the work; the process never terminates.
+//
+// A host with its own thread pool can take the work instead (set_executor):
+// then no thread is started by the library at all. Worker threads are not
+// pinned to cores unless the host asks (set_thread_pinning), so they never
+// fight a host's own placement.
 #include <cstddef>
 #include <functional>
 
 namespace simdbvh {
 
+// Process-wide: pin each worker thread the library starts to one core (hwloc,
+// worker k to core k; the caller's thread is never moved). Off by default;
+// the bench turns it on for its all-core rows. Safe to call at any time.
+void set_thread_pinning(bool on);
+bool thread_pinning();
+
 struct ParallelOptions {
-    std::size_t grain = 2048;  // rays per chunk
-    bool pin = true;           // pin started worker k to core k (hwloc) when available; never the caller
+    std::size_t grain = 2048;    // items per chunk
+    bool pin = thread_pinning(); // pin the threads this call starts (see set_thread_pinning)
 };
+
+// A host executor: must call run(c) exactly once for every chunk c in
+// [0, chunks), on any of its threads (the calling thread included), and
+// return when every call has returned. run never throws (parallel_for
+// captures the first exception and rethrows it after the executor returns).
+using Executor = std::function<void(std::size_t chunks, const std::function<void(std::size_t chunk)>& run)>;
+// Process-wide: with an executor set, parallel_for with threads > 1 gives its
+// chunks to it instead of starting threads (threads <= 1 still runs inline).
+// An empty function restores the library's own threads. Safe to call at any
+// time; a parallel_for already running keeps the executor it started with.
+void set_executor(Executor executor);
 
 void parallel_for(std::size_t n, int threads, const std::function<void(std::size_t, std::size_t)>& body,
                   const ParallelOptions& opts = {});
