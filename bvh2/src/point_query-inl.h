@@ -1,0 +1,111 @@
+#pragma once
+// Internal: the closest-point machinery shared by the BVH2 (closest_point.cpp)
+// and the wide trees (bvh8/src/closest_point.cpp): conservative box
+// distances, the (distance2, prim) winner, the Morton visiting order.
+#include <algorithm>
+#include <cmath>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "simdbvh/bvh2/closest_point.h"
+
+namespace simdbvh::detail {
+
+// Box distances are rounded (differences of floats in double); a box is pruned
+// only when its distance exceeds the best by more than that rounding, so the
+// pruning never changes the answer, ties at equal distance included.
+constexpr double kPruneSlack = 1.0 - 0x1p-40;
+
+inline double box_distance2(const Vec3& p, const Aabb& b) {
+    auto axis = [](float lo, float hi, float x) {
+        const double d = x < lo ? double(lo) - double(x) : (x > hi ? double(x) - double(hi) : 0.0);
+        return d * d;
+    };
+    return axis(b.lo.x, b.hi.x, p.x) + axis(b.lo.y, b.hi.y, p.y) + axis(b.lo.z, b.hi.z, p.z);
+}
+
+struct Best {
+    explicit Best(double max_distance2) : distance2(max_distance2) {}
+    double distance2;
+    std::uint32_t prim = kInvalidPrim;
+    TrianglePoint at;
+
+    // Smaller squared distance first, ties to the lower triangle id.
+    void offer(const TrianglePoint& tp, std::uint32_t id) {
+        if (tp.distance2 < distance2 || (tp.distance2 == distance2 && id < prim)) {
+            distance2 = tp.distance2;
+            prim = id;
+            at = tp;
+        }
+    }
+    ClosestPoint result() const {
+        if (prim == kInvalidPrim) return ClosestPoint{};
+        ClosestPoint c;
+        c.point = Vec3{float(at.x), float(at.y), float(at.z)};
+        c.distance = float(std::sqrt(distance2));
+        c.prim = prim;
+        c.u = float(at.u);
+        c.v = float(at.v);
+        c.distance2 = distance2;
+        return c;
+    }
+};
+
+// One triangle offered to `best`: its box bounds its distance from below, so
+// most are rejected here without the exact test.
+inline void offer_triangle(Best& best, const Vec3& p, const Vec3& v0, const Vec3& v1, const Vec3& v2, std::uint32_t id,
+                           PointQueryStats* stats) {
+    Aabb tb;
+    tb.grow(v0);
+    tb.grow(v1);
+    tb.grow(v2);
+    if (stats) stats->triangle_tests++;
+    if (box_distance2(p, tb) * kPruneSlack > best.distance2) return;
+    if (stats) stats->exact_tests++;
+    best.offer(closest_point_on_triangle(p, v0, v1, v2), id);
+}
+
+inline double max_distance2(const PointQueryOptions& o) {
+    if (!(o.max_distance >= 0.0f))
+        throw Error("max_distance must be >= 0 (got " + std::to_string(o.max_distance) + ")");
+    return double(o.max_distance) * double(o.max_distance);
+}
+
+inline bool usable(const Vec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
+
+// 30-bit Morton codes (10 bits per axis) of the finite points in their own
+// bounds; non-finite points last. Returns the visiting order.
+inline std::vector<std::uint32_t> morton_order(std::span<const Vec3> points) {
+    if (points.size() > 0xFFFFFFFFu) throw Error("too many query points in one batch (at most 2^32 - 1)");
+    Aabb b;
+    for (const Vec3& p : points)
+        if (usable(p)) b.grow(p);
+    std::vector<std::uint64_t> keys(points.size());
+    const Vec3 lo = b.lo, e = b.extent();
+    auto spread = [](std::uint32_t v) {  // 10 bits -> every third of 30 bits
+        v = (v | (v << 16)) & 0x030000FFu;
+        v = (v | (v << 8)) & 0x0300F00Fu;
+        v = (v | (v << 4)) & 0x030C30C3u;
+        v = (v | (v << 2)) & 0x09249249u;
+        return v;
+    };
+    auto cell = [](float x, float lo, float ext) {
+        const float f = ext > 0.0f ? (x - lo) / ext * 1023.0f : 0.0f;
+        return std::uint32_t(std::clamp(f, 0.0f, 1023.0f));
+    };
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        const Vec3& p = points[i];
+        const std::uint64_t code = usable(p) ? (spread(cell(p.x, lo.x, e.x)) << 2 | spread(cell(p.y, lo.y, e.y)) << 1 |
+                                                spread(cell(p.z, lo.z, e.z)))
+                                             : (1u << 30);
+        keys[i] = code << 32 | i;
+    }
+    std::sort(keys.begin(), keys.end());
+    std::vector<std::uint32_t> order(points.size());
+    for (std::size_t i = 0; i < keys.size(); ++i) order[i] = std::uint32_t(keys[i]);
+    return order;
+}
+
+
+}  // namespace simdbvh::detail
