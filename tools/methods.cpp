@@ -189,6 +189,11 @@ private:
     BvhN<N> bvh_;
 };
 
+// The trace options of a tree method: the spec's tests, the counters (one thread when counting).
+TraceOptions trace_options(const MethodSpec& s, TraceStats* stats) {
+    return TraceOptions{.test = s.test, .box = s.box, .stats = stats, .threads = stats ? 1 : s.threads};
+}
+
 // auto: Accel (bvh8/accel.h) with the cost model of the ISA, for spec.expected_rays rays.
 class AutoTracer final : public Tracer {
 public:
@@ -203,11 +208,7 @@ public:
         chosen = describe(accel_.choice());
     }
     void trace(std::span<const Ray> rays, std::span<Hit> hits, bool any, TraceStats* stats) override {
-        TraceOptions o;
-        o.test = spec_.test;
-        o.box = spec_.box;
-        o.stats = stats;
-        o.threads = stats ? 1 : spec_.threads;
+        const TraceOptions o = trace_options(spec_, stats);
         any ? occluded(accel_, rays, hits, o) : intersect(accel_, rays, hits, o);
     }
 

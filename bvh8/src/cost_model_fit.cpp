@@ -29,9 +29,14 @@ constexpr FittedSet kScalar{true, {Isa::scalar, {{{0, 0, 0.001, 2e-5, 2e-5}, {0.
 constexpr FittedSet kAvx2{false, {Isa::avx2, {}}};
 // sweep:avx2:end
 // sweep:avx512:begin
-constexpr FittedSet kAvx512{true, {Isa::avx512, {{{0, 0, 0.001, 2e-5, 2e-5}, {0.001, 5e-6, 0.001, 2e-5, 3e-6},
-                                                 {0.01, 1e-4, 0.001, 1e-4, 1e-4}, {0.01, 1.2e-4, 0.001, 1e-4, 6e-5},
-                                                 {0.01, 1.2e-4, 0.001, 1e-4, 5e-5}, {0.01, 1.3e-4, 0.001, 1e-4, 5e-5}}}}};
+// simdbvh bench --sweep --report out/sweep --model-out bvh8/src/cost_model_fit.cpp --readme README.md
+// AMD EPYC | 2 cores, 2 threads | L1d 32 KiB, L2 1 MiB, L3 32 MiB | ISAs scalar avx2 avx512 (active avx512) | hwloc
+constexpr FittedSet kAvx512{true, {Isa::avx512, {{{0, 0, 3.84161e-05, 8.09411e-06, 1.18901e-05},
+    {0.000193016, 7.55513e-06, 8.48545e-05, 2.07683e-05, 8.21382e-07},
+    {0.000252185, 3.13036e-05, 7.9803e-05, 0, 1.5713e-05},
+    {0.00143399, 3.70039e-05, 6.95893e-05, 3.67977e-06, 1.22442e-05},
+    {0.000820443, 3.75034e-05, 8.05666e-05, 6.2573e-06, 1.08222e-05},
+    {0.000992378, 4.08345e-05, 7.95467e-05, 9.8457e-06, 9.88841e-06}}}}};
 // sweep:avx512:end
 
 }  // namespace
