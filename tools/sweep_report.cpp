@@ -55,20 +55,24 @@ Table winner_table(const SweepResults& r, int threads, const std::string& kind) 
     return t;
 }
 
-// Per ray count: the largest mesh on which a brute force still wins and the smallest on which a tree wins.
+// Per ray count: the largest mesh up to which a brute force wins on every smaller fit mesh too, and the
+// smallest mesh from which a tree wins on every larger one (a lone win among the other kind is not a crossover).
 Table crossover_table(const SweepResults& r, int threads, const std::string& kind) {
     const auto w = winners(r, threads, kind);
-    std::map<std::size_t, std::pair<std::size_t, std::size_t>> cross;  // rays -> (largest brute, smallest tree)
-    for (const auto& [k, row] : w) {
-        auto& [brute_max, tree_min] = cross.try_emplace(k.second, 0, SIZE_MAX).first->second;
-        if (is_brute(row->method)) brute_max = std::max(brute_max, k.first);
-        else tree_min = std::min(tree_min, k.first);
-    }
+    std::map<std::size_t, std::vector<std::pair<std::size_t, bool>>> by_rays;  // rays -> (triangles, brute won)
+    for (const auto& [k, row] : w) by_rays[k.second].emplace_back(k.first, is_brute(row->method));
     Table t({"rays", "brute force wins up to (triangles)", "a tree wins from (triangles)", "rays per triangle there"});
-    for (const auto& [n_rays, c] : cross)
-        t.row({std::to_string(n_rays), c.first ? std::to_string(c.first) : "-",
-               c.second == SIZE_MAX ? "-" : std::to_string(c.second),
-               c.second == SIZE_MAX ? "-" : fmt("%.3g", double(n_rays) / double(c.second))});
+    for (const auto& [n_rays, wins] : by_rays) {  // wins: ascending triangles (the map's order)
+        std::size_t brute_max = 0, tree_min = SIZE_MAX;
+        for (const auto& [n, brute] : wins) {
+            if (!brute) break;
+            brute_max = n;
+        }
+        for (auto it = wins.rbegin(); it != wins.rend() && !it->second; ++it) tree_min = it->first;
+        t.row({std::to_string(n_rays), brute_max ? std::to_string(brute_max) : "-",
+               tree_min == SIZE_MAX ? "-" : std::to_string(tree_min),
+               tree_min == SIZE_MAX ? "-" : fmt("%.3g", double(n_rays) / double(tree_min))});
+    }
     return t;
 }
 
