@@ -70,6 +70,7 @@ BenchConfig parse_bench(const std::vector<std::string>& args) {
 }  // namespace
 
 int cmd_bench(const std::vector<std::string>& args) {
+    if (std::find(args.begin(), args.end(), "--sweep") != args.end()) return cmd_bench_sweep(args);
     const BenchConfig c = parse_bench(args);
     set_thread_pinning(true);  // the all-core rows: one worker per core (the library's default is unpinned)
     progress("scene: " + c.scene + (c.scene_why.empty() ? "" : " (" + c.scene_why + ")"), true);

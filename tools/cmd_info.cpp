@@ -4,6 +4,7 @@
 
 #include "common.h"
 #include "methods.h"
+#include "simdbvh/bvh8/cost_model.h"
 
 namespace simdbvh::cli {
 
@@ -18,7 +19,7 @@ WideStats wide_stats(const Bvh2& bvh2, const MethodSpec& spec) {
 }  // namespace
 
 int cmd_info(const std::vector<std::string>& args) {
-    std::set<std::string> valued{"scene"}, flags;
+    std::set<std::string> valued{"scene", "expected-rays"}, flags;
     add_method_options(valued, flags);
     const Options o("info", args, valued, flags);
     const std::string scene_name = o.require("scene");
@@ -30,6 +31,8 @@ int cmd_info(const std::vector<std::string>& args) {
     std::printf("vertices     %zu\n", mesh.positions.size());
     std::printf("bounds       [%g %g %g] - [%g %g %g]\n", b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z);
     std::printf("isa          %s\n", std::string(name(spec.isa)).c_str());
+    const auto expected = std::size_t(o.get_int("expected-rays", 1000000, 1, 1LL << 40));
+    std::printf("auto         %s\n", describe(choose(cost_model(spec.isa), mesh.size(), expected, spec.threads)).c_str());
     progress("building BVH2 ...");
     const Bvh2 bvh2 = Bvh2::build(mesh, spec.build);
     const BuildStats& s = bvh2.stats();

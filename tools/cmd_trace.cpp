@@ -119,12 +119,13 @@ int cmd_trace(const std::vector<std::string>& args) {
     const std::string scene_name = o.require("scene");
     const std::string rays_file = o.require("rays");
     const std::string out = o.require("out");
-    const MethodSpec spec = parse_method(o);
+    MethodSpec spec = parse_method(o, "auto");
     const std::string query = o.get("query", o.has("any-hit") ? "any" : "closest");
     if (query != "closest" && query != "any" && query != "all" && query != "count")
         throw UsageError("unknown --query '" + query + "' (closest, any, all, count)");
     if (o.has("any-hit") && query != "any") throw UsageError("--any-hit and --query " + query + " contradict each other");
     const bool crossings = query == "all" || query == "count";
+    if (crossings && !o.has("method")) spec.method = "bvh2";  // auto's only tree with crossing queries
     if (crossings && spec.method != "bvh2" && spec.method != "brute")
         throw UsageError("--query " + query + " runs on --method bvh2 or brute (not " + spec.method + ")");
     if (crossings && o.has("stats")) throw UsageError("--stats applies to --query closest and any");
@@ -141,6 +142,7 @@ int cmd_trace(const std::vector<std::string>& args) {
         trace_crossings(mesh, rays, spec, q, out);
         return 0;
     }
+    spec.expected_rays = rays.size();
     progress("building " + spec.label() + " ...");
     auto tracer = make_tracer(mesh, spec);
     std::vector<Hit> hits(rays.size());
@@ -154,6 +156,7 @@ int cmd_trace(const std::vector<std::string>& args) {
     for (const Hit& h : hits) n_hit += h.hit();
     std::cout << "method " << spec.label() << "  isa " << spec.isa_name() << "  query " << (any ? "any" : "closest")
               << "  threads " << spec.threads << "\n"
+              << (tracer->chosen.empty() ? "" : "auto chose " + tracer->chosen + "\n")
               << "rays " << rays.size() << "  hits " << n_hit << "  build " << tracer->build_ms << " ms  trace "
               << secs * 1e3 << " ms  " << (secs > 0 ? double(rays.size()) / secs / 1e6 : 0.0) << " Mrays/s\n";
     if (o.has("stats") && stats.rays)

@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "simdbvh/bvh2/spheres.h"
+#include "simdbvh/bvh8/accel.h"
 #include "simdbvh/bvh8/brute_force8.h"
 #include "simdbvh/compare/embree.h"
 #include "simdbvh/kernels/error.h"
@@ -22,6 +23,7 @@ int MethodSpec::width() const {
 std::string MethodSpec::label() const {
     if (is_wide(method) || method == "brute8")
         return method + "/" + std::string(name(isa)) + (test == TriangleTest::moller ? "/moller" : "");
+    if (method == "auto") return "auto/" + std::string(name(isa));
     if (method == "embree") return "embree/" + quality + (robust ? "/robust" : "/default");
     // Non-default variants are named: bvh2/moller, bvh2/plain-box, brute/moller.
     std::string l = method;
@@ -31,7 +33,7 @@ std::string MethodSpec::label() const {
 }
 std::string MethodSpec::isa_name() const {
     if (is_wide(method) && isa_auto) return std::string(name(traversal_isa_choice(width(), false).isa));
-    if (is_wide(method) || method == "brute8") return std::string(name(isa));
+    if (is_wide(method) || method == "brute8" || method == "auto") return std::string(name(isa));
     if (method == "embree") return "embree-internal";
     return "scalar";
 }
@@ -48,12 +50,12 @@ void add_method_options(std::set<std::string>& valued, std::set<std::string>& fl
     flags.insert("robust");
 }
 
-MethodSpec parse_method(const Options& o) {
+MethodSpec parse_method(const Options& o, const std::string& fallback) {
     MethodSpec s;
-    s.method = o.get("method", "bvh2");
-    if (s.method != "brute" && s.method != "brute8" && s.method != "bvh2" && !is_wide(s.method) && s.method != "embree" &&
+    s.method = o.get("method", fallback);
+    if (s.method != "auto" && s.method != "brute" && s.method != "brute8" && s.method != "bvh2" && !is_wide(s.method) && s.method != "embree" &&
         s.method != "spheres")
-        throw UsageError("unknown --method '" + s.method + "' (brute, brute8, bvh2, bvh4, bvh8, bvh16, embree, spheres)");
+        throw UsageError("unknown --method '" + s.method + "' (auto, brute, brute8, bvh2, bvh4, bvh8, bvh16, embree, spheres)");
     if (o.has("isa")) {
         auto isa = parse_isa(o.get("isa"));
         if (!isa) throw UsageError("unknown --isa '" + o.get("isa") + "' (scalar, avx2, avx512)");
@@ -188,6 +190,34 @@ private:
     BvhN<N> bvh_;
 };
 
+// The trace options of a tree method: the spec's tests, the counters (one thread when counting).
+TraceOptions trace_options(const MethodSpec& s, TraceStats* stats) {
+    return TraceOptions{.test = s.test, .box = s.box, .stats = stats, .threads = stats ? 1 : s.threads};
+}
+
+// auto: Accel (bvh8/accel.h) with the cost model of the ISA, for spec.expected_rays rays.
+class AutoTracer final : public Tracer {
+public:
+    AutoTracer(const Mesh& m, const MethodSpec& s) : spec_(s) {
+        AccelOptions o;
+        o.threads = s.threads;
+        o.isa = s.isa;
+        o.build = s.build;
+        o.wide = s.bvh8;
+        accel_ = Accel::build(m, s.expected_rays, o);
+        build_ms = accel_.build_ms();
+        chosen = describe(accel_.choice());
+    }
+    void trace(std::span<const Ray> rays, std::span<Hit> hits, bool any, TraceStats* stats) override {
+        const TraceOptions o = trace_options(spec_, stats);
+        any ? occluded(accel_, rays, hits, o) : intersect(accel_, rays, hits, o);
+    }
+
+private:
+    MethodSpec spec_;
+    Accel accel_;
+};
+
 // Seed 002's bounding-sphere hierarchy (variance splits; --builder is ignored).
 class SpheresTracer final : public Tracer {
 public:
@@ -246,6 +276,7 @@ private:
 }  // namespace
 
 std::unique_ptr<Tracer> make_tracer(const Mesh& mesh, const MethodSpec& spec) {
+    if (spec.method == "auto") return std::make_unique<AutoTracer>(mesh, spec);
     if (spec.method == "brute") return std::make_unique<BruteTracer>(mesh, spec);
     if (spec.method == "brute8") return std::make_unique<Brute8Tracer>(mesh, spec);
     if (spec.method == "bvh2") return std::make_unique<Bvh2Tracer>(mesh, spec);

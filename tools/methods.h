@@ -1,6 +1,7 @@
 #pragma once
-// The methods the CLI can run, behind one interface: brute, bvh2, bvh4, bvh8,
-// bvh16 (the wide BVHs, all collapsed from the same BVH2), embree, spheres.
+// The methods the CLI can run, behind one interface: auto (Accel: the method
+// the cost model picks), brute, brute8, bvh2, bvh4, bvh8, bvh16 (the wide
+// BVHs, all collapsed from the same BVH2), embree, spheres.
 #include <memory>
 #include <span>
 #include <string>
@@ -11,7 +12,8 @@
 namespace simdbvh::cli {
 
 struct MethodSpec {
-    std::string method = "bvh2";  // brute | bvh2 | bvh4 | bvh8 | bvh16 | embree | spheres
+    std::string method = "bvh2";  // auto | brute | brute8 | bvh2 | bvh4 | bvh8 | bvh16 | embree | spheres
+    std::size_t expected_rays = 0;  // auto: the rays the choice is made for
     Isa isa = Isa::scalar;        // the wide BVHs only (bvh2 and brute are scalar)
     bool isa_auto = false;        // no --isa: the wide BVHs choose by speed (bvh8.h, traversal_isa_choice)
     BuildOptions build;
@@ -38,6 +40,7 @@ public:
     double sah_cost = 0;
     int depth = 0;
     std::size_t nodes = 0;
+    std::string chosen;  // auto: what it chose and why (the predicted time of every candidate)
 };
 
 // The wide methods, narrowest first.
@@ -47,7 +50,8 @@ bool is_wide(const std::string& method);
 // Options every tracing command accepts: --method --isa --builder --bins
 // --collapse --test --box --quality --robust --threads.
 void add_method_options(std::set<std::string>& valued, std::set<std::string>& flags);
-MethodSpec parse_method(const Options& o);
+// `fallback`: the method without --method (trace: auto).
+MethodSpec parse_method(const Options& o, const std::string& fallback = "bvh2");
 std::unique_ptr<Tracer> make_tracer(const Mesh& mesh, const MethodSpec& spec);
 
 }  // namespace simdbvh::cli

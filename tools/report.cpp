@@ -9,8 +9,10 @@
 #include <algorithm>
 #include <cstdio>
 #include <iostream>
+#include <fstream>
 #include <span>
 
+#include "simdbvh/kernels/error.h"
 #include "simdbvh/scene/output.h"
 
 namespace simdbvh::cli {
@@ -80,6 +82,19 @@ std::string json_text(const Json& doc) {
 void write_text(const fs::path& file, const std::string& text) {
     if (file.has_parent_path()) fs::create_directories(file.parent_path());
     scene::write_file_atomic(file, std::span(reinterpret_cast<const unsigned char*>(text.data()), text.size()));
+}
+
+void replace_marked_block(const fs::path& file, const std::string& begin, const std::string& end,
+                          const std::string& body) {
+    std::ifstream f(file);
+    if (!f) throw Error(file.string() + ": cannot read");
+    std::stringstream ss;
+    ss << f.rdbuf();
+    const std::string text = ss.str();
+    const auto pb = text.find(begin), pe = text.find(end);
+    if (pb == std::string::npos || pe == std::string::npos || pe < pb)
+        throw Error(file.string() + ": no '" + begin + "' ... '" + end + "' block");
+    write_text(file, text.substr(0, pb + begin.size()) + body + text.substr(pe));
 }
 
 bool run_chart_script(const std::string& script, const std::string& json_file, const std::string& out_dir) {

@@ -47,6 +47,11 @@ std::string json_text(const Json& doc);
 // Writes `text` atomically (temporary file, then rename), creating the folder.
 void write_text(const std::filesystem::path& file, const std::string& text);
 
+// Replaces what lies between the markers `begin` and `end` in `file` (both kept) with `body`; throws
+// simdbvh::Error naming the file when it cannot be read or lacks the markers.
+void replace_marked_block(const std::filesystem::path& file, const std::string& begin, const std::string& end,
+                          const std::string& body);
+
 struct Report {
     Json json = Json::object();
     std::ostringstream markdown;

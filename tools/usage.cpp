@@ -15,7 +15,8 @@ struct CommandText {
 
 constexpr CommandText kCommands[] = {
     {"info", R"(info     --scene S [--builder B] [--bins N] [--collapse sah|greedy]   triangles, bounds, the BVH2's statistics
-           and every width's (bvh4, bvh8, bvh16: nodes, depth, bytes/triangle, fill), all from the same BVH2
+           and every width's (bvh4, bvh8, bvh16: nodes, depth, bytes/triangle, fill), all from the same BVH2;
+           [--expected-rays N] (default 1000000): what --method auto would choose for N rays, and why
 )"},
     {"gen-rays", R"(gen-rays --scene S --kind K --count N [--seed K] --out RAYS.bin
            K: primary | incoherent | diffuse, or a ray family with its own mesh (--mesh-out MESH.ply
@@ -27,7 +28,7 @@ constexpr CommandText kCommands[] = {
     {"trace", R"(trace    --scene S --rays RAYS.bin --out HITS.bin [--method M] [--query Q] [--any-hit] [--stats] [--threads N]
            [--isa I] [--builder B] [--bins N] [--collapse C] [--test watertight|moller]
            [--box conservative|plain] [--quality medium|high] [--robust] [--drop-invalid]
-           M: brute | brute8 | bvh2 | bvh4 | bvh8 | bvh16 | embree | spheres
+           M: auto (default: chosen by the cost model) | brute | brute8 | bvh2 | bvh4 | bvh8 | bvh16 | embree | spheres
            Q: closest | any (= --any-hit) | count (int32 winding per ray) | all [--max-hits N] (20-byte
               records: ray, t, u, v, prim); count and all run on bvh2 or brute, every crossing once
 )"},
@@ -49,6 +50,11 @@ constexpr CommandText kCommands[] = {
            (default: terrain; none with --quick); the refit sequence (S twisted 0.1 rad more per frame, N
            frames, default 20, 3 with --quick: BVH8 refit vs rebuild vs Embree's refit and rebuild);
            report with charts and pictures
+bench --sweep [--quick] [--threads N] [--reps N] [--build-reps N] [--budget-ms MS] [--report DIR] [--json FILE]
+           [--model-out bvh8/src/cost_model_fit.cpp] [--readme README.md] [--no-report]
+           time to answer (build + trace) of brute, brute8, bvh2, bvh4/8/16, embree over soup-N and icosphere-N
+           (1..1M triangles) x 1..1M rays; the cost model of --method auto fitted to it (written into
+           --model-out for the active ISA) and checked at held-out points (dragon, bunny, teapot)
 )"},
     {"render", R"(render   --scene S --out IMG.png [--method M] [--heatmap] [--width W] [--height H]
 )"},

@@ -38,7 +38,7 @@ protected:
 };
 
 TEST_F(Cli, RoundTripMatchesTheApi) {
-    for (const char* method : {"bvh2", "bvh4", "bvh8", "bvh16", "brute"}) {
+    for (const char* method : {"auto", "bvh2", "bvh4", "bvh8", "bvh16", "brute"}) {
         for (const char* kind : {"primary", "incoherent", "diffuse"}) {
             const std::string rays = path(std::string(kind) + ".bin"), hits = path(std::string(method) + kind + ".hits");
             CliRun g = run_cli("gen-rays --scene icosphere-3 --kind " + std::string(kind) + " --count 3000 --seed 5 --out " + rays);

@@ -1,0 +1,65 @@
+#pragma once
+// The cost model behind Accel's automatic choice (issue 16): the time to
+// answer a batch of rays with one method, build included, predicted from the
+// triangle count and the ray count by a small formula per method whose
+// coefficients were fitted to `simdbvh bench --sweep` on one machine, one set
+// per ISA (src/cost_model_fit.cpp holds them and names the command).
+//
+//   time_ms = build_ms + call_ms + rays * ray_ms / threads
+//   build_ms = build0 + build1 * g(n)   g: n log2(n+1) for the trees, n for brute8, 0 for brute
+//   ray_ms   = ray0   + ray1   * f(n)   f: log2(n+1) for the trees, n for brute and brute8
+//
+// Only the trace part is divided by the thread count (the builds are costed
+// at one thread: conservative for the trees).
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "simdbvh/kernels/isa.h"
+
+namespace simdbvh {
+
+enum class AccelMethod : std::uint8_t { brute, brute8, bvh2, bvh4, bvh8, bvh16 };
+inline constexpr std::size_t kAccelMethodCount = 6;
+inline constexpr AccelMethod kAccelMethods[kAccelMethodCount] = {AccelMethod::brute, AccelMethod::brute8,
+                                                                 AccelMethod::bvh2,  AccelMethod::bvh4,
+                                                                 AccelMethod::bvh8,  AccelMethod::bvh16};
+std::string_view name(AccelMethod m);
+std::optional<AccelMethod> parse_accel_method(std::string_view s);
+bool is_tree(AccelMethod m);
+
+struct MethodCost {  // milliseconds; see the formula above
+    double build0 = 0, build1 = 0, call = 0, ray0 = 0, ray1 = 0;
+};
+
+struct CostModel {
+    Isa isa = Isa::scalar;             // the ISA the coefficients were measured with
+    std::array<MethodCost, kAccelMethodCount> cost{};  // indexed by AccelMethod
+};
+
+// The fitted model for `isa`; an ISA without a fitted set of its own uses the
+// nearest narrower one that has one (model.isa says which).
+const CostModel& cost_model(Isa isa);
+
+// The formula's two size terms, shared by the prediction and the fit.
+double build_size_term(AccelMethod m, std::size_t triangles);  // g(n)
+double ray_size_term(AccelMethod m, std::size_t triangles);    // f(n)
+double predict_ms(const CostModel& model, AccelMethod m, std::size_t triangles, std::size_t rays, int threads = 1);
+
+struct AccelChoice {
+    AccelMethod method = AccelMethod::bvh8;
+    Isa isa = Isa::scalar;  // the ISA whose coefficients were used
+    std::size_t triangles = 0, rays = 0;
+    int threads = 1;
+    std::array<double, kAccelMethodCount> predicted_ms{};  // indexed by AccelMethod
+};
+
+// The method with the smallest predicted time (ties: the earlier in kAccelMethods).
+AccelChoice choose(const CostModel& model, std::size_t triangles, std::size_t rays, int threads = 1);
+// "bvh8: predicted 12.3 ms for 1000000 rays on 871414 triangles (1 thread, avx512 model); brute 1.2e+06 ms, ..."
+std::string describe(const AccelChoice& c);
+
+}  // namespace simdbvh

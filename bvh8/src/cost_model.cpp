@@ -1,0 +1,73 @@
+// The cost model's formula and the choice (the coefficients: cost_model_fit.cpp).
+#include "simdbvh/bvh8/cost_model.h"
+
+#include <cmath>
+#include <cstdio>
+
+namespace simdbvh {
+
+namespace {
+constexpr std::string_view kNames[kAccelMethodCount] = {"brute", "brute8", "bvh2", "bvh4", "bvh8", "bvh16"};
+}
+
+std::string_view name(AccelMethod m) { return kNames[std::size_t(m)]; }
+
+std::optional<AccelMethod> parse_accel_method(std::string_view s) {
+    for (AccelMethod m : kAccelMethods)
+        if (name(m) == s) return m;
+    return std::nullopt;
+}
+
+bool is_tree(AccelMethod m) { return m != AccelMethod::brute && m != AccelMethod::brute8; }
+
+double build_size_term(AccelMethod m, std::size_t triangles) {
+    const double n = double(triangles);
+    if (m == AccelMethod::brute) return 0.0;
+    if (m == AccelMethod::brute8) return n;
+    return n * std::log2(n + 1.0);
+}
+
+double ray_size_term(AccelMethod m, std::size_t triangles) {
+    const double n = double(triangles);
+    return is_tree(m) ? std::log2(n + 1.0) : n;
+}
+
+double predict_ms(const CostModel& model, AccelMethod m, std::size_t triangles, std::size_t rays, int threads) {
+    const MethodCost& c = model.cost[std::size_t(m)];
+    const double build = c.build0 + c.build1 * build_size_term(m, triangles);
+    const double per_ray = c.ray0 + c.ray1 * ray_size_term(m, triangles);
+    return build + c.call + double(rays) * per_ray / double(threads < 1 ? 1 : threads);
+}
+
+AccelChoice choose(const CostModel& model, std::size_t triangles, std::size_t rays, int threads) {
+    AccelChoice c;
+    c.isa = model.isa;
+    c.triangles = triangles;
+    c.rays = rays;
+    c.threads = threads;
+    for (AccelMethod m : kAccelMethods) c.predicted_ms[std::size_t(m)] = predict_ms(model, m, triangles, rays, threads);
+    for (AccelMethod m : kAccelMethods)
+        if (c.predicted_ms[std::size_t(m)] < c.predicted_ms[std::size_t(c.method)]) c.method = m;
+    // choose() starts from bvh8: prefer the earliest method among exact ties.
+    for (AccelMethod m : kAccelMethods)
+        if (c.predicted_ms[std::size_t(m)] == c.predicted_ms[std::size_t(c.method)]) {
+            c.method = m;
+            break;
+        }
+    return c;
+}
+
+std::string describe(const AccelChoice& c) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%s: predicted %.3g ms for %zu rays on %zu triangles (%d thread%s, %s model);",
+                  std::string(name(c.method)).c_str(), c.predicted_ms[std::size_t(c.method)], c.rays, c.triangles,
+                  c.threads, c.threads == 1 ? "" : "s", std::string(name(c.isa)).c_str());
+    std::string s = buf;
+    for (AccelMethod m : kAccelMethods) {
+        std::snprintf(buf, sizeof buf, " %s %.3g ms", std::string(name(m)).c_str(), c.predicted_ms[std::size_t(m)]);
+        s += buf;
+    }
+    return s;
+}
+
+}  // namespace simdbvh

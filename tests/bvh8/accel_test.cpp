@@ -1,0 +1,166 @@
+// Accel (bvh8/accel.h) and its cost model (cost_model.h): the choice follows
+// the formula (fixed coefficients, expected choices worked out by hand in the
+// comments), and an Accel's hits are bit-identical to those of the method it
+// names, traced directly, for every method, closest and any hit.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "simdbvh/bvh8/accel.h"
+#include "simdbvh/scene/rays.h"
+#include "simdbvh/scene/scenes.h"
+
+namespace simdbvh {
+namespace {
+
+// brute: n*1e-5 ms per ray. brute8: 1e-3 ms per call, build 1e-6 n, 2e-6 n per ray.
+// Trees: build 0.01 + b1 n log2(n+1), per ray r0 + r1 log2(n+1).
+CostModel hand_model() {
+    CostModel m;
+    m.isa = Isa::scalar;
+    m.cost = {{{0, 0, 0, 0, 1e-5},
+               {0, 1e-6, 1e-3, 0, 2e-6},
+               {0.01, 1e-4, 0, 1e-4, 1e-4},
+               {0.01, 1.2e-4, 0, 5e-5, 5e-5},
+               {0.01, 1.2e-4, 0, 4e-5, 4e-5},
+               {0.01, 1.3e-4, 0, 4e-5, 4.5e-5}}};
+    return m;
+}
+
+double predicted(const AccelChoice& c, AccelMethod m) { return c.predicted_ms[std::size_t(m)]; }
+
+TEST(CostModel, OneTriangleOneRayIsScalarBruteForce) {
+    // brute 1 * 1e-5 = 1e-5 ms; brute8 1e-3 + 1e-6 + 2e-6 = 1.003e-3 ms; trees >= 0.01 ms.
+    const AccelChoice c = choose(hand_model(), 1, 1);
+    EXPECT_EQ(c.method, AccelMethod::brute);
+    EXPECT_NEAR(predicted(c, AccelMethod::brute), 1e-5, 1e-12);
+    EXPECT_NEAR(predicted(c, AccelMethod::brute8), 1.003e-3, 1e-12);
+}
+
+TEST(CostModel, TinyMeshFewRaysIsSimdBruteForce) {
+    // n = 20, 10 rays: brute 10 * 20 * 1e-5 = 2e-3 ms; brute8 1e-3 + 2e-5 + 10 * 20 * 2e-6 = 1.42e-3 ms.
+    const AccelChoice c = choose(hand_model(), 20, 10);
+    EXPECT_EQ(c.method, AccelMethod::brute8);
+    EXPECT_NEAR(predicted(c, AccelMethod::brute), 2e-3, 1e-12);
+    EXPECT_NEAR(predicted(c, AccelMethod::brute8), 1.42e-3, 1e-12);
+}
+
+TEST(CostModel, DragonSizeMillionRaysIsBvh8) {
+    // n = 871414, log2(n+1) = 19.7330: bvh2 1719.6 + 2073.3 = 3792.9 ms; bvh4 2063.5 + 1036.7 = 3100.2;
+    // bvh8 2063.5 + 829.3 = 2892.8; bvh16 2235.4 + 928.0 = 3163.4; brute8 1.7e6.
+    const AccelChoice c = choose(hand_model(), 871414, 1000000);
+    EXPECT_EQ(c.method, AccelMethod::bvh8);
+    EXPECT_NEAR(predicted(c, AccelMethod::bvh8), 2892.8, 0.5);
+    EXPECT_NEAR(predicted(c, AccelMethod::bvh2), 3792.9, 0.5);
+    EXPECT_NEAR(predicted(c, AccelMethod::bvh16), 3163.4, 0.5);
+}
+
+TEST(CostModel, MoreThreadsMoveTheCrossoverToBruteForce) {
+    // n = 1000, 1000 rays, log2(1001) = 9.9672. One thread: brute8 0.001 + 0.001 + 2.0 = 2.002 ms,
+    // bvh8 0.01 + 1.1961 + 0.4387 = 1.6447 ms -> bvh8. Two threads (trace halved): brute8 1.002,
+    // bvh8 1.2061 + 0.2193 = 1.4254 -> brute8.
+    const AccelChoice one = choose(hand_model(), 1000, 1000, 1);
+    EXPECT_EQ(one.method, AccelMethod::bvh8);
+    EXPECT_NEAR(predicted(one, AccelMethod::bvh8), 1.6447, 1e-3);
+    const AccelChoice two = choose(hand_model(), 1000, 1000, 2);
+    EXPECT_EQ(two.method, AccelMethod::brute8);
+    EXPECT_NEAR(predicted(two, AccelMethod::brute8), 1.002, 1e-6);
+}
+
+TEST(CostModel, EveryIsaHasAModelNoWiderThanItself) {
+    for (Isa isa : kAllIsas) {
+        const CostModel& m = cost_model(isa);
+        EXPECT_LE(int(m.isa), int(isa)) << name(isa);
+        for (AccelMethod meth : kAccelMethods)
+            EXPECT_GT(predict_ms(m, meth, 1000, 1000), 0.0) << name(isa) << " " << name(meth);
+    }
+    for (AccelMethod meth : kAccelMethods) EXPECT_EQ(parse_accel_method(name(meth)), meth);
+    EXPECT_FALSE(parse_accel_method("auto"));
+}
+
+bool same_bits(const Hit& a, const Hit& b) {
+    return a.prim == b.prim && std::memcmp(&a.t, &b.t, 4) == 0 && std::memcmp(&a.u, &b.u, 4) == 0 &&
+           std::memcmp(&a.v, &b.v, 4) == 0;
+}
+
+// The named method traced directly, as a user without Accel would.
+std::vector<Hit> direct(AccelMethod m, const Mesh& mesh, std::span<const Ray> rays, bool any, Isa isa) {
+    std::vector<Hit> hits(rays.size());
+    TraceOptions o;
+    auto wide = [&](auto tree) { any ? occluded(tree, rays, hits, o, isa) : intersect(tree, rays, hits, o, isa); };
+    switch (m) {
+    case AccelMethod::brute:
+        for (std::size_t i = 0; i < rays.size(); ++i)
+            hits[i] = any ? brute_force_occluded(mesh, rays[i]) : brute_force_intersect(mesh, rays[i]);
+        break;
+    case AccelMethod::brute8: {
+        const BruteForce8 b = BruteForce8::build(mesh);
+        any ? occluded(b, rays, hits, o, isa) : intersect(b, rays, hits, o, isa);
+        break;
+    }
+    case AccelMethod::bvh2: {
+        const Bvh2 b = Bvh2::build(mesh);
+        any ? occluded(b, rays, hits, o) : intersect(b, rays, hits, o);
+        break;
+    }
+    case AccelMethod::bvh4: wide(Bvh4::build(Bvh2::build(mesh))); break;
+    case AccelMethod::bvh8: wide(Bvh8::build(Bvh2::build(mesh))); break;
+    case AccelMethod::bvh16: wide(Bvh16::build(Bvh2::build(mesh))); break;
+    }
+    return hits;
+}
+
+void expect_same_as_named(const Accel& a, const Mesh& mesh, std::span<const Ray> rays, Isa isa) {
+    for (bool any : {false, true}) {
+        std::vector<Hit> got(rays.size());
+        TraceOptions o;
+        o.threads = 2;
+        any ? occluded(a, rays, got, o) : intersect(a, rays, got, o);
+        const auto want = direct(a.method(), mesh, rays, any, isa);
+        std::size_t hit_count = 0;
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            hit_count += want[i].hit();
+            ASSERT_TRUE(same_bits(got[i], want[i])) << name(a.method()) << " any " << any << " ray " << i;
+        }
+        EXPECT_GT(hit_count, rays.size() / 10) << name(a.method());
+    }
+}
+
+TEST(Accel, EveryMethodAnswersBitForBitAsItself) {
+    const Mesh mesh = scene::icosphere(3);  // 1280 triangles
+    const auto rays = scene::generate_rays(mesh, scene::RayKind::incoherent, 600, /*seed=*/4);
+    for (Isa isa : supported_isas())
+        for (AccelMethod m : kAccelMethods) {
+            AccelOptions o;
+            o.isa = isa;
+            const Accel a = Accel::build(mesh, m, rays.size(), o);
+            EXPECT_EQ(a.method(), m);
+            expect_same_as_named(a, mesh, rays, isa);
+        }
+}
+
+TEST(Accel, AutoNamesTheModelsChoiceAndAnswersAsIt) {
+    // The fitted model of this ISA: whatever it picks, the hits are that method's.
+    for (std::size_t tris_level : {0, 4}) {
+        const Mesh mesh = scene::icosphere(int(tris_level));
+        for (std::size_t n_rays : {std::size_t(64), std::size_t(3000)}) {
+            const auto rays = scene::generate_rays(mesh, scene::RayKind::primary, n_rays, /*seed=*/5);
+            const Accel a = Accel::build(mesh, rays.size());
+            EXPECT_EQ(a.method(), choose(cost_model(active_isa()), mesh.size(), rays.size()).method);
+            EXPECT_EQ(a.choice().triangles, mesh.size());
+            expect_same_as_named(a, mesh, rays, active_isa());
+        }
+    }
+}
+
+TEST(Accel, ChoosesWithTheGivenModel) {
+    const CostModel m = hand_model();
+    AccelOptions o;
+    o.model = &m;
+    const Mesh mesh = scene::icosphere(0);  // 20 triangles; 10 rays: brute8 (see TinyMeshFewRaysIsSimdBruteForce)
+    EXPECT_EQ(Accel::build(mesh, 10, o).method(), AccelMethod::brute8);
+    EXPECT_EQ(Accel::build(scene::random_soup(1, 1), 1, o).method(), AccelMethod::brute);
+}
+
+}  // namespace
+}  // namespace simdbvh

@@ -1,0 +1,43 @@
+// SPDX-License-Identifier: MIT
+// simdbvh bench --sweep: where brute force, the BVH2 and the wide trees each
+// win, the cost model fitted to it and auto's check (issue 16).
+// Config (here) -> run (sweep_run.cpp, sweep_fit.cpp) -> report (sweep_report.cpp).
+#include <algorithm>
+
+#include "common.h"
+#include "options.h"
+#include "outputs.h"
+#include "report.h"
+#include "sweep_run.h"
+#include "simdbvh/kernels/topology.h"
+
+namespace simdbvh::cli {
+
+int cmd_bench_sweep(const std::vector<std::string>& args) {
+    const Options o("bench --sweep", args, {"threads", "json", "report", "reps", "build-reps", "budget-ms", "model-out", "readme"},
+                    {"sweep", "quick", "no-report"});
+    SweepConfig c;
+    c.quick = o.has("quick");
+    c.threads_all = int(o.get_int("threads", std::max(1, topology().physical_cores), 1, 1024));
+    c.reps = int(o.get_int("reps", c.quick ? 3 : 5, 1, 100));
+    c.build_reps = int(o.get_int("build-reps", 3, 0, 100));
+    c.budget_ms = double(o.get_int("budget-ms", 40, 1, 100000));
+    c.isa = active_isa();
+    const std::string dir = o.get("report", "out");
+    c.json_file = o.get("json", dir + "/sweep.json");
+    if (!o.has("no-report")) c.report_dir = dir;
+    c.model_out = o.get("model-out");
+    c.readme = o.get("readme");
+    NamedPaths outputs{{"--json", c.json_file}};
+    if (!o.has("no-report")) outputs.emplace_back("--report", dir + "/sweep.md");
+    if (o.has("model-out")) outputs.emplace_back("--model-out", c.model_out);
+    if (o.has("readme")) outputs.emplace_back("--readme", c.readme);
+    check_outputs(outputs, {}, /*create_parent=*/true);
+    c.machine = machine_line();
+    c.command = command_line("bench", args);
+    progress("sweep on " + c.machine + ", ISA " + std::string(name(c.isa)), true);
+    report_sweep(c, run_sweep(c));
+    return 0;
+}
+
+}  // namespace simdbvh::cli
