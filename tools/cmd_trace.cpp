@@ -6,6 +6,7 @@
 #include "common.h"
 #include "methods.h"
 #include "outputs.h"
+#include "scene_cmds.h"
 #include "trace_crossings.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/scene/families.h"
@@ -113,7 +114,8 @@ int cmd_gen_rays(const std::vector<std::string>& args) {
 }
 
 int cmd_trace(const std::vector<std::string>& args) {
-    std::set<std::string> valued{"scene", "rays", "out", "query", "max-hits"}, flags{"any-hit", "stats", "drop-invalid"};
+    std::set<std::string> valued{"scene", "rays", "out", "query", "max-hits", "instance-bounds"},
+        flags{"any-hit", "stats", "drop-invalid"};
     add_method_options(valued, flags);
     const Options o("trace", args, valued, flags);
     const std::string scene_name = o.require("scene");
@@ -129,6 +131,11 @@ int cmd_trace(const std::vector<std::string>& args) {
         throw UsageError("--query " + query + " runs on --method bvh2 or brute (not " + spec.method + ")");
     if (crossings && o.has("stats")) throw UsageError("--stats applies to --query closest and any");
     if (o.has("max-hits") && query != "all") throw UsageError("--max-hits applies to --query all");
+    if (is_scene_desc(scene_name)) {
+        if (crossings) throw UsageError("scenes take --query closest or any");
+        return trace_scene(o, scene_name, rays_file, out, spec, query == "any", parse_instance_bounds(o));
+    }
+    if (o.has("instance-bounds")) throw UsageError("--instance-bounds applies to scenes (room, instances-N, *.json)");
     check_outputs({{"--out", out}}, {{"--scene", scene_name}, {"--rays", rays_file}});
     // Read the rays first: a bad ray file fails before any expensive work.
     const auto rays = scene::read_rays(rays_file);

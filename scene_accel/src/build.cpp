@@ -107,21 +107,21 @@ SceneBvhN<N> SceneBvhN<N>::build(const SceneDesc& scene, const SceneOptions& opt
 
     const std::size_t ni = scene.instances.size();
     s.instances_.resize(ni);
-    s.instance_boxes_.resize(ni);
+    std::vector<Aabb> boxes(ni);
     std::vector<Vec3> centroids(ni);
     double max_cond = 1.0;
     float magnitude = 0.0f;
     for (std::size_t i = 0; i < ni; ++i) {
         const Instance& in = scene.instances[i];
         const InverseAffine inv = invert(in.transform);
-        s.instances_[i] = InstanceRecord{inv.inv, in.geometry, {0, 0, 0}};
+        s.instances_[i] = InstanceRecord{inv.inv, in.geometry};
         const BottomLevel<N>& b = s.bottoms_[in.geometry];
         const Aabb corners = transform_box(in.transform, b.bounds);
         const Aabb tight = b.root_children.empty() ? corners : union_of_transformed(in.transform, b.root_children);
         st.volume_corners += volume(corners);
         st.volume_child_corners += volume(tight);
         const Aabb box = opts.bounds == InstanceBounds::corners ? corners : tight;
-        s.instance_boxes_[i] = box;
+        boxes[i] = box;
         centroids[i] = box.center();
         st.instanced_primitives += geom_prims[in.geometry];
         if (!box.is_empty()) {
@@ -130,14 +130,14 @@ SceneBvhN<N> SceneBvhN<N>::build(const SceneDesc& scene, const SceneOptions& opt
             for (int r = 0; r < 3; ++r) magnitude = std::max(magnitude, std::fabs(in.transform.m[r][3]));
         }
     }
-    s.top_ = build_topology(s.instance_boxes_, centroids, opts.top);
+    s.top_ = build_topology(boxes, centroids, opts.top);
     s.planes_ = scene.planes;
     s.slack_scale_ = static_cast<float>(0x1p-16 * max_cond);
     s.magnitude_ = magnitude;
 
     const std::size_t top_bytes = topo_bytes(s.top_);
-    st.bytes += top_bytes + ni * (sizeof(InstanceRecord) + sizeof(Aabb)) + s.planes_.size() * sizeof(Plane);
-    st.bytes_per_instance = sizeof(InstanceRecord) + sizeof(Aabb) + (ni ? (top_bytes + ni - 1) / ni : 0);
+    st.bytes += top_bytes + ni * sizeof(InstanceRecord) + s.planes_.size() * sizeof(Plane);
+    st.bytes_per_instance = sizeof(InstanceRecord) + (ni ? (top_bytes + ni - 1) / ni : 0);
     st.geometries = scene.geometries.size();
     st.instances = ni;
     st.planes = scene.planes.size();

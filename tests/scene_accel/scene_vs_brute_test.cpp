@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <ostream>
+#include <sstream>
 #include <random>
 #include <tuple>
 
@@ -178,9 +179,10 @@ INSTANTIATE_TEST_SUITE_P(All, SceneVsBrute,
                          testing::Combine(testing::Values(4, 8, 16), testing::ValuesIn(kAllIsas),
                                           testing::Values(InstanceBounds::corners, InstanceBounds::child_corners)),
                          [](const testing::TestParamInfo<Param>& p) {
-                             return "w" + std::to_string(std::get<0>(p.param)) + "_" +
-                                    std::string(name(std::get<1>(p.param))) +
-                                    (std::get<2>(p.param) == InstanceBounds::corners ? "_corners" : "_child_corners");
+                             std::ostringstream os;  // (not string +: GCC 12's -Wrestrict false positive)
+                             os << "w" << std::get<0>(p.param) << "_" << name(std::get<1>(p.param))
+                                << (std::get<2>(p.param) == InstanceBounds::corners ? "_corners" : "_child_corners");
+                             return os.str();
                          });
 
 // Built-in scenes (small versions; the room when bunny and teapot are cached):

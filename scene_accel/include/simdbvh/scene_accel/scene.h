@@ -72,8 +72,8 @@ struct SceneStats {
     std::size_t instanced_primitives = 0; // over the instances (what a flattened scene holds)
     // Sums of the instance world-box volumes by each method (both computed at every build).
     double volume_corners = 0, volume_child_corners = 0;
-    std::size_t bytes = 0;                // bottom trees + top tree + instance records
-    std::size_t bytes_per_instance = 0;   // instance record + its share of the top tree
+    std::size_t bytes = 0;                // bottom trees + top tree + instance records + planes
+    std::size_t bytes_per_instance = 0;   // instance record + its share of the top tree (its world box lives there)
     double max_cond = 1.0;
 };
 
@@ -88,12 +88,11 @@ struct BottomLevel {
     std::vector<Aabb> root_children;  // the root's child boxes
 };
 
-struct InstanceRecord {  // what a trace reads per instance visit (64 bytes)
+struct InstanceRecord {  // what a trace reads per instance visit (52 bytes)
     Affine3 inv;         // world -> object
     std::uint32_t geometry;
-    std::uint32_t pad[3];
 };
-static_assert(sizeof(InstanceRecord) == 64);
+static_assert(sizeof(InstanceRecord) == 52);
 
 template <int N>
 class SceneBvhN {
@@ -106,7 +105,6 @@ public:
 
     const std::vector<BottomLevel<N>>& bottoms() const { return bottoms_; }
     const std::vector<InstanceRecord>& instances() const { return instances_; }
-    const std::vector<Aabb>& instance_boxes() const { return instance_boxes_; }  // world boxes (the chosen method)
     const Bvh2Topology& top() const { return top_; }
     const std::vector<Plane>& planes() const { return planes_; }
     const SceneStats& stats() const { return stats_; }
@@ -116,7 +114,6 @@ public:
 private:
     std::vector<BottomLevel<N>> bottoms_;
     std::vector<InstanceRecord> instances_;
-    std::vector<Aabb> instance_boxes_;
     Bvh2Topology top_;
     std::vector<Plane> planes_;
     SceneStats stats_;
