@@ -2,11 +2,13 @@
 // two-level scene, report its sizes, trace a ray file into a scene hit file.
 #include "scene_cmds.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
 
 #include "common.h"
+#include "image.h"
 #include "outputs.h"
 #include "simdbvh/scene/rays.h"
 #include "simdbvh/scene/scene_desc.h"
@@ -56,6 +58,17 @@ void trace_with(const SceneDesc& desc, const MethodSpec& spec, InstanceBounds bo
     *build_ms = s.stats().build_ms;
     progress("tracing ...");
     any ? occluded(s, rays, hits, spec.isa, spec.threads) : intersect(s, rays, hits, spec.isa, spec.threads);
+}
+
+// A light colour per instance (a hash of its id); planes light grey.
+Vec3 tint(const SceneHit& h) {
+    if (h.geom == kNoGeometry) return {0.8f, 0.8f, 0.8f};
+    std::uint32_t x = h.inst * 0x9E3779B1u + 0x7F4A7C15u;
+    x ^= x >> 15;
+    x *= 0x2C1B3C6Du;
+    x ^= x >> 12;
+    return {0.45f + 0.55f * float(x & 255) / 255.0f, 0.45f + 0.55f * float((x >> 8) & 255) / 255.0f,
+            0.45f + 0.55f * float((x >> 16) & 255) / 255.0f};
 }
 
 }  // namespace
@@ -112,6 +125,45 @@ int trace_scene(const Options& o, const std::string& name, const std::string& ra
               << spec.threads << "\n"
               << "rays " << rays.size() << "  hits " << n_hit << "  build " << build_ms << " ms  trace " << secs * 1e3
               << " ms\nwrote " << hits.size() << " scene hits (24-byte records) to " << out << "\n";
+    return 0;
+}
+
+int render_scene(const std::string& name, const MethodSpec& spec, InstanceBounds bounds, int w, int h,
+                 const std::string& out) {
+    const int width = scene_width(spec);
+    const SceneDesc desc = scene::load_scene_desc(name);
+    Aabb box = world_bounds(desc);
+    if (box.is_empty()) box = Aabb{{-1, -1, -1}, {1, 1, 1}};  // planes only
+    scene::Camera cam = scene::default_camera(box, w, h);
+    // Planes bound the view (a room's walls): the eye moves toward the centre until it is in front of every
+    // plane whose front side holds the centre.
+    const Vec3 c = box.center();
+    float keep = 1.0f;  // eye = c + keep * (eye - c)
+    for (const Plane& p : desc.planes) {
+        const float dc = dot(c - p.point, p.normal), de = dot(cam.eye - p.point, p.normal);
+        if (dc > 0 && de <= 0) keep = std::min(keep, 0.9f * dc / (dc - de));
+    }
+    cam.eye = c + (cam.eye - c) * keep;
+    const auto rays = scene::primary_rays(cam);
+    std::vector<SceneHit> hits(rays.size());
+    double build_ms = 0;
+    if (spec.method == "brute") brute_force_intersect(desc, rays, hits);
+    else if (width == 4) trace_with<4>(desc, spec, bounds, rays, hits, false, &build_ms);
+    else if (width == 8) trace_with<8>(desc, spec, bounds, rays, hits, false, &build_ms);
+    else trace_with<16>(desc, spec, bounds, rays, hits, false, &build_ms);
+    Image img{w, h, std::vector<std::uint8_t>(std::size_t(w) * std::size_t(h) * 3, 0)};
+    for (std::size_t i = 0; i < hits.size(); ++i) {
+        if (!hits[i].hit()) continue;
+        const Vec3 n = hit_normal(desc, rays[i], hits[i]);
+        const float ln = length(n), ld = length(rays[i].dir);
+        const float c = ln > 0 && ld > 0 ? std::fabs(dot(n, rays[i].dir)) / (ln * ld) : 0.0f;
+        const float shade = 0.15f + 0.85f * c;
+        const Vec3 col = tint(hits[i]) * shade;
+        for (int k = 0; k < 3; ++k) img.rgb[3 * i + k] = std::uint8_t(std::clamp(255.0f * col[k], 0.0f, 255.0f));
+    }
+    write_png(out, img);
+    std::cout << "scene " << name << "  method " << (spec.method == "brute" ? "brute" : "bvh" + std::to_string(width))
+              << "  isa " << simdbvh::name(spec.isa) << "  wrote " << w << "x" << h << " render to " << out << "\n";
     return 0;
 }
 

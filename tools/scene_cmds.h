@@ -18,4 +18,8 @@ int info_scene(const std::string& name, const MethodSpec& spec, InstanceBounds b
 int trace_scene(const Options& o, const std::string& name, const std::string& rays_file, const std::string& out,
                 const MethodSpec& spec, bool any, InstanceBounds bounds);
 
+// Eye-light picture (|cos| of ray and normal), tinted per instance; planes grey.
+int render_scene(const std::string& name, const MethodSpec& spec, InstanceBounds bounds, int width, int height,
+                 const std::string& out);
+
 }  // namespace simdbvh::cli

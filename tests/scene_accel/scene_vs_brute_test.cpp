@@ -260,6 +260,54 @@ TEST(SceneBuild, ChildCornersAreNoLargerAndStatsCount) {
     EXPECT_EQ(s.stats().primitives, 320u + 40u + 41u);
 }
 
+// Empty geometries, a geometry no instance uses, a scene of planes only.
+TEST(SceneBuild, EmptyPartsAndPlanesOnly) {
+    SceneDesc d;
+    d.geometries.push_back(Mesh{});
+    d.geometries.push_back(SphereSet{});
+    d.geometries.push_back(BoxSet{{Aabb{{0, 0, 0}, {1, 1, 1}}}});  // never instanced
+    d.geometries.push_back(SphereSet{{Sphere{{0, 0, 0}, 1}}});
+    d.instances = {{0, Affine3{}}, {1, Affine3{}}, {3, Affine3::translation({0, 0, 5})}};
+    const SceneBvhN<8> s = SceneBvhN<8>::build(d);
+    const Ray r{{0, 0, -5}, 0.0f, {0, 0, 1}, INFINITY};
+    const SceneHit h = intersect(s, r, Isa::scalar);
+    EXPECT_EQ(h.inst, 2u);
+    EXPECT_EQ(h.geom, 3u);
+    EXPECT_EQ(h.t, 9.0f);  // z = 4 on the sphere at z = 5
+    SceneDesc planes;
+    planes.planes = {{{0, 0, 3}, {0, 0, -1}}, {{0, 0, 3}, {0, 0, 1}}, {{0, 0, 1}, {0, 0, 1}}};
+    const SceneBvhN<4> p = SceneBvhN<4>::build(planes);
+    const SceneHit hp = intersect(p, r, Isa::scalar);
+    EXPECT_EQ(hp.t, 6.0f);
+    EXPECT_EQ(hp.inst, 2u);  // plane 2 (z = 1) is nearest; no instances, so inst = 0 + 2
+    EXPECT_EQ(hp.prim, 2u);
+    EXPECT_EQ(hp.geom, kNoGeometry);
+    Ray far = r;
+    far.tmin = 7.0f;  // past plane 2: planes 0 and 1 tie at t = 8, plane 0 wins
+    EXPECT_EQ(intersect(p, far, Isa::scalar).prim, 0u);
+    EXPECT_TRUE(occluded(p, far, Isa::scalar).hit());
+    far.tmin = 9.0f;
+    EXPECT_FALSE(intersect(p, far, Isa::scalar).hit());
+}
+
+// Normals: a sphere instance scaled by 2 and a tilted plane, worked by hand.
+TEST(SceneNormals, SphereAndPlane) {
+    SceneDesc d;
+    d.geometries.push_back(SphereSet{{Sphere{{0, 0, 0}, 1}}});
+    d.instances.push_back({0, Affine3::translation({0, 0, 10}) * Affine3::scaling(2)});
+    const Ray r{{0, 0, 0}, 0.0f, {0, 0, 1}, INFINITY};
+    std::vector<SceneHit> h(1);
+    brute_force_intersect(d, std::span<const Ray>(&r, 1), h);
+    ASSERT_EQ(h[0].t, 8.0f);
+    const Vec3 n = hit_normal(d, r, h[0]);  // object (0, 0, -1) through A^-T = I / 2
+    EXPECT_EQ(n.x, 0.0f);
+    EXPECT_EQ(n.y, 0.0f);
+    EXPECT_EQ(n.z, -0.5f);
+    const Aabb b = world_bounds(d);
+    EXPECT_LE(b.lo.z, 8.0f);
+    EXPECT_GE(b.hi.z, 12.0f);
+}
+
 TEST(SceneValidate, ErrorsNameTheItem) {
     auto expect_error = [](const SceneDesc& s, const std::string& want) {
         try {

@@ -147,4 +147,12 @@ void brute_force_occluded(const SceneDesc& scene, std::span<const Ray> rays, std
 
 double volume(const Aabb& b);  // in double; 0 for an empty box
 
+// The world-space geometric normal at a hit of `world` (not normalised; zero
+// for a miss): triangle cross(v1 - v0, v2 - v0), sphere p - c, box the hit
+// face's axis (the face nearest the hit point), plane its normal; object-space
+// normals go to world space through the inverse transpose of the instance's A.
+Vec3 hit_normal(const SceneDesc& scene, const Ray& world, const SceneHit& hit);
+// The union of the instances' world boxes (corners method); planes are unbounded and not included.
+Aabb world_bounds(const SceneDesc& scene);
+
 }  // namespace simdbvh
