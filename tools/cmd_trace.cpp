@@ -94,7 +94,9 @@ int cmd_gen_rays(const std::vector<std::string>& args) {
     const std::string count_opt = "--count " + std::to_string(count);
     const std::uint64_t per_ray = *kind == scene::RayKind::diffuse ? 32 + 32 + 16 + 32 : 32 + 32;
     check_memory(count_opt, std::uint64_t(count) * per_ray);
-    const Mesh mesh = load_scene_with_progress(scene_name);
+    if (is_scene_desc(scene_name) && *kind == scene::RayKind::diffuse)
+        throw UsageError("--kind diffuse needs a mesh scene (scenes: primary or incoherent, aimed at their bounds)");
+    const Mesh mesh = is_scene_desc(scene_name) ? scene_bounds_proxy(scene_name) : load_scene_with_progress(scene_name);
     progress("generating " + std::to_string(count) + " " + kind_s + " rays ...");
     try {
         const auto rays = scene::generate_rays(mesh, *kind, count, seed);

@@ -10,6 +10,7 @@
 #include "common.h"
 #include "image.h"
 #include "outputs.h"
+#include "simdbvh/kernels/error.h"
 #include "simdbvh/scene/rays.h"
 #include "simdbvh/scene/scene_desc.h"
 #include "simdbvh/scene/scene_hits.h"
@@ -126,6 +127,16 @@ int trace_scene(const Options& o, const std::string& name, const std::string& ra
               << "rays " << rays.size() << "  hits " << n_hit << "  build " << build_ms << " ms  trace " << secs * 1e3
               << " ms\nwrote " << hits.size() << " scene hits (24-byte records) to " << out << "\n";
     return 0;
+}
+
+Mesh scene_bounds_proxy(const std::string& name) {
+    const SceneDesc desc = scene::load_scene_desc(name);
+    const Aabb b = world_bounds(desc);
+    if (b.is_empty()) throw Error(name + ": the scene has no bounded part (planes only): no rays to aim");
+    Mesh m;
+    m.positions = {b.lo, b.hi};
+    m.triangles = {{0, 1, 1}};  // degenerate: only its bounds matter
+    return m;
 }
 
 int render_scene(const std::string& name, const MethodSpec& spec, InstanceBounds bounds, int w, int h,

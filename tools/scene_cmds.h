@@ -18,6 +18,10 @@ int info_scene(const std::string& name, const MethodSpec& spec, InstanceBounds b
 int trace_scene(const Options& o, const std::string& name, const std::string& rays_file, const std::string& out,
                 const MethodSpec& spec, bool any, InstanceBounds bounds);
 
+// gen-rays on a scene: a mesh standing in for the scene's bounded extent
+// (world_bounds), enough for primary and incoherent rays (diffuse needs a mesh).
+Mesh scene_bounds_proxy(const std::string& name);
+
 // Eye-light picture (|cos| of ray and normal), tinted per instance; planes grey.
 int render_scene(const std::string& name, const MethodSpec& spec, InstanceBounds bounds, int width, int height,
                  const std::string& out);

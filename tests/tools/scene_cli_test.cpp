@@ -87,6 +87,22 @@ TEST_F(SceneCli, TraceJsonSceneMatchesTheApi) {
     EXPECT_NE(info.output.find("planes       1"), std::string::npos) << info.output;
 }
 
+TEST_F(SceneCli, GenRaysAimsAtTheSceneBounds) {
+    const std::string scene = write("scene.json", kScene), ray_file = path("rays.bin"), out = path("out.hits");
+    const CliRun g = run_cli("gen-rays --scene " + scene + " --kind incoherent --count 1000 --out " + ray_file);
+    ASSERT_EQ(g.status, 0) << g.output;
+    const auto r = scene::read_rays(ray_file);
+    ASSERT_EQ(r.size(), 1000u);
+    const CliRun t = run_cli("trace --scene " + scene + " --rays " + ray_file + " --out " + out);
+    ASSERT_EQ(t.status, 0) << t.output;
+    std::size_t n_hit = 0;
+    for (const SceneHit& h : scene::read_scene_hits(out)) n_hit += h.hit();
+    EXPECT_GT(n_hit, 100u);
+    const CliRun d = run_cli("gen-rays --scene " + scene + " --kind diffuse --count 10 --out " + path("d.bin"));
+    EXPECT_EQ(d.status, 2) << d.output;
+    EXPECT_FALSE(fs::exists(path("d.bin")));
+}
+
 TEST_F(SceneCli, BadJsonExits2NamingThePathAndWritesNothing) {
     std::string bad = kScene;
     bad.replace(bad.find("\"scale\": [1, 2, 1]"), 18, "\"scale\": [1, 0, 1]");
