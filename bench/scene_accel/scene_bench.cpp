@@ -7,8 +7,11 @@
 #include <benchmark/benchmark.h>
 
 #include <cstdlib>
+#include <memory>
 #include <string>
 
+#include "simdbvh/compare/embree.h"
+#include "simdbvh/compare/embree_instances.h"
 #include "simdbvh/scene/rays.h"
 #include "simdbvh/scene/scene_desc.h"
 #include "simdbvh/scene/scenes.h"
@@ -41,6 +44,8 @@ struct Fixture {
     SceneDesc desc;
     SceneBvhN<8> corners, child_corners;
     Bvh8 flat;
+    std::unique_ptr<compare::EmbreeInstanceScene> embree_instanced;
+    std::unique_ptr<compare::EmbreeScene> embree_flat;
     std::size_t flat_triangles = 0;
     std::vector<Ray> rays[2];  // primary, incoherent (generated on the flattened mesh)
 };
@@ -60,6 +65,8 @@ const Fixture& fixture() {
         const Mesh flat = flatten(x.desc);
         x.flat_triangles = flat.size();
         x.flat = Bvh8::build(flat);
+        x.embree_instanced = std::make_unique<compare::EmbreeInstanceScene>(x.desc);
+        x.embree_flat = std::make_unique<compare::EmbreeScene>(flat);
         const std::size_t count = env_size("SIMDBVH_BENCH_RAYS", 100000);
         x.rays[0] = scene::generate_rays(flat, scene::RayKind::primary, count, 1);
         x.rays[1] = scene::generate_rays(flat, scene::RayKind::incoherent, count, 1);
@@ -89,6 +96,20 @@ void BM_Instanced(benchmark::State& st, Isa isa, int kind, InstanceBounds bounds
     rate(st, hits.size());
 }
 
+void BM_EmbreeInstanced(benchmark::State& st, int kind) {
+    const Fixture& f = fixture();
+    std::vector<SceneHit> hits(f.rays[kind].size());
+    for (auto _ : st) f.embree_instanced->intersect(f.rays[kind], hits);
+    rate(st, hits.size());
+}
+
+void BM_EmbreeFlattened(benchmark::State& st, int kind) {
+    const Fixture& f = fixture();
+    std::vector<Hit> hits(f.rays[kind].size());
+    for (auto _ : st) f.embree_flat->intersect(f.rays[kind], hits);
+    rate(st, hits.size());
+}
+
 constexpr auto kCorners = InstanceBounds::corners, kChild = InstanceBounds::child_corners;
 
 }  // namespace
@@ -101,6 +122,11 @@ BENCHMARK_CAPTURE(BM_Instanced, avx2_incoherent_corners, Isa::avx2, 1, kCorners)
 BENCHMARK_CAPTURE(BM_Instanced, avx2_incoherent_child_corners, Isa::avx2, 1, kChild)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Flattened, avx512_incoherent, Isa::avx512, 1)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Instanced, avx512_incoherent_child_corners, Isa::avx512, 1, kChild)->Unit(benchmark::kMillisecond);
+
+BENCHMARK_CAPTURE(BM_EmbreeFlattened, primary, 0)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_EmbreeInstanced, primary, 0)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_EmbreeFlattened, incoherent, 1)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_EmbreeInstanced, incoherent, 1)->Unit(benchmark::kMillisecond);
 
 int main(int argc, char** argv) {
     benchmark::Initialize(&argc, argv);
