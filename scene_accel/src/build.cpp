@@ -130,14 +130,23 @@ SceneBvhN<N> SceneBvhN<N>::build(const SceneDesc& scene, const SceneOptions& opt
             for (int r = 0; r < 3; ++r) magnitude = std::max(magnitude, std::fabs(in.transform.m[r][3]));
         }
     }
-    s.top_ = build_topology(boxes, centroids, opts.top);
+    BuildOptions top = opts.top;
+    top.max_leaf_size = 1;
+    top.min_leaf_size = 1;
+    s.top_ = build_topology(boxes, centroids, top);
+    s.leaf_of_.assign(ni, kInvalidPrim);
+    for (std::size_t j = 0; j < s.top_.nodes.size(); ++j) {
+        const Node2& nd = s.top_.nodes[j];
+        if (nd.is_leaf())
+            for (std::uint32_t k = nd.first; k < nd.first + nd.count; ++k) s.leaf_of_[s.top_.prim_ids[k]] = std::uint32_t(j);
+    }
     s.planes_ = scene.planes;
     s.slack_scale_ = static_cast<float>(0x1p-16 * max_cond);
     s.magnitude_ = magnitude;
 
     const std::size_t top_bytes = topo_bytes(s.top_);
-    st.bytes += top_bytes + ni * sizeof(InstanceRecord) + s.planes_.size() * sizeof(Plane);
-    st.bytes_per_instance = sizeof(InstanceRecord) + (ni ? (top_bytes + ni - 1) / ni : 0);
+    st.bytes += top_bytes + ni * (sizeof(InstanceRecord) + sizeof(std::uint32_t)) + s.planes_.size() * sizeof(Plane);
+    st.bytes_per_instance = sizeof(InstanceRecord) + sizeof(std::uint32_t) + (ni ? (top_bytes + ni - 1) / ni : 0);
     st.geometries = scene.geometries.size();
     st.instances = ni;
     st.planes = scene.planes.size();

@@ -62,7 +62,7 @@ struct SceneOptions {
     InstanceBounds bounds = InstanceBounds::child_corners;
     BuildOptions bottom;  // bottom-level BVH2 builds (meshes, spheres, boxes)
     WideOptions wide;     // bottom-level wide collapse (meshes)
-    BuildOptions top;     // top-level BVH2 over the instance boxes
+    BuildOptions top;     // top-level BVH2 over the instance boxes (max_leaf_size is set to 1: one instance per leaf)
 };
 
 struct SceneStats {
@@ -73,7 +73,7 @@ struct SceneStats {
     // Sums of the instance world-box volumes by each method (both computed at every build).
     double volume_corners = 0, volume_child_corners = 0;
     std::size_t bytes = 0;                // bottom trees + top tree + instance records + planes
-    std::size_t bytes_per_instance = 0;   // instance record + its share of the top tree (its world box lives there)
+    std::size_t bytes_per_instance = 0;   // instance record + leaf index + its share of the top tree (its world box lives there)
     double max_cond = 1.0;
 };
 
@@ -106,6 +106,9 @@ public:
     const std::vector<BottomLevel<N>>& bottoms() const { return bottoms_; }
     const std::vector<InstanceRecord>& instances() const { return instances_; }
     const Bvh2Topology& top() const { return top_; }
+    // The top-level leaf node holding each instance (its box is the instance's world box); kInvalidPrim for an
+    // instance left out of the tree (empty box).
+    const std::vector<std::uint32_t>& leaf_of() const { return leaf_of_; }
     const std::vector<Plane>& planes() const { return planes_; }
     const SceneStats& stats() const { return stats_; }
     float slack_scale() const { return slack_scale_; }  // 2^-16 * max cond
@@ -115,6 +118,7 @@ private:
     std::vector<BottomLevel<N>> bottoms_;
     std::vector<InstanceRecord> instances_;
     Bvh2Topology top_;
+    std::vector<std::uint32_t> leaf_of_;
     std::vector<Plane> planes_;
     SceneStats stats_;
     float slack_scale_ = 0.0f;
