@@ -165,6 +165,9 @@ void check(Isa isa, InstanceBounds bounds) {
             ASSERT_EQ(any[i].t, want.t) << "ray " << i;
         }
     }
+    std::vector<SceneHit> two(ref.rays.size());  // two threads: two chunks of the wavefront at once
+    intersect(s, std::span<const Ray>(ref.rays), std::span<SceneHit>(two), isa, 2);
+    for (std::size_t i = 0; i < ref.rays.size(); ++i) ASSERT_EQ(two[i], ref.closest[i]) << "2 threads, ray " << i;
     // The single-ray entry points walk the top level depth first (the batches run a wavefront).
     for (std::size_t i = 0; i < ref.rays.size(); i += 3) {
         ASSERT_EQ(intersect(s, ref.rays[i], isa), ref.closest[i]) << "single ray " << i;
