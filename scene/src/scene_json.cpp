@@ -6,6 +6,7 @@
 #include <map>
 #include <numbers>
 #include <set>
+#include <vector>
 #include <sstream>
 #include <string>
 
@@ -206,11 +207,23 @@ struct Parser {
 
 SceneDesc parse_scene_json(std::string_view text, const std::filesystem::path& base_dir, std::string_view label) {
     Json root;
+    // Strict: a key repeated within one object is an error (nlohmann-json would keep the last).
+    std::vector<std::set<std::string>> keys;
+    std::string duplicate;
+    const Json::parser_callback_t reject_duplicates = [&](int, Json::parse_event_t ev, Json& parsed) {
+        if (ev == Json::parse_event_t::object_start) keys.emplace_back();
+        else if (ev == Json::parse_event_t::object_end && !keys.empty()) keys.pop_back();
+        else if (ev == Json::parse_event_t::key && !keys.empty() && !keys.back().insert(parsed.get<std::string>()).second &&
+                 duplicate.empty())
+            duplicate = parsed.get<std::string>();
+        return true;
+    };
     try {
-        root = Json::parse(text.begin(), text.end());
+        root = Json::parse(text.begin(), text.end(), reject_duplicates);
     } catch (const Json::exception& e) {
         throw Error(std::string(label) + ": not valid JSON: " + e.what());
     }
+    if (!duplicate.empty()) throw Error(std::string(label) + ": duplicate key '" + duplicate + "'");
     try {
         return Parser{base_dir}.scene(root);
     } catch (const Error& e) {

@@ -77,6 +77,8 @@ TEST(SceneJson, ErrorsNameTheJsonPath) {
     expect_error(R"({"geometries": [1, 2)", "not valid JSON");
     expect_error(R"({"geometries": [{"spheres": [{"center": [0, 0, 0], "radius": NaN}]}]})", "not valid JSON");
     expect_error(R"([1, 2])", "(root): expected an object");
+    expect_error(R"({"geometries": [{"spheres": [{"center": [0, 0, 0], "radius": 1, "radius": -1}]}]})",
+                 "duplicate key 'radius'");
 }
 
 TEST(SceneBuiltin, InstancesAreDeterministicAndInvertible) {
