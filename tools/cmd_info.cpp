@@ -4,6 +4,7 @@
 
 #include "common.h"
 #include "methods.h"
+#include "scene_cmds.h"
 #include "simdbvh/bvh8/cost_model.h"
 
 namespace simdbvh::cli {
@@ -19,11 +20,13 @@ WideStats wide_stats(const Bvh2& bvh2, const MethodSpec& spec) {
 }  // namespace
 
 int cmd_info(const std::vector<std::string>& args) {
-    std::set<std::string> valued{"scene", "expected-rays"}, flags;
+    std::set<std::string> valued{"scene", "expected-rays", "instance-bounds"}, flags;
     add_method_options(valued, flags);
     const Options o("info", args, valued, flags);
     const std::string scene_name = o.require("scene");
     const MethodSpec spec = parse_method(o);
+    if (is_scene_desc(scene_name)) return info_scene(scene_name, spec, parse_instance_bounds(o));
+    if (o.has("instance-bounds")) throw UsageError("--instance-bounds applies to scenes (room, instances-N, *.json)");
     const Mesh mesh = load_scene_with_progress(scene_name);
     const Aabb b = mesh.bounds();
     std::printf("scene        %s\n", scene_name.c_str());

@@ -5,6 +5,7 @@
 #include "image.h"
 #include "methods.h"
 #include "outputs.h"
+#include "scene_cmds.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/scene/rays.h"
 
@@ -32,7 +33,7 @@ void render(const Mesh& mesh, Tracer& tracer, int w, int h, bool heat, const std
 }  // namespace
 
 int cmd_render(const std::vector<std::string>& args) {
-    std::set<std::string> valued{"scene", "out", "width", "height"}, flags{"heatmap"};
+    std::set<std::string> valued{"scene", "out", "width", "height", "instance-bounds"}, flags{"heatmap"};
     add_method_options(valued, flags);
     const Options o("render", args, valued, flags);
     const std::string scene_name = o.require("scene");
@@ -48,6 +49,11 @@ int cmd_render(const std::vector<std::string>& args) {
     const std::string size_opt = "--width " + std::to_string(w) + " --height " + std::to_string(h);
     const std::uint64_t bytes = std::uint64_t(w) * std::uint64_t(h) * (32 + 16 + 4 + 3 + 3);
     check_memory(size_opt, bytes);
+    if (is_scene_desc(scene_name)) {
+        if (heat) throw UsageError("--heatmap does not apply to scenes");
+        return render_scene(scene_name, spec, parse_instance_bounds(o), w, h, out);
+    }
+    if (o.has("instance-bounds")) throw UsageError("--instance-bounds applies to scenes (room, instances-N, *.json)");
     const Mesh mesh = load_scene_with_progress(scene_name);
     auto tracer = make_tracer(mesh, spec);
     try {

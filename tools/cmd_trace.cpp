@@ -6,6 +6,7 @@
 #include "common.h"
 #include "methods.h"
 #include "outputs.h"
+#include "scene_cmds.h"
 #include "trace_crossings.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/scene/families.h"
@@ -93,7 +94,9 @@ int cmd_gen_rays(const std::vector<std::string>& args) {
     const std::string count_opt = "--count " + std::to_string(count);
     const std::uint64_t per_ray = *kind == scene::RayKind::diffuse ? 32 + 32 + 16 + 32 : 32 + 32;
     check_memory(count_opt, std::uint64_t(count) * per_ray);
-    const Mesh mesh = load_scene_with_progress(scene_name);
+    if (is_scene_desc(scene_name) && *kind == scene::RayKind::diffuse)
+        throw UsageError("--kind diffuse needs a mesh scene (scenes: primary or incoherent, aimed at their bounds)");
+    const Mesh mesh = is_scene_desc(scene_name) ? scene_bounds_proxy(scene_name) : load_scene_with_progress(scene_name);
     progress("generating " + std::to_string(count) + " " + kind_s + " rays ...");
     try {
         const auto rays = scene::generate_rays(mesh, *kind, count, seed);
@@ -113,7 +116,8 @@ int cmd_gen_rays(const std::vector<std::string>& args) {
 }
 
 int cmd_trace(const std::vector<std::string>& args) {
-    std::set<std::string> valued{"scene", "rays", "out", "query", "max-hits"}, flags{"any-hit", "stats", "drop-invalid"};
+    std::set<std::string> valued{"scene", "rays", "out", "query", "max-hits", "instance-bounds"},
+        flags{"any-hit", "stats", "drop-invalid"};
     add_method_options(valued, flags);
     const Options o("trace", args, valued, flags);
     const std::string scene_name = o.require("scene");
@@ -130,6 +134,11 @@ int cmd_trace(const std::vector<std::string>& args) {
         throw UsageError("--query " + query + " runs on --method bvh2 or brute (not " + spec.method + ")");
     if (crossings && o.has("stats")) throw UsageError("--stats applies to --query closest and any");
     if (o.has("max-hits") && query != "all") throw UsageError("--max-hits applies to --query all");
+    if (is_scene_desc(scene_name)) {
+        if (crossings) throw UsageError("scenes take --query closest or any");
+        return trace_scene(o, scene_name, rays_file, out, spec, query == "any", parse_instance_bounds(o));
+    }
+    if (o.has("instance-bounds")) throw UsageError("--instance-bounds applies to scenes (room, instances-N, *.json)");
     check_outputs({{"--out", out}}, {{"--scene", scene_name}, {"--rays", rays_file}});
     // Read the rays first: a bad ray file fails before any expensive work.
     const auto rays = scene::read_rays(rays_file);

@@ -10,6 +10,8 @@
 // root's own volume); uint32 children(PreparedRay, const Node* nodes, Node n,
 // tmax, float entries[2]) (bit 0: left child n.first hit, bit 1: right child
 // n.first + 1); float cull(float t) (the culling distance for a closest hit at t).
+// The members may be static; a test with per-ray state (the scene top level's
+// box slack) is passed as `test`.
 #include <cstdint>
 #include <vector>
 
@@ -63,7 +65,7 @@ struct TriangleLeaf {
 // One ray through a binary hierarchy (nodes: root at 0, children adjacent).
 template <class NodeTest, class Query, bool kStats, class Node, class Leaf>
 SIMDBVH_BINARY_INLINE Hit traverse_binary(const std::vector<Node>& nodes, const Leaf& leaf, const Ray& ray,
-                                          TraceStats* stats) {
+                                          TraceStats* stats, const NodeTest& test = NodeTest{}) {
     Hit out;
     const PreparedRay r = prepare(ray);
     if constexpr (kStats) stats->rays++;
@@ -77,7 +79,7 @@ SIMDBVH_BINARY_INLINE Hit traverse_binary(const std::vector<Node>& nodes, const 
     int sp = 0;
     float entry;
     if constexpr (kStats) stats->box_tests++;
-    if (!NodeTest::root(r, nodes[0], best.t, &entry)) {
+    if (!test.root(r, nodes[0], best.t, &entry)) {
         Query::finish(Hit{}, 0, out);
         return out;
     }
@@ -87,7 +89,7 @@ SIMDBVH_BINARY_INLINE Hit traverse_binary(const std::vector<Node>& nodes, const 
         if constexpr (kStats) stats->nodes_visited++;
         if (!n.is_leaf()) {
             float e[2];
-            const std::uint32_t hit = NodeTest::children(r, nodes.data(), n, NodeTest::cull(best.t), e);
+            const std::uint32_t hit = test.children(r, nodes.data(), n, test.cull(best.t), e);
             if constexpr (kStats) stats->box_tests += 2;
             if (hit == 3u) {  // both: push the far one
                 const bool left_first = e[0] <= e[1];
@@ -111,7 +113,7 @@ SIMDBVH_BINARY_INLINE Hit traverse_binary(const std::vector<Node>& nodes, const 
                 return out;
             }
             const StackEntry& s = stack[--sp];
-            if (!(s.entry > NodeTest::cull(best.t))) {
+            if (!(s.entry > test.cull(best.t))) {
                 idx = s.node;
                 break;
             }

@@ -1,0 +1,39 @@
+#pragma once
+// Scene descriptions (simdbvh/scene_accel/scene.h) from names and files: the
+// built-in scenes and the strict JSON scene format (README, "Scene files").
+#include <cstdint>
+#include <filesystem>
+#include <string_view>
+
+#include "simdbvh/scene_accel/scene.h"
+
+namespace simdbvh::scene {
+
+// N copies of a mesh with random rotations (any axis), scales (0.5..1.5) and
+// positions (a cube growing with cbrt(N), in units of the mesh's diagonal),
+// from a fixed seed (SplitMix64: the same scene on every machine).
+SceneDesc instances_scene(const Mesh& mesh, std::size_t n, std::uint64_t seed = 14);
+// N random analytic spheres in the unit cube (radius 0.1 .. 0.5 of the mean
+// spacing 1/cbrt(N), seed 002's setting), one geometry, one identity instance.
+SceneDesc spheres_scene(std::size_t n, std::uint64_t seed = 2);
+// Seed 004's room: floor and three walls as planes, a box set, a sphere set,
+// the bunny and two rotated teapots as instances (bunny and teapot from the
+// cache: throws simdbvh::Error saying how to fetch them when missing).
+SceneDesc room_scene();
+
+// instances-N (N dragons), spheres-N, room.
+bool is_builtin_scene(std::string_view name);
+SceneDesc builtin_scene(std::string_view name);
+
+// A JSON scene file. Throws simdbvh::Error "<file>: <JSON path>: <problem>"
+// for malformed JSON, unknown keys, wrong types, missing references, negative
+// radii, singular transforms or non-finite numbers. Mesh references are scene
+// names (load_scene) or paths relative to the file's folder.
+SceneDesc load_scene_json(const std::filesystem::path& file);
+SceneDesc parse_scene_json(std::string_view text, const std::filesystem::path& base_dir, std::string_view label);
+
+// A built-in name, a .json file, or any mesh load_scene() takes (as one
+// geometry with one identity instance).
+SceneDesc load_scene_desc(std::string_view name_or_path);
+
+}  // namespace simdbvh::scene

@@ -1,0 +1,68 @@
+// Geometric normals of scene hits and the scene's bounded extent (pictures).
+#include <cmath>
+
+#include "simdbvh/scene_accel/scene.h"
+
+namespace simdbvh {
+
+namespace {
+
+Aabb geometry_bounds(const Geometry& g) {
+    Aabb b;
+    if (const Mesh* m = std::get_if<Mesh>(&g)) {
+        for (const Triangle& t : m->triangles)
+            for (int k = 0; k < 3; ++k) b.grow(m->positions[t[k]]);
+    } else if (const SphereSet* s = std::get_if<SphereSet>(&g)) {
+        for (const Sphere& sp : s->spheres) b.grow(sphere_bounds(sp));
+    } else {
+        for (const Aabb& x : std::get<BoxSet>(g).boxes) b.grow(x);
+    }
+    return b;
+}
+
+Vec3 object_normal(const Geometry& g, const Ray& obj, const SceneHit& h) {
+    const Vec3 p = obj.org + obj.dir * h.t;
+    if (const Mesh* m = std::get_if<Mesh>(&g)) {
+        const Vec3 a = m->vertex(h.prim, 0), b = m->vertex(h.prim, 1), c = m->vertex(h.prim, 2);
+        return cross(b - a, c - a);
+    }
+    if (const SphereSet* s = std::get_if<SphereSet>(&g)) return p - s->spheres[h.prim].center;
+    const Aabb& box = std::get<BoxSet>(g).boxes[h.prim];
+    int axis = 0;
+    float best = INFINITY, sign = 1.0f;
+    for (int a = 0; a < 3; ++a)
+        for (float side : {-1.0f, 1.0f}) {
+            const float d = std::fabs(p[a] - (side < 0 ? box.lo[a] : box.hi[a]));
+            if (d < best) {
+                best = d;
+                axis = a;
+                sign = side;
+            }
+        }
+    Vec3 n{};
+    n[axis] = sign;
+    return n;
+}
+
+}  // namespace
+
+Vec3 hit_normal(const SceneDesc& scene, const Ray& world, const SceneHit& h) {
+    if (!h.hit()) return {};
+    if (h.geom == kNoGeometry) return scene.planes.at(h.prim).normal;
+    const Instance& in = scene.instances.at(h.inst);
+    const Affine3 inv = invert(in.transform).inv;
+    const Vec3 n = object_normal(scene.geometries.at(h.geom), object_ray(inv, world), h);
+    // World normal = A^-T n: column c of A^-1 dotted with n.
+    Vec3 w;
+    for (int c = 0; c < 3; ++c) w[c] = inv.m[0][c] * n.x + inv.m[1][c] * n.y + inv.m[2][c] * n.z;
+    return w;
+}
+
+Aabb world_bounds(const SceneDesc& scene) {
+    Aabb b;
+    for (const Instance& in : scene.instances)
+        b.grow(transform_box(in.transform, geometry_bounds(scene.geometries.at(in.geometry))));
+    return b;
+}
+
+}  // namespace simdbvh

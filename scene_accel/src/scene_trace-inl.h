@@ -1,0 +1,113 @@
+#pragma once
+// Internal: the parts of a scene trace shared by the accelerated traversal
+// (traverse.cpp) and the brute force (brute_force.cpp), so both run the same
+// arithmetic: the box node test of the binary hierarchies (with the top
+// level's per-ray slack), the leaf intersector of sphere and box sets, the
+// planes, and the ray a bottom level sees.
+#include <cmath>
+#include <cstdint>
+
+#include "simdbvh/kernels/box.h"
+#include "simdbvh/scene_accel/scene.h"
+#include "query/query.h"
+#include "traverse.h"  // bvh8/src: the per-ISA wide traversals
+
+namespace simdbvh::scene_accel {
+
+#define SIMDBVH_SCENE_INLINE inline __attribute__((always_inline))
+
+// Width-2 box test (Ize 2013, as the BVH2's) with every box grown by `slack`
+// world units (0 for bottom levels).
+struct SlackBox2Test {
+    float slack = 0.0f;
+    SIMDBVH_SCENE_INLINE Aabb grow(const Aabb& b) const {
+        if (slack == 0.0f) return b;
+        return {{b.lo.x - slack, b.lo.y - slack, b.lo.z - slack}, {b.hi.x + slack, b.hi.y + slack, b.hi.z + slack}};
+    }
+    SIMDBVH_SCENE_INLINE bool root(const PreparedRay& r, const Node2& n, float tmax, float* entry) const {
+        return intersect_box(r, grow(n.box), tmax, entry);
+    }
+    SIMDBVH_SCENE_INLINE std::uint32_t children(const PreparedRay& r, const Node2* nodes, const Node2& n, float tmax,
+                                                float* e) const {
+        const bool ha = intersect_box(r, grow(nodes[n.first].box), tmax, &e[0]);
+        const bool hb = intersect_box(r, grow(nodes[n.first + 1].box), tmax, &e[1]);
+        return std::uint32_t(ha) | (std::uint32_t(hb) << 1);
+    }
+    SIMDBVH_SCENE_INLINE float cull(float t) const { return t * kCullWiden; }
+};
+
+SIMDBVH_SCENE_INLINE bool hit_prim(const PreparedRay& r, const Sphere& s, float tmax, float* t, float* u, float* v) {
+    return hit_sphere(r, s, tmax, t, u, v);
+}
+SIMDBVH_SCENE_INLINE bool hit_prim(const PreparedRay& r, const Aabb& b, float tmax, float* t, float* u, float* v) {
+    return hit_box(r, b, tmax, t, u, v);
+}
+
+// Leaf intersector over gathered analytic primitives (prims[i] is primitive
+// ids[i]; ids == nullptr: the identity), with Hit's closer() tie rule.
+template <class Prim>
+struct ShapeLeaf {
+    const Prim* prims;
+    const std::uint32_t* ids;
+    SIMDBVH_SCENE_INLINE std::uint32_t id(std::uint32_t i) const { return ids ? ids[i] : i; }
+    SIMDBVH_SCENE_INLINE void closest(const PreparedRay& r, std::uint32_t first, std::uint32_t count, Hit& best,
+                                      TraceStats*) const {
+        for (std::uint32_t i = first, e = first + count; i < e; ++i) {
+            float t, u, v;
+            if (hit_prim(r, prims[i], best.t, &t, &u, &v) && closer(t, id(i), best)) best = {t, u, v, id(i)};
+        }
+    }
+    SIMDBVH_SCENE_INLINE bool any(const PreparedRay& r, std::uint32_t first, std::uint32_t count, Hit& best,
+                                  TraceStats*) const {
+        for (std::uint32_t i = first, e = first + count; i < e; ++i) {
+            float t, u, v;
+            if (hit_prim(r, prims[i], best.t, &t, &u, &v)) {
+                best = {t, u, v, id(i)};
+                return true;
+            }
+        }
+        return false;
+    }
+};
+
+// The planes' closest hit for a prepared world ray, as a SceneHit in the
+// caller's parameter (plane k: inst = first_inst + k, prim = k). Any hit: the first.
+template <bool kAnyHit>
+SceneHit trace_planes(const std::vector<Plane>& planes, const PreparedRay& r, std::uint32_t first_inst) {
+    SceneHit best;
+    float tmax = r.tmax;
+    for (std::uint32_t k = 0; k < planes.size(); ++k) {
+        float t;
+        if (hit_plane(r, planes[k], tmax, &t) && (!best.hit() || t < tmax)) {
+            tmax = t;
+            best = SceneHit{t, 0.0f, 0.0f, k, kNoGeometry, first_inst + k};
+            if constexpr (kAnyHit) break;
+        }
+    }
+    if (best.hit()) best.t = to_caller_t(r, best.t);
+    return best;
+}
+
+// The per-ISA wide traversal of a bottom-level mesh, chosen once per batch.
+template <int N>
+using WideFn = void (*)(const BvhN<N>&, std::span<const Ray>, std::span<Hit>, const TraceOptions&);
+
+template <int N, bool kAnyHit>
+WideFn<N> wide_fn(Isa isa) {
+    require(isa);
+    switch (isa) {
+    case Isa::avx512:
+        return kAnyHit ? &bvh8::Traversal<bvh8::avx512::Kernels, N>::occluded
+                       : &bvh8::Traversal<bvh8::avx512::Kernels, N>::intersect;
+    case Isa::avx2:
+        return kAnyHit ? &bvh8::Traversal<bvh8::avx2::Kernels, N>::occluded
+                       : &bvh8::Traversal<bvh8::avx2::Kernels, N>::intersect;
+    case Isa::scalar: break;
+    }
+    return kAnyHit ? &bvh8::Traversal<bvh8::scalar::Kernels, N>::occluded
+                   : &bvh8::Traversal<bvh8::scalar::Kernels, N>::intersect;
+}
+
+#undef SIMDBVH_SCENE_INLINE
+
+}  // namespace simdbvh::scene_accel

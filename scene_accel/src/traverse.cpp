@@ -1,0 +1,247 @@
+// Scene traversal: planes first (they clamp the ray), then the top-level
+// BVH2 by the binary loop (bvh2/src/traverse_binary-inl.h) with the slack box
+// test and the instance leaf below, which maps the world ray into each visited
+// instance and runs that geometry's bottom level.
+#include <algorithm>
+#include <cmath>
+#include <utility>
+#include <vector>
+#include <type_traits>
+
+#include "simdbvh/kernels/error.h"
+#include "simdbvh/kernels/parallel.h"
+#include "scene_trace-inl.h"
+#include "traverse_binary-inl.h"
+
+namespace simdbvh {
+
+namespace {
+
+using scene_accel::ShapeLeaf;
+using scene_accel::SlackBox2Test;
+
+// A bottom level for an object-space ray: a Hit in the ray's own parameter.
+template <class Query, int N>
+struct Bottom {
+    scene_accel::WideFn<N> wide;  // the per-ISA wide traversal (closest or any)
+    Hit trace(const BottomLevel<N>& b, const Ray& obj) const {
+        Hit h;
+        if (const BvhN<N>* bvh = std::get_if<BvhN<N>>(&b.tree)) {
+            wide(*bvh, std::span<const Ray>(&obj, 1), std::span<Hit>(&h, 1), TraceOptions{});
+            return h;
+        }
+        const Bvh2Topology& t = std::get<Bvh2Topology>(b.tree);
+        if (!b.spheres.empty())
+            return bvh2::traverse_binary<SlackBox2Test, Query, false>(
+                t.nodes, ShapeLeaf<Sphere>{b.spheres.data(), t.prim_ids.data()}, obj, nullptr);
+        return bvh2::traverse_binary<SlackBox2Test, Query, false>(
+            t.nodes, ShapeLeaf<Aabb>{b.boxes.data(), t.prim_ids.data()}, obj, nullptr);
+    }
+};
+
+// Leaf intersector of the top level: the leaf's instances (ids = the top
+// tree's prim_ids). The scene hit is kept here in the caller's parameter;
+// the loop's `best` only carries the culling distance in its own.
+template <class Query, int N>
+struct InstanceLeaf {
+    const SceneBvhN<N>* scene;
+    const Ray* world;
+    Bottom<Query, N> bottom;
+    mutable SceneHit hit;
+
+    bool visit(const PreparedRay& r, std::uint32_t inst, Hit& best) const {
+        const InstanceRecord& rec = scene->instances()[inst];
+        Ray obj = object_ray(rec.inv, *world);
+        if (hit.hit()) obj.tmax = hit.t;
+        const Hit h = bottom.trace(scene->bottoms()[rec.geometry], obj);
+        if (!h.hit() || !closer(h.t, inst, h.prim, hit)) return false;
+        hit = SceneHit{h.t, h.u, h.v, h.prim, rec.geometry, inst};
+        best.t = r.t_exp == 0 ? h.t : std::ldexp(h.t, -r.t_exp);
+        best.prim = 0;
+        return true;
+    }
+    void closest(const PreparedRay& r, std::uint32_t first, std::uint32_t count, Hit& best, TraceStats*) const {
+        const std::uint32_t* ids = scene->top().prim_ids.data();
+        for (std::uint32_t i = first; i < first + count; ++i) visit(r, ids[i], best);
+    }
+    bool any(const PreparedRay& r, std::uint32_t first, std::uint32_t count, Hit& best, TraceStats*) const {
+        const std::uint32_t* ids = scene->top().prim_ids.data();
+        for (std::uint32_t i = first; i < first + count; ++i)
+            if (visit(r, ids[i], best)) return true;
+        return false;
+    }
+};
+
+template <class Query, int N>
+SceneHit trace(const SceneBvhN<N>& s, const Ray& ray, scene_accel::WideFn<N> wide) {
+    const PreparedRay pr = prepare(ray);
+    if (!pr.valid) return {};
+    const std::uint32_t ni = std::uint32_t(s.instances().size());
+    InstanceLeaf<Query, N> leaf{&s, nullptr, {wide}, scene_accel::trace_planes<Query::kAnyHit>(s.planes(), pr, ni)};
+    if (leaf.hit.hit() && Query::kAnyHit) return leaf.hit;
+    if (s.top().nodes.empty()) return leaf.hit;
+    Ray w = ray;
+    if (leaf.hit.hit()) w.tmax = leaf.hit.t;  // equal-t hits are still found (inclusive tests), lower ids win
+    leaf.world = &w;
+    const float o = std::max({std::fabs(ray.org.x), std::fabs(ray.org.y), std::fabs(ray.org.z)});
+    const SlackBox2Test test{s.slack_scale() * (o + s.scene_magnitude())};
+    bvh2::traverse_binary<SlackBox2Test, Query, false>(s.top().nodes, leaf, w, nullptr, test);
+    return leaf.hit;
+}
+
+// Collects the instances whose (slack-grown) boxes a ray enters, with their
+// entry distance in the caller's parameter, without touching the ray.
+template <int N>
+struct CollectLeaf {
+    const SceneBvhN<N>* scene;
+    SlackBox2Test test;
+    std::vector<std::pair<float, std::uint32_t>>* out;
+    void closest(const PreparedRay& r, std::uint32_t first, std::uint32_t count, Hit& best, TraceStats*) const {
+        const std::uint32_t* ids = scene->top().prim_ids.data();
+        for (std::uint32_t i = first; i < first + count; ++i) {
+            float entry = r.tmin;
+            const std::uint32_t leaf = scene->leaf_of()[ids[i]];
+            if (!intersect_box(r, test.grow(scene->top().nodes[leaf].box), best.t, &entry)) continue;
+            out->push_back({to_caller_t(r, entry), ids[i]});
+        }
+    }
+    bool any(const PreparedRay&, std::uint32_t, std::uint32_t, Hit&, TraceStats*) const { return false; }
+};
+
+// Batches: a wavefront over rounds instead of one ray at a time, so each
+// bottom-level mesh is traced by the batched wide traversal (its rays in
+// flight interleaved) rather than one call per instance visit. Per chunk of
+// rays: planes, then each ray's candidate instances with their box entry
+// distances (top level, no culling), nearest first; round k gives every live
+// ray its k-th candidate, grouped by instance, with tmax = the ray's closest
+// hit so far, skipping candidates whose entry is beyond that hit (the same
+// kCullWiden culling as the loop). Every candidate that can hold the closest
+// hit is tested with a tmax at least its t (tests are inclusive) and merged by
+// closer(), so the hits are those of trace() and of the brute force.
+template <class Query, int N>
+void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<SceneHit> hits,
+                 scene_accel::WideFn<N> wide) {
+    constexpr bool kAny = Query::kAnyHit;
+    const std::size_t n = rays.size();
+    const std::uint32_t ni = std::uint32_t(s.instances().size());
+    std::vector<Ray> world(rays.begin(), rays.end());
+    std::vector<std::pair<float, std::uint32_t>> cand;  // (entry, instance)
+    std::vector<std::uint32_t> first(n + 1, 0);
+    std::vector<std::uint8_t> done(n, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+        first[i] = std::uint32_t(cand.size());
+        const PreparedRay pr = prepare(rays[i]);
+        if (!pr.valid) {
+            hits[i] = SceneHit{};
+            done[i] = 1;
+            continue;
+        }
+        hits[i] = scene_accel::trace_planes<kAny>(s.planes(), pr, ni);
+        if (hits[i].hit()) {
+            world[i].tmax = hits[i].t;
+            if (kAny) {
+                done[i] = 1;
+                continue;
+            }
+        }
+        if (s.top().nodes.empty()) continue;
+        const float o = std::max({std::fabs(rays[i].org.x), std::fabs(rays[i].org.y), std::fabs(rays[i].org.z)});
+        const SlackBox2Test test{s.slack_scale() * (o + s.scene_magnitude())};
+        const CollectLeaf<N> leaf{&s, test, &cand};
+        bvh2::traverse_binary<SlackBox2Test, query::ClosestHit, false>(s.top().nodes, leaf, world[i], nullptr, test);
+        std::sort(cand.begin() + first[i], cand.end());
+    }
+    first[n] = std::uint32_t(cand.size());
+    const Bottom<Query, N> bottom{wide};
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;  // (instance, ray)
+    std::vector<Ray> obj;
+    std::vector<Hit> got;
+    for (std::uint32_t k = 0;; ++k) {
+        pairs.clear();
+        for (std::size_t i = 0; i < n; ++i)
+            if (!done[i] && first[i] + k < first[i + 1]) {
+                const auto [entry, inst] = cand[first[i] + k];
+                if (hits[i].hit() && entry > hits[i].t * kCullWiden) {
+                    done[i] = 1;  // sorted: every later candidate is farther
+                    continue;
+                }
+                pairs.push_back({inst, std::uint32_t(i)});
+            }
+        if (pairs.empty()) break;
+        std::sort(pairs.begin(), pairs.end());
+        for (std::size_t b = 0; b < pairs.size();) {
+            std::size_t e = b;
+            while (e < pairs.size() && pairs[e].first == pairs[b].first) ++e;
+            const std::uint32_t inst = pairs[b].first;
+            const InstanceRecord& rec = s.instances()[inst];
+            const BottomLevel<N>& bl = s.bottoms()[rec.geometry];
+            obj.resize(e - b);
+            got.resize(e - b);
+            for (std::size_t j = b; j < e; ++j) {
+                const std::uint32_t i = pairs[j].second;
+                Ray& r = obj[j - b];
+                r = object_ray(rec.inv, world[i]);
+                if (hits[i].hit()) r.tmax = hits[i].t;
+            }
+            if (const BvhN<N>* bvh = std::get_if<BvhN<N>>(&bl.tree)) {
+                wide(*bvh, obj, got, TraceOptions{});
+            } else {
+                for (std::size_t j = 0; j < obj.size(); ++j) got[j] = bottom.trace(bl, obj[j]);
+            }
+            for (std::size_t j = b; j < e; ++j) {
+                const std::uint32_t i = pairs[j].second;
+                const Hit& h = got[j - b];
+                if (h.hit() && closer(h.t, inst, h.prim, hits[i])) {
+                    hits[i] = SceneHit{h.t, h.u, h.v, h.prim, rec.geometry, inst};
+                    if (kAny) done[i] = 1;
+                }
+            }
+            b = e;
+        }
+    }
+}
+
+template <class Query, int N>
+void trace_span(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<SceneHit> hits, Isa isa, int threads) {
+    if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
+    const auto wide = scene_accel::wide_fn<N, Query::kAnyHit>(isa);  // the one ISA switch per batch
+    constexpr std::size_t kChunk = 2048;
+    const std::size_t chunks = (rays.size() + kChunk - 1) / kChunk;
+    parallel_for(chunks, std::max(1, threads), [&](std::size_t cb, std::size_t ce) {
+        for (std::size_t c = cb; c < ce; ++c) {
+            const std::size_t b = c * kChunk, e = std::min(rays.size(), b + kChunk);
+            trace_chunk<Query>(s, rays.subspan(b, e - b), hits.subspan(b, e - b), wide);
+        }
+    });
+}
+
+}  // namespace
+
+template <int N>
+SceneHit intersect(const SceneBvhN<N>& s, const Ray& ray, Isa isa) {
+    return trace<query::ClosestHit>(s, ray, scene_accel::wide_fn<N, false>(isa));
+}
+template <int N>
+SceneHit occluded(const SceneBvhN<N>& s, const Ray& ray, Isa isa) {
+    return trace<query::AnyHit>(s, ray, scene_accel::wide_fn<N, true>(isa));
+}
+template <int N>
+void intersect(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<SceneHit> hits, Isa isa, int threads) {
+    trace_span<query::ClosestHit>(s, rays, hits, isa, threads);
+}
+template <int N>
+void occluded(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<SceneHit> hits, Isa isa, int threads) {
+    trace_span<query::AnyHit>(s, rays, hits, isa, threads);
+}
+
+#define SIMDBVH_SCENE_WIDTH(N)                                                                                    \
+    template SceneHit intersect<N>(const SceneBvhN<N>&, const Ray&, Isa);                                         \
+    template SceneHit occluded<N>(const SceneBvhN<N>&, const Ray&, Isa);                                          \
+    template void intersect<N>(const SceneBvhN<N>&, std::span<const Ray>, std::span<SceneHit>, Isa, int);         \
+    template void occluded<N>(const SceneBvhN<N>&, std::span<const Ray>, std::span<SceneHit>, Isa, int);
+SIMDBVH_SCENE_WIDTH(4)
+SIMDBVH_SCENE_WIDTH(8)
+SIMDBVH_SCENE_WIDTH(16)
+#undef SIMDBVH_SCENE_WIDTH
+
+}  // namespace simdbvh

@@ -1,0 +1,72 @@
+// Scene validation: every error names the offending item by its path.
+#include <cmath>
+#include <string>
+#include <variant>
+
+#include "simdbvh/kernels/error.h"
+#include "simdbvh/scene_accel/scene.h"
+
+namespace simdbvh {
+
+namespace {
+
+std::string at(const char* list, std::size_t i) { return std::string(list) + "[" + std::to_string(i) + "]"; }
+
+void check_finite(Vec3 v, const std::string& path) {
+    if (!is_finite(v)) throw Error(path + ": not finite");
+}
+
+void validate_geometry(const Geometry& g, const std::string& path) {
+    if (const Mesh* m = std::get_if<Mesh>(&g)) {
+        try {
+            validate(*m);
+        } catch (const Error& e) {
+            throw Error(path + ".mesh: " + e.what());
+        }
+    } else if (const SphereSet* s = std::get_if<SphereSet>(&g)) {
+        for (std::size_t i = 0; i < s->spheres.size(); ++i) {
+            const std::string p = path + "." + at("spheres", i);
+            check_finite(s->spheres[i].center, p + ".center");
+            if (!std::isfinite(s->spheres[i].radius)) throw Error(p + ".radius: not finite");
+            if (s->spheres[i].radius < 0.0f) throw Error(p + ".radius: negative");
+        }
+    } else {
+        const BoxSet& b = std::get<BoxSet>(g);
+        for (std::size_t i = 0; i < b.boxes.size(); ++i) {
+            const std::string p = path + "." + at("boxes", i);
+            check_finite(b.boxes[i].lo, p + ".min");
+            check_finite(b.boxes[i].hi, p + ".max");
+            if (b.boxes[i].is_empty()) throw Error(p + ": min > max");
+        }
+    }
+}
+
+}  // namespace
+
+void validate(const SceneDesc& scene) {
+    for (std::size_t i = 0; i < scene.geometries.size(); ++i) validate_geometry(scene.geometries[i], at("geometries", i));
+    for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+        const Instance& in = scene.instances[i];
+        if (in.geometry >= scene.geometries.size())
+            throw Error(at("instances", i) + ".geometry: no geometry " + std::to_string(in.geometry));
+        try {
+            invert(in.transform);
+        } catch (const Error& e) {
+            throw Error(at("instances", i) + "." + e.what());
+        }
+    }
+    for (std::size_t i = 0; i < scene.planes.size(); ++i) {
+        const Plane& p = scene.planes[i];
+        check_finite(p.point, at("planes", i) + ".point");
+        check_finite(p.normal, at("planes", i) + ".normal");
+        if (p.normal.x == 0.0f && p.normal.y == 0.0f && p.normal.z == 0.0f)
+            throw Error(at("planes", i) + ".normal: zero");
+    }
+}
+
+double volume(const Aabb& b) {
+    if (b.is_empty()) return 0.0;
+    return (double(b.hi.x) - double(b.lo.x)) * (double(b.hi.y) - double(b.lo.y)) * (double(b.hi.z) - double(b.lo.z));
+}
+
+}  // namespace simdbvh

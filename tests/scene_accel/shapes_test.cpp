@@ -1,0 +1,159 @@
+// Analytic primitive tests and transforms against answers worked out by hand
+// (or in double by an independent formula), not by the code under test.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "simdbvh/kernels/error.h"
+#include "simdbvh/scene_accel/shapes.h"
+#include "simdbvh/scene_accel/transform.h"
+
+namespace simdbvh {
+namespace {
+
+PreparedRay ray(Vec3 o, Vec3 d, float tmin = 0.0f, float tmax = INFINITY) { return prepare(Ray{o, tmin, d, tmax}); }
+
+TEST(Sphere, HeadOnHitAtTheSouthPole) {
+    float t, u, v;
+    ASSERT_TRUE(hit_sphere(ray({0, 0, -5}, {0, 0, 1}), Sphere{{0, 0, 0}, 1}, INFINITY, &t, &u, &v));
+    EXPECT_EQ(t, 4.0f);
+    EXPECT_EQ(u, 0.5f);  // atan2(0, 0) = 0 -> (0 + pi) / 2pi
+    EXPECT_EQ(v, 1.0f);  // n = (0, 0, -1): acos(-1) / pi
+}
+
+TEST(Sphere, UnnormalisedDirectionKeepsTheRayParameter) {
+    float t, u, v;
+    ASSERT_TRUE(hit_sphere(ray({0, 0, 0}, {0, 0, 2}), Sphere{{0, 0, 5}, 1}, INFINITY, &t, &u, &v));
+    EXPECT_EQ(t, 2.0f);  // z = 4 at t = 2
+}
+
+TEST(Sphere, OriginInsideReportsTheExit) {
+    float t, u, v;
+    ASSERT_TRUE(hit_sphere(ray({0, 0, 0}, {1, 0, 0}), Sphere{{0, 0, 0}, 2}, INFINITY, &t, &u, &v));
+    EXPECT_EQ(t, 2.0f);
+    EXPECT_EQ(v, 0.5f);   // equator
+    EXPECT_EQ(u, 0.5f);   // n = (1, 0, 0): atan2(0, 1) = 0
+}
+
+TEST(Sphere, MissesBesideAndBehindAndBeyondTmax) {
+    float t, u, v;
+    EXPECT_FALSE(hit_sphere(ray({1.5f, 0, -5}, {0, 0, 1}), Sphere{{0, 0, 0}, 1}, INFINITY, &t, &u, &v));
+    EXPECT_FALSE(hit_sphere(ray({0, 0, 5}, {0, 0, 1}), Sphere{{0, 0, 0}, 1}, INFINITY, &t, &u, &v));
+    EXPECT_FALSE(hit_sphere(ray({0, 0, -5}, {0, 0, 1}), Sphere{{0, 0, 0}, 1}, 3.5f, &t, &u, &v));
+    EXPECT_TRUE(hit_sphere(ray({0, 0, -5}, {0, 0, 1}), Sphere{{0, 0, 0}, 1}, 4.0f, &t, &u, &v));  // inclusive
+}
+
+// Haines et al. 2019: a small sphere far away. The naive float quadratic
+// (b^2 - c with b ~ 1e4, c ~ 1e8) loses the discriminant entirely; the
+// closest-approach form keeps it. Expected: t = z_c - sqrt(r^2 - y^2), in double.
+TEST(Sphere, DistantSmallSphereIsPrecise) {
+    const double zc = 1e4, r = 1.0, y = 0.5;
+    float t, u, v;
+    ASSERT_TRUE(hit_sphere(ray({0, float(y), 0}, {0, 0, 1}), Sphere{{0, 0, float(zc)}, float(r)}, INFINITY, &t, &u, &v));
+    EXPECT_EQ(t, float(zc - std::sqrt(r * r - y * y)));
+    // Farther and smaller: 1e6 away, radius 1e-2, 0.6 of the radius off axis.
+    const double zc2 = 1e6, r2 = 1e-2, y2 = 6e-3;
+    ASSERT_TRUE(hit_sphere(ray({0, float(y2), 0}, {0, 0, 1}), Sphere{{0, 0, float(zc2)}, float(r2)}, INFINITY, &t, &u,
+                           &v));
+    EXPECT_EQ(t, float(double(float(zc2)) - std::sqrt(double(float(r2)) * double(float(r2)) -
+                                                       double(float(y2)) * double(float(y2)))));
+}
+
+TEST(Box, EntryFaceAndFaceCoordinates) {
+    float t, u, v;
+    const Aabb b{{0, 0, 0}, {1, 1, 1}};
+    ASSERT_TRUE(hit_box(ray({-5, 0.25f, 0.5f}, {1, 0, 0}), b, INFINITY, &t, &u, &v));
+    EXPECT_EQ(t, 5.0f);
+    EXPECT_EQ(u, 0.25f);  // face x: u = y, v = z
+    EXPECT_EQ(v, 0.5f);
+    ASSERT_TRUE(hit_box(ray({0.75f, 3, 0.125f}, {0, -2, 0}), b, INFINITY, &t, &u, &v));
+    EXPECT_EQ(t, 1.0f);    // y = 1 at t = 1
+    EXPECT_EQ(u, 0.75f);   // face y: u = x, v = z
+    EXPECT_EQ(v, 0.125f);
+}
+
+TEST(Box, OriginInsideReportsTheExitAndParallelRaysOutsideMiss) {
+    float t, u, v;
+    const Aabb b{{0, 0, 0}, {1, 1, 1}};
+    ASSERT_TRUE(hit_box(ray({0.5f, 0.5f, 0.5f}, {0, 1, 0}), b, INFINITY, &t, &u, &v));
+    EXPECT_EQ(t, 0.5f);
+    EXPECT_FALSE(hit_box(ray({-5, 2, 0.5f}, {1, 0, 0}), b, INFINITY, &t, &u, &v));
+    EXPECT_FALSE(hit_box(ray({-5, 0.5f, 0.5f}, {-1, 0, 0}), b, INFINITY, &t, &u, &v));
+}
+
+// Two boxes sharing the face x = 1: every ray crossing that face inside its
+// rectangle hits one of them (no crack), at the same t from either side.
+TEST(Box, SharedFaceHasNoCrack) {
+    const Aabb a{{0, 0, 0}, {1, 1, 1}}, b{{1, 0, 0}, {2, 1, 1}};
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f), wide(-3.0f, 3.0f);
+    int hits = 0;
+    for (int i = 0; i < 20000; ++i) {
+        const Vec3 target{1.0f, unit(rng), unit(rng)};
+        const Vec3 org{wide(rng) * 10, wide(rng) * 10, wide(rng) * 10};
+        if (org.x > -1 && org.x < 3) continue;
+        const Vec3 dir = target - org;
+        float t0, t1, u, v;
+        const bool ha = hit_box(ray(org, dir), a, INFINITY, &t0, &u, &v);
+        const bool hb = hit_box(ray(org, dir), b, INFINITY, &t1, &u, &v);
+        ASSERT_TRUE(ha || hb) << "ray " << i;
+        hits++;
+    }
+    EXPECT_GT(hits, 1000);
+}
+
+TEST(Plane, HitParallelAndBehind) {
+    float t;
+    const Plane floor{{0, 0, 0}, {0, 1, 0}};
+    ASSERT_TRUE(hit_plane(ray({3, 5, 1}, {0, -2, 1}), floor, INFINITY, &t));
+    EXPECT_EQ(t, 2.5f);
+    EXPECT_FALSE(hit_plane(ray({3, 5, 1}, {1, 0, 0}), floor, INFINITY, &t));
+    EXPECT_FALSE(hit_plane(ray({3, 5, 1}, {0, 1, 0}), floor, INFINITY, &t));
+    const Plane tilted{{0, 1, 0}, {0, 3, 4}};  // 3y + 4z = 3
+    ASSERT_TRUE(hit_plane(ray({0, 0, 0}, {0, 0, 1}), tilted, INFINITY, &t));
+    EXPECT_EQ(t, 0.75f);
+}
+
+TEST(Transform, InverseOfScaleRotateTranslate) {
+    // x_world = 2 * Rz(90) x + (1, 2, 3): Rz(90) maps (x, y, z) to (-y, x, z).
+    Affine3 m;
+    m.m = {{{0, -2, 0, 1}, {2, 0, 0, 2}, {0, 0, 2, 3}}};
+    const InverseAffine inv = invert(m);
+    // The inverse, by hand: x = Rz(-90) (w - b) / 2: (wy - 2) / 2, -(wx - 1) / 2, (wz - 3) / 2.
+    const Affine3 want{{{{0, 0.5f, 0, -1}, {-0.5f, 0, 0, 0.5f}, {0, 0, 0.5f, -1.5f}}}};
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c) EXPECT_EQ(inv.inv.m[r][c], want.m[r][c]) << r << "," << c;
+    EXPECT_EQ(inv.cond, 1.0);  // a similarity: ||A|| ||A^-1|| = 2 * 0.5
+    const Ray w{{1, 2, 13}, 0.0f, {0, 0, -4}, 100.0f};
+    const Ray o = object_ray(inv.inv, w);  // origin (0, 0, 5), direction (0, 0, -2)
+    EXPECT_EQ(o.org.x, 0.0f);
+    EXPECT_EQ(o.org.y, 0.0f);
+    EXPECT_EQ(o.org.z, 5.0f);
+    EXPECT_EQ(o.dir.z, -2.0f);
+    EXPECT_EQ(o.tmax, 100.0f);
+    const Aabb box = transform_box(m, Aabb{{0, 0, 0}, {1, 1, 1}});  // x in [-1, 1], y in [2, 4], z in [3, 5]
+    EXPECT_LE(box.lo.x, -1.0f);
+    EXPECT_GE(box.lo.x, std::nextafter(-1.0f, -2.0f));
+    EXPECT_GE(box.hi.y, 4.0f);
+    EXPECT_LE(box.hi.y, std::nextafter(4.0f, 5.0f));
+}
+
+TEST(Transform, SingularAndNonFiniteThrow) {
+    Affine3 flat;
+    flat.m = {{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 0, 0}}};
+    EXPECT_THROW(invert(flat), Error);
+    Affine3 rank2;
+    rank2.m = {{{1, 2, 3, 0}, {2, 4, 6, 0}, {0, 0, 1, 0}}};
+    EXPECT_THROW(invert(rank2), Error);
+    Affine3 nan;
+    nan.m[1][3] = NAN;
+    EXPECT_THROW(invert(nan), Error);
+    Affine3 inf;
+    inf.m[0][0] = INFINITY;
+    EXPECT_THROW(invert(inf), Error);
+    EXPECT_NO_THROW(invert(Affine3::scaling(1e-6f)));
+}
+
+}  // namespace
+}  // namespace simdbvh
