@@ -167,7 +167,7 @@ public:
         const auto t0 = std::chrono::steady_clock::now();
         WideOptions wo = s.bvh8;
         wo.threads = s.build.threads;  // collapse + pack on the build's threads too
-        bvh_ = BvhN<N>::build(m, wide_build_options(s.build), wo);  // what a user of the library waits for
+        bvh_ = BvhN<N>::build(m, s.build, wo);  // what a user of the library waits for
         build_ms = ms_since(t0);
         const WideStats& st = bvh_.stats();
         collapse_ms = st.build_ms;

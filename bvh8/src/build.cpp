@@ -20,11 +20,6 @@ std::optional<Collapse> parse_collapse(std::string_view s) {
     return std::nullopt;
 }
 
-BuildOptions wide_build_options(BuildOptions base) {
-    base.intersection_cost = kWideIntersectionCost;
-    return base;
-}
-
 struct WideAccess {
     template <int N>
     static BvhN<N> build(const Bvh2& bvh2, const WideOptions& opts) {
@@ -44,7 +39,9 @@ struct WideAccess {
     template <int N>
     static BvhN<N> build(const Mesh& mesh, const BuildOptions& bvh2_opts, const WideOptions& opts) {
         validate(mesh);
-        Bvh2Topology topo2 = build_topology(mesh, bvh2_opts);
+        BuildOptions b2 = bvh2_opts;
+        b2.intersection_cost = opts.bvh2_intersection_cost;
+        Bvh2Topology topo2 = build_topology(mesh, b2);
         const auto t0 = std::chrono::steady_clock::now();  // build_ms: collapse + pack, as from a Bvh2
         const bvh8::WideTopology<N> topo = bvh8::collapse<N>(topo2.nodes, topo2.prim_ids.size(), opts);
         BvhN<N> b;

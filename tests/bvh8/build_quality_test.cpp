@@ -45,6 +45,13 @@ TEST(BuildQuality, SahCostWithinOnePercentOfTheBaseline) {
         const double bound = std::string(b.scene).rfind("soup", 0) == 0 ? 0.015 : 0.01;
         EXPECT_NEAR(direct.stats().sah_cost, b.bvh8_sah, bound * b.bvh8_sah);
         EXPECT_NE(direct.stats().sah_cost, bvh8.stats().sah_cost) << "kWideIntersectionCost is not used";
+        // Options passed explicitly (threads) keep the wide intersection cost; the WideOptions field changes it.
+        BuildOptions threads2;
+        threads2.threads = 2;
+        EXPECT_EQ(Bvh8::build(m, threads2).stats().sah_cost, direct.stats().sah_cost);
+        WideOptions one;
+        one.bvh2_intersection_cost = 1.0f;
+        EXPECT_EQ(Bvh8::build(m, {}, one).stats().sah_cost, bvh8.stats().sah_cost);
     }
 }
 

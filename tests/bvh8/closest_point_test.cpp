@@ -39,7 +39,7 @@ std::vector<Vec3> points_for(const Mesh& m) {
 template <int N>
 void check(const Mesh& mesh, const char* what) {
     const Bvh2 bvh2 = Bvh2::build(mesh);
-    const BvhN<N> wide = BvhN<N>::build(mesh);  // a different tree (wide_build_options): same answers
+    const BvhN<N> wide = BvhN<N>::build(mesh);  // a different tree (bvh2_intersection_cost): same answers
     const std::vector<Vec3> pts = points_for(mesh);
     for (float radius : {std::numeric_limits<float>::infinity(), 0.05f}) {
         PointQueryOptions o;

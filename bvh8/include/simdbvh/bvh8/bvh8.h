@@ -24,6 +24,14 @@ enum class Collapse : std::uint8_t {
 std::string_view name(Collapse c);
 std::optional<Collapse> parse_collapse(std::string_view s);
 
+// The SAH intersection cost of the BVH2 topology a wide build from a mesh
+// starts from (WideOptions::bvh2_intersection_cost). A Tri8 block tests up
+// to 8 triangles in one SIMD operation, so a triangle costs far less than the
+// BVH2's 1.0 per triangle (one box test); at 0.3 the BVH2 stops splitting
+// small ranges that the collapse would put into one block anyway. On the
+// dragon: 27% faster build, BVH8 SAH +0.16%, Mrays/s within the noise.
+inline constexpr float kWideIntersectionCost = 0.3f;
+
 // Collapse options, the same for every width.
 struct WideOptions {
     Collapse collapse = Collapse::sah;
@@ -34,6 +42,9 @@ struct WideOptions {
     float node_cost = 1.0f;
     float block_cost = 1.0f;
     int threads = 1;  // collapse + pack threads; the tree is identical for every count
+    // BvhN::build(mesh, bvh2_opts, opts) builds its BVH2 topology with this
+    // intersection cost in place of bvh2_opts.intersection_cost.
+    float bvh2_intersection_cost = kWideIntersectionCost;
 };
 using Bvh8Options = WideOptions;
 
@@ -50,14 +61,6 @@ struct WideStats {
 };
 using Bvh8Stats = WideStats;
 
-// The BVH2 options a wide build starts from: `base` with intersection_cost
-// kWideIntersectionCost. A Tri8 block tests up to 8 triangles in one SIMD
-// operation, so a triangle costs far less than the BVH2's 1.0 per triangle
-// (one box test); at 0.3 the BVH2 stops splitting small ranges that the
-// collapse would put into one block anyway. On the dragon: 27% faster build,
-// BVH8 SAH +0.16%, Mrays/s within the noise (README, issue 12 note).
-inline constexpr float kWideIntersectionCost = 0.3f;
-BuildOptions wide_build_options(BuildOptions base = {});
 
 // N-wide BVH (N = 4, 8, 16), all from the same BVH2 and the same collapse.
 template <int N>
@@ -71,10 +74,10 @@ public:
 
     BvhN() = default;
     static BvhN build(const Bvh2& bvh2, const WideOptions& opts = {});
-    // From a mesh: the BVH2 topology (wide_build_options() by default),
-    // collapsed and packed; the BVH2 itself is not kept.
-    static BvhN build(const Mesh& mesh, const BuildOptions& bvh2_opts = wide_build_options(),
-                      const WideOptions& opts = {});
+    // From a mesh: the BVH2 topology (bvh2_opts, with
+    // opts.bvh2_intersection_cost), collapsed and packed; the BVH2 itself is
+    // not kept.
+    static BvhN build(const Mesh& mesh, const BuildOptions& bvh2_opts = {}, const WideOptions& opts = {});
 
     // Refit for a moved mesh (the same triangles, new vertex positions): the
     // Tri8 blocks are re-gathered and every child box recomputed bottom-up,
