@@ -18,7 +18,6 @@ using detail::Best;
 using detail::box_distance2;
 using detail::kPruneSlack;
 using detail::max_distance2;
-using detail::morton_order;
 using detail::usable;
 
 struct StackEntry {
@@ -76,18 +75,9 @@ ClosestPoint closest_point(const Bvh2& bvh, const Vec3& p, const PointQueryOptio
 
 void closest_point(const Bvh2& bvh, std::span<const Vec3> points, std::span<ClosestPoint> out,
                    const PointQueryOptions& opts) {
-    if (out.size() < points.size()) throw Error("output span is smaller than points span");
-    const double max_d2 = max_distance2(opts);
-    // Points in Morton order: neighbours walk the same nodes while they are in
-    // cache (the order changes the speed only, never a result).
-    const std::vector<std::uint32_t> order = morton_order(points);
-    if (opts.stats) {
-        for (const std::uint32_t i : order) out[i] = query(bvh, points[i], max_d2, opts.stats);
-        return;
-    }
-    parallel_for(points.size(), opts.threads, [&](std::size_t b, std::size_t e) {
-        for (std::size_t k = b; k < e; ++k) out[order[k]] = query(bvh, points[order[k]], max_d2, nullptr);
-    }, ParallelOptions{.grain = 256});
+    detail::closest_points(points, out, opts, [&](const Vec3& p, double max_d2, PointQueryStats* stats) {
+        return query(bvh, p, max_d2, stats);
+    });
 }
 
 ClosestPoint brute_force_closest_point(const Mesh& mesh, const Vec3& p, const PointQueryOptions& opts) {

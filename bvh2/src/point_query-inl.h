@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "simdbvh/bvh2/closest_point.h"
+#include "simdbvh/kernels/parallel.h"
 
 namespace simdbvh::detail {
 
@@ -107,5 +108,23 @@ inline std::vector<std::uint32_t> morton_order(std::span<const Vec3> points) {
     return order;
 }
 
+
+// The batched form of one tree's single-point query(p, max_d2, stats):
+// points in Morton order (neighbours walk the same nodes while they are in
+// cache; the order changes the speed only, never a result), on opts.threads.
+template <class Query>
+void closest_points(std::span<const Vec3> points, std::span<ClosestPoint> out, const PointQueryOptions& opts,
+                    const Query& query) {
+    if (out.size() < points.size()) throw Error("output span is smaller than points span");
+    const double max_d2 = max_distance2(opts);
+    const std::vector<std::uint32_t> order = morton_order(points);
+    if (opts.stats) {
+        for (const std::uint32_t i : order) out[i] = query(points[i], max_d2, opts.stats);
+        return;
+    }
+    parallel_for(points.size(), opts.threads, [&](std::size_t b, std::size_t e) {
+        for (std::size_t k = b; k < e; ++k) out[order[k]] = query(points[order[k]], max_d2, nullptr);
+    }, ParallelOptions{.grain = 256});
+}
 
 }  // namespace simdbvh::detail

@@ -83,16 +83,9 @@ ClosestPoint closest_point(const BvhN<N>& bvh, const Vec3& p, const PointQueryOp
 template <int N>
 void closest_point(const BvhN<N>& bvh, std::span<const Vec3> points, std::span<ClosestPoint> out,
                    const PointQueryOptions& opts) {
-    if (out.size() < points.size()) throw Error("output span is smaller than points span");
-    const double max_d2 = detail::max_distance2(opts);
-    const std::vector<std::uint32_t> order = detail::morton_order(points);  // speed only, never a result
-    if (opts.stats) {
-        for (const std::uint32_t i : order) out[i] = query(bvh, points[i], max_d2, opts.stats);
-        return;
-    }
-    parallel_for(points.size(), opts.threads, [&](std::size_t b, std::size_t e) {
-        for (std::size_t k = b; k < e; ++k) out[order[k]] = query(bvh, points[order[k]], max_d2, nullptr);
-    }, ParallelOptions{.grain = 256});
+    detail::closest_points(points, out, opts, [&](const Vec3& p, double max_d2, PointQueryStats* stats) {
+        return query(bvh, p, max_d2, stats);
+    });
 }
 
 #define SIMDBVH_WIDTH(N)                                                                                      \

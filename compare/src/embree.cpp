@@ -12,6 +12,7 @@
 #include <mutex>
 #include <thread>
 
+#include "embree_ray.h"
 #include "simdbvh/kernels/error.h"
 
 namespace simdbvh::compare {
@@ -249,25 +250,6 @@ std::string EmbreeScene::tasking_system() const {
 
 namespace {
 
-RTCRayHit embree_ray_hit(const Ray& r) {
-    alignas(16) RTCRayHit rh;
-    rh.ray.org_x = r.org.x;
-    rh.ray.org_y = r.org.y;
-    rh.ray.org_z = r.org.z;
-    rh.ray.tnear = r.tmin;
-    rh.ray.dir_x = r.dir.x;
-    rh.ray.dir_y = r.dir.y;
-    rh.ray.dir_z = r.dir.z;
-    rh.ray.time = 0.0f;
-    rh.ray.tfar = r.tmax;
-    rh.ray.mask = 0xFFFFFFFFu;
-    rh.ray.id = 0;
-    rh.ray.flags = 0;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    return rh;
-}
 
 // count_hits: the context Embree passes to the filter, with the count after it.
 struct CountContext {

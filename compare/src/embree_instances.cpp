@@ -1,5 +1,6 @@
 // Embree single-level instancing of a scene description (embree_instances.h).
 #include "simdbvh/compare/embree_instances.h"
+#include "embree_ray.h"
 
 #include <embree3/rtcore.h>
 
@@ -87,22 +88,7 @@ void EmbreeInstanceScene::intersect(std::span<const Ray> rays, std::span<SceneHi
         const Ray& r = rays[i];
         hits[i] = SceneHit{};
         if (check_embree_ray(r) != EmbreeRayCheck::ok) continue;
-        alignas(16) RTCRayHit rh;
-        rh.ray.org_x = r.org.x;
-        rh.ray.org_y = r.org.y;
-        rh.ray.org_z = r.org.z;
-        rh.ray.tnear = r.tmin;
-        rh.ray.dir_x = r.dir.x;
-        rh.ray.dir_y = r.dir.y;
-        rh.ray.dir_z = r.dir.z;
-        rh.ray.time = 0.0f;
-        rh.ray.tfar = r.tmax;
-        rh.ray.mask = 0xFFFFFFFFu;
-        rh.ray.id = 0;
-        rh.ray.flags = 0;
-        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
-        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        alignas(16) RTCRayHit rh = embree_ray_hit(r);
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
         rtcIntersect1(impl_->top, &ctx, &rh);

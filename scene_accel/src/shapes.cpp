@@ -1,5 +1,6 @@
 // Ray tests of the analytic primitives, in double from the float inputs.
 #include "simdbvh/scene_accel/shapes.h"
+#include "directed_rounding.h"
 
 #include <algorithm>
 #include <cmath>
@@ -14,16 +15,8 @@ bool in_range(const PreparedRay& r, float t, float tmax) { return t >= r.tmin &&
 
 float clamp01(double x) { return static_cast<float>(std::clamp(x, 0.0, 1.0)); }
 
-float down(double x) {
-    float f = static_cast<float>(x);
-    if (double(f) > x) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
-    return f;
-}
-float up(double x) {
-    float f = static_cast<float>(x);
-    if (double(f) < x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
-    return f;
-}
+using scene_accel_detail::down;
+using scene_accel_detail::up;
 
 Aabb widen(double lo[3], double hi[3]) {
     double m = 0;

@@ -1,6 +1,7 @@
 // Affine transforms: composition, inversion in double (rounded once to
 // float), points, vectors, rays and boxes through them.
 #include "simdbvh/scene_accel/transform.h"
+#include "directed_rounding.h"
 
 #include <cmath>
 #include <limits>
@@ -40,16 +41,8 @@ Vec3 apply(const Affine3& t, Vec3 p, double w) {
     }
     return out;
 }
-float down(double x) {
-    float f = static_cast<float>(x);
-    if (double(f) > x) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
-    return f;
-}
-float up(double x) {
-    float f = static_cast<float>(x);
-    if (double(f) < x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
-    return f;
-}
+using scene_accel_detail::down;
+using scene_accel_detail::up;
 
 }  // namespace
 
