@@ -58,6 +58,7 @@ TrianglePoint closest_point_on_triangle(const Vec3& pf, const Vec3& v0, const Ve
     if (d3 >= 0.0 && d4 <= d3) return make(p, b, 1.0, 0.0);  // vertex v1
     const double vc = d1 * d4 - d3 * d2;
     if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {  // edge v0 v1
+        if (!(d1 - d3 > 0.0)) return nearest_edge(p, a, b, c);  // rounding (a far point): no 0/0
         const double s = d1 / (d1 - d3);
         return make(p, a + ab * s, s, 0.0);
     }
@@ -66,11 +67,13 @@ TrianglePoint closest_point_on_triangle(const Vec3& pf, const Vec3& v0, const Ve
     if (d6 >= 0.0 && d5 <= d6) return make(p, c, 0.0, 1.0);  // vertex v2
     const double vb = d5 * d2 - d1 * d6;
     if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {  // edge v0 v2
+        if (!(d2 - d6 > 0.0)) return nearest_edge(p, a, b, c);
         const double s = d2 / (d2 - d6);
         return make(p, a + ac * s, 0.0, s);
     }
     const double va = d3 * d6 - d5 * d4;
     if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) {  // edge v1 v2
+        if (!((d4 - d3) + (d5 - d6) > 0.0)) return nearest_edge(p, a, b, c);
         const double s = (d4 - d3) / ((d4 - d3) + (d5 - d6));
         return make(p, b + (c - b) * s, 1.0 - s, s);
     }
