@@ -91,10 +91,7 @@ void BvhN<N>::refit(const Mesh& mesh, int threads) {
             if (!ok) throw Error(what + "node " + std::to_string(i) + " is not in collapse order");
         }
     }
-    for (const Tri8& t : blocks_)
-        for (int k = 0; k < kBlockWidth; ++k)
-            if (t.prim[k] != kInvalidPrim && t.prim[k] >= mesh.size())
-                throw Error(what + "triangle id " + std::to_string(t.prim[k]) + " is not in the mesh");
+    // Every id in the blocks is below stats_.triangles == mesh.size() (the build put them there): no check per lane.
 
     ParallelOptions po;
     po.pin = false;
