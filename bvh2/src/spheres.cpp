@@ -163,7 +163,7 @@ struct Sphere2Test {
         const bool hb = intersect_sphere(r, nodes[n.first + 1], tmax, &e[1]);
         return std::uint32_t(ha) | (std::uint32_t(hb) << 1);
     }
-    static float cull(float t) { return t * kCullWiden; }
+    static float cull(float t) { return cull_bound(t); }
 };
 
 template <TriangleTest kTest, bool kAnyHit, bool kStats>

@@ -15,7 +15,7 @@ namespace simdbvh {
 namespace {
 
 // The width-2 node test of the BVH2: the two adjacent child boxes.
-// BoxTest::plain: no Ize widening and no kCullWiden, a comparison variant only
+// BoxTest::plain: no Ize widening and no cull_bound margin, a comparison variant only
 // (it may reject a box whose triangle the ray hits).
 template <BoxTest kBox>
 struct Box2Test {
@@ -28,7 +28,7 @@ struct Box2Test {
         const bool hb = intersect_box(r, nodes[n.first + 1].box, tmax, &e[1], kWiden);
         return std::uint32_t(ha) | (std::uint32_t(hb) << 1);
     }
-    static float cull(float t) { return t * (kBox == BoxTest::conservative ? kCullWiden : 1.0f); }
+    static float cull(float t) { return kBox == BoxTest::conservative ? cull_bound(t) : t; }
 };
 
 template <TriangleTest kTest, BoxTest kBox, bool kAnyHit, bool kStats>

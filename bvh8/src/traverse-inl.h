@@ -144,7 +144,7 @@ inline __attribute__((always_inline)) bool step(const NodeN<N>* nodes, const Tri
             stats->box_tests += N;
         }
         alignas(4 * N) float entries[N];
-        std::uint32_t mask = K::box(rd, n.boxes, best.t * kCullWiden, entries);
+        std::uint32_t mask = K::box(rd, n.boxes, cull_bound(best.t), entries);
         if ((mask & (mask - 1)) != 0) mask = merge_shared(n, mask, entries);
         if (mask != 0) {
             const int i0 = __builtin_ctz(mask);
@@ -193,7 +193,7 @@ inline __attribute__((always_inline)) bool step(const NodeN<N>* nodes, const Tri
     for (;;) {
         if (sp == 0) return true;
         const StackEntry& e = stack[--sp];
-        if (e.entry <= best.t * kCullWiden) {
+        if (e.entry <= cull_bound(best.t)) {
             s.cur = Child{e.index, e.count};
             s.sp = sp;
             return false;

@@ -33,7 +33,7 @@ struct SlackBox2Test {
         const bool hb = intersect_box(r, grow(nodes[n.first + 1].box), tmax, &e[1]);
         return std::uint32_t(ha) | (std::uint32_t(hb) << 1);
     }
-    SIMDBVH_SCENE_INLINE float cull(float t) const { return t * kCullWiden; }
+    SIMDBVH_SCENE_INLINE float cull(float t) const { return cull_bound(t); }
 };
 
 SIMDBVH_SCENE_INLINE bool hit_prim(const PreparedRay& r, const Sphere& s, float tmax, float* t, float* u, float* v) {

@@ -115,7 +115,7 @@ struct CollectLeaf {
 // distances (top level, no culling), nearest first; round k gives every live
 // ray its k-th candidate, grouped by instance, with tmax = the ray's closest
 // hit so far, skipping candidates whose entry is beyond that hit (the same
-// kCullWiden culling as the loop). Every candidate that can hold the closest
+// cull_bound culling as the loop). Every candidate that can hold the closest
 // hit is tested with a tmax at least its t (tests are inclusive) and merged by
 // closer(), so the hits are those of trace() and of the brute force.
 template <class Query, int N>
@@ -161,7 +161,7 @@ void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Sce
         for (std::size_t i = 0; i < n; ++i)
             if (!done[i] && first[i] + k < first[i + 1]) {
                 const auto [entry, inst] = cand[first[i] + k];
-                if (hits[i].hit() && entry > hits[i].t * kCullWiden) {
+                if (hits[i].hit() && entry > cull_bound(hits[i].t)) {
                     done[i] = 1;  // sorted: every later candidate is farther
                     continue;
                 }

@@ -71,6 +71,7 @@ std::vector<Ray> test_rays(std::size_t n) {
             r.org = target - r.dir * 2000.0f;
             r.tmax = INFINITY;
         }
+        if (i % 17 == 0) r.tmin = -20.0f;  // the interval reaches behind the origin (negative closest t)
         rays.push_back(r);
     }
     return rays;

@@ -2,7 +2,7 @@
 // One ray against the boxes of a BoxN (N = 4, 8, 16; Box8 for the kernels'
 // batch entry points): the conservative slab test of box.h (Ize 2013), bit for
 // bit: same near/far choice, (plane - org) * rdir, the NaN-discarding
-// max_ps/min_ps order, far bound widened by kFarWiden.
+// max_ps/min_ps order, far bound widened by kFarWiden plus the ray's far slack.
 #include <cstdint>
 #include <type_traits>
 
@@ -57,7 +57,7 @@ SIMDBVH_FORCE_INLINE std::uint32_t box_lanes(const RayPack<Arch>& r, const BoxN<
     const B t0y = (load_plane<L, N>(base, r.near_y) - r.oy) * r.rdy, t1y = (load_plane<L, N>(base, r.far_y) - r.oy) * r.rdy;
     const B t0z = (load_plane<L, N>(base, r.near_z) - r.oz) * r.rdz, t1z = (load_plane<L, N>(base, r.far_z) - r.oz) * r.rdz;
     const B tn = max_ps<L>(t0x, max_ps<L>(t0y, max_ps<L>(t0z, B(r.tmin))));
-    const B tf = min_ps<L>(t1x, min_ps<L>(t1y, min_ps<L>(t1z, tmax))) * B(kFarWiden);
+    const B tf = min_ps<L>(t1x, min_ps<L>(t1y, min_ps<L>(t1z, tmax))) * B(kFarWiden) + B(r.far_slack);
     tnear = tn;
     return bits<L>(tn <= tf);
 }

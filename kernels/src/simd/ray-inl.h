@@ -25,6 +25,7 @@ struct RayPack {
     float dx, dy, dz;        // direction (Moller-Trumbore)
     float rdx, rdy, rdz;     // 1/d (box)
     float tmin;
+    float far_slack;         // PreparedRay::far_slack
     float okx, oky, okz;     // origin permuted by kx, ky, kz (watertight)
     float sx, sy, sz;        // watertight shear
     std::uint32_t near_x, near_y, near_z;  // byte offsets into Box8 of the near planes
@@ -45,6 +46,7 @@ SIMDBVH_FORCE_INLINE void pack_ray_into(RayPack<Arch>& p, const PreparedRay& r, 
     p.dx = r.dir.x; p.dy = r.dir.y; p.dz = r.dir.z;
     p.rdx = r.rdir.x; p.rdy = r.rdir.y; p.rdz = r.rdir.z;
     p.tmin = r.tmin;
+    p.far_slack = r.far_slack;
     p.okx = r.org[r.kx]; p.oky = r.org[r.ky]; p.okz = r.org[r.kz];
     p.sx = r.sx; p.sy = r.sy; p.sz = r.sz;
     // near = lo when near_* == 0, hi when 1 (box.h); lo/hi arrays are 32 bytes apart.

@@ -31,7 +31,7 @@ struct TraceStats {  // per-ray counters, summed over a batch
 };
 
 // Ray/box test of the BVH2 traversal. conservative: Ize 2013 (far distance
-// widened by kFarWiden, culling by kCullWiden), the validated default. plain:
+// widened by kFarWiden and the far slack, culling by cull_bound), the validated default. plain:
 // (b - o) * rdir with no widening, a comparison variant for the accuracy
 // charts. The BVH8 always uses the conservative test (it ignores this field).
 enum class BoxTest : std::uint8_t { conservative, plain };

@@ -47,6 +47,10 @@ struct PreparedRay {
     float sx = 0.0f, sy = 0.0f, sz = 0.0f;  // watertight shear constants
     bool valid = false;  // false: zero/NaN/Inf direction, NaN/Inf origin, NaN or empty interval
     int t_exp = 0;       // a caller's t = ldexp(kernel t, t_exp)
+    // Added to every widened far distance: 0 when tmin >= 0; for an interval
+    // reaching behind the origin, the absolute error of a negative slab
+    // distance (kFarWiden's relative widening shrinks a negative far bound).
+    float far_slack = 0.0f;
 };
 
 // Directions with a largest component outside [kRescaleBelow, kRescaleAbove] are rescaled.
@@ -62,6 +66,15 @@ inline constexpr float kFarWiden = 1.0f + 2.0f * (3.0f * 0x1p-24f / (1.0f - 3.0f
 // an equal-t hit with a lower id in that leaf must still be found. Culling only
 // affects speed, never results, so the margin is generous (64 ulps).
 inline constexpr float kCullWiden = 1.0f + 0x1p-18f;
+// The culling distance for a closest hit at t: t widened away from the origin
+// of the t axis' order, t + |t| 2^-18 (for t >= 0 the same float as
+// t * kCullWiden; for a negative t, from tmin < 0, it is larger than t).
+inline float cull_bound(float t) { return t + std::fabs(t) * 0x1p-18f; }
+// The far-bound slack for tmin < 0: |t| 4 gamma(3) (kFarWiden - 1 = 2 gamma(3)
+// covers near and far roundings relative to |t|; the relevant negative slab
+// distances are no larger than |tmin|; doubled for the roundings of the slack
+// itself and of the add).
+inline float far_slack_for(float tmin) { return tmin < 0.0f ? -tmin * (2.0f * (kFarWiden - 1.0f)) : 0.0f; }
 
 inline PreparedRay prepare(const Ray& r) {
     PreparedRay p;
@@ -99,6 +112,7 @@ inline PreparedRay prepare(const Ray& r) {
     int ky = kx == 2 ? 0 : kx + 1;
     if (d[kz] < 0.0f) { int t = kx; kx = ky; ky = t; }  // keep the winding
     p.kx = kx; p.ky = ky; p.kz = kz;
+    p.far_slack = std::isnan(p.tmin) ? 0.0f : far_slack_for(p.tmin);
     if (p.valid) {
         p.sx = d[kx] / d[kz];
         p.sy = d[ky] / d[kz];
