@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The cost model fitted to the sweep (cost_model.h): per method, the build
 // time against [1, g(n)] over the fit scenes and the trace time against
-// [1, rays, rays f(n)] over the fit rows, both at one thread, by least squares
+// [1, rays, rays f(n), rays h(n)] over the fit rows, both at one thread, by least squares
 // on the relative error (weights 1/y^2: the times span nine decades), with no
 // negative coefficient (a feature whose coefficient comes out negative is
 // dropped and the rest refitted). Then the check: at every held-out point,
@@ -19,7 +19,7 @@ namespace {
 using Features = std::vector<double>;
 
 // Weighted least squares min sum ((x.c - y) / y)^2 over the features in `use`;
-// the others stay 0. Normal equations, Gaussian elimination (at most 3 unknowns).
+// the others stay 0. Normal equations, Gaussian elimination (at most 4 unknowns).
 std::vector<double> solve(const std::vector<Features>& x, const std::vector<double>& y, const std::vector<bool>& use) {
     const std::size_t k = use.size();
     std::vector<std::size_t> idx;
@@ -79,7 +79,7 @@ CostModel fit_cost_model(const std::vector<SweepRow>& rows, Isa isa) {
                 by.push_back(r.build_ms);
             }
             const double n_rays = double(r.rays);
-            tx.push_back({1.0, n_rays, n_rays * ray_size_term(m, r.triangles)});
+            tx.push_back({1.0, n_rays, n_rays * ray_size_term(m, r.triangles), n_rays * ray_cache_term(m, r.triangles)});
             ty.push_back(r.trace_ms);
         }
         MethodCost& c = model.cost[std::size_t(m)];
@@ -88,10 +88,11 @@ CostModel fit_cost_model(const std::vector<SweepRow>& rows, Isa isa) {
             c.build0 = b[0];
             c.build1 = b[1];
         }
-        const auto t = fit_nonnegative(tx, ty, 3);
+        const auto t = fit_nonnegative(tx, ty, 4);  // ray_cache_term is 0 for the trees: c.ray2 = 0 there
         c.call = t[0];
         c.ray0 = t[1];
         c.ray1 = t[2];
+        c.ray2 = t[3];
     }
     return model;
 }

@@ -4,6 +4,10 @@
 #include <cmath>
 #include <cstdio>
 
+#include "simdbvh/kernels/soa.h"
+#include "simdbvh/kernels/topology.h"
+#include "simdbvh/mesh.h"
+
 namespace simdbvh {
 
 namespace {
@@ -32,10 +36,26 @@ double ray_size_term(AccelMethod m, std::size_t triangles) {
     return is_tree(m) ? std::log2(n + 1.0) : n;
 }
 
+std::size_t brute_cache_triangles(AccelMethod m) {
+    if (is_tree(m)) return 0;
+    const Topology& t = topology();
+    const std::size_t llc = t.l3_bytes ? t.l3_bytes : (t.l2_bytes ? t.l2_bytes : std::size_t(8) << 20);
+    // brute8 streams Tri8 blocks (40 bytes per triangle); the scalar brute force reads the mesh: an index
+    // triple and, on a closed mesh, half a vertex per triangle (a soup's 3 vertices are counted as 1).
+    const std::size_t per_tri = m == AccelMethod::brute8 ? sizeof(Tri8) / 8 : sizeof(Triangle) + sizeof(Vec3);
+    return llc / per_tri;
+}
+
+double ray_cache_term(AccelMethod m, std::size_t triangles) {
+    if (is_tree(m)) return 0.0;
+    // A cyclic stream larger than an LRU cache misses on every line: a step, not the excess.
+    return triangles > brute_cache_triangles(m) ? double(triangles) : 0.0;
+}
+
 double predict_ms(const CostModel& model, AccelMethod m, std::size_t triangles, std::size_t rays, int threads) {
     const MethodCost& c = model.cost[std::size_t(m)];
     const double build = c.build0 + c.build1 * build_size_term(m, triangles);
-    const double per_ray = c.ray0 + c.ray1 * ray_size_term(m, triangles);
+    const double per_ray = c.ray0 + c.ray1 * ray_size_term(m, triangles) + c.ray2 * ray_cache_term(m, triangles);
     return build + c.call + double(rays) * per_ray / double(threads < 1 ? 1 : threads);
 }
 

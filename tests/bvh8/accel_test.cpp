@@ -4,6 +4,8 @@
 // names, traced directly, for every method, closest and any hit.
 #include <gtest/gtest.h>
 
+#include "simdbvh/kernels/topology.h"
+
 #include <cstring>
 
 #include "simdbvh/bvh8/accel.h"
@@ -35,6 +37,24 @@ TEST(CostModel, OneTriangleOneRayIsScalarBruteForce) {
     EXPECT_EQ(c.method, AccelMethod::brute);
     EXPECT_NEAR(predicted(c, AccelMethod::brute), 1e-5, 1e-12);
     EXPECT_NEAR(predicted(c, AccelMethod::brute8), 1.003e-3, 1e-12);
+}
+
+TEST(CostModel, BruteForceCacheCliffIsAStepAtTheLastLevelCache) {
+    // brute8 streams 40-byte Tri8 lanes: the cliff lies at llc / 40 triangles.
+    const Topology& topo = topology();
+    const std::size_t llc = topo.l3_bytes ? topo.l3_bytes : (topo.l2_bytes ? topo.l2_bytes : std::size_t(8) << 20);
+    const std::size_t held = llc / 40;
+    EXPECT_EQ(brute_cache_triangles(AccelMethod::brute8), held);
+    EXPECT_EQ(ray_cache_term(AccelMethod::brute8, held), 0.0);
+    EXPECT_EQ(ray_cache_term(AccelMethod::brute8, held + 1), double(held + 1));
+    EXPECT_EQ(ray_cache_term(AccelMethod::bvh8, 100 * held), 0.0);
+    CostModel m = hand_model();
+    m.cost[std::size_t(AccelMethod::brute8)].ray2 = 3e-6;
+    // 10 rays just past the cliff: 1e-6 (n + 1) build + 1e-3 + 10 (n + 1) (2e-6 + 3e-6).
+    const double n1 = double(held + 1);
+    EXPECT_NEAR(predict_ms(m, AccelMethod::brute8, held + 1, 10), 1e-6 * n1 + 1e-3 + 10 * n1 * 5e-6, 1e-9 * n1);
+    EXPECT_NEAR(predict_ms(m, AccelMethod::brute8, held, 10), 1e-6 * double(held) + 1e-3 + 10 * double(held) * 2e-6,
+                1e-9 * n1);
 }
 
 TEST(CostModel, TinyMeshFewRaysIsSimdBruteForce) {

@@ -8,6 +8,15 @@
 //   time_ms = build_ms + call_ms + rays * ray_ms / threads
 //   build_ms = build0 + build1 * g(n)   g: n log2(n+1) for the trees, n for brute8, 0 for brute
 //   ray_ms   = ray0   + ray1   * f(n)   f: log2(n+1) for the trees, n for brute and brute8
+//            + ray2 * h(n)                h: brute and brute8 only, n when the triangles do not fit
+//                                            the last-level cache (n > llc / bytes per triangle), else 0
+//
+// h is the cache cliff of the brute forces: every ray streams all n triangles,
+// at about 0.6 ns per triangle while they stay in the cache and several times
+// that from memory (AMD EPYC: 3.3 to 3.7 ns on the 871k-triangle dragon); a
+// cyclic stream just larger than an LRU cache misses on every line, so the
+// cliff is a step. The cache size is this machine's (topology(): L3, else L2,
+// else 8 MiB), so a model fitted on one machine moves its cliff to another's.
 //
 // Only the trace part is divided by the thread count (the builds are costed
 // at one thread: conservative for the trees).
@@ -32,7 +41,7 @@ std::optional<AccelMethod> parse_accel_method(std::string_view s);
 bool is_tree(AccelMethod m);
 
 struct MethodCost {  // milliseconds; see the formula above
-    double build0 = 0, build1 = 0, call = 0, ray0 = 0, ray1 = 0;
+    double build0 = 0, build1 = 0, call = 0, ray0 = 0, ray1 = 0, ray2 = 0;
 };
 
 struct CostModel {
@@ -47,6 +56,9 @@ const CostModel& cost_model(Isa isa);
 // The formula's two size terms, shared by the prediction and the fit.
 double build_size_term(AccelMethod m, std::size_t triangles);  // g(n)
 double ray_size_term(AccelMethod m, std::size_t triangles);    // f(n)
+double ray_cache_term(AccelMethod m, std::size_t triangles);   // h(n)
+// The triangles the last-level cache holds for a brute force (llc / bytes per triangle).
+std::size_t brute_cache_triangles(AccelMethod m);
 double predict_ms(const CostModel& model, AccelMethod m, std::size_t triangles, std::size_t rays, int threads = 1);
 
 struct AccelChoice {
