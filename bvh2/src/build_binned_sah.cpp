@@ -7,14 +7,13 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <exception>
-#include <future>
 #include <limits>
 #include <memory>
 #include <type_traits>
 #include <vector>
 
 #include "build_common.h"
+#include "simdbvh/kernels/parallel.h"
 
 namespace simdbvh::detail {
 
@@ -307,23 +306,19 @@ Bins3& fill_bins(BuildContext& ctx, std::uint32_t begin, std::uint32_t end, cons
         bin_range(ctx, begin, end, binner, *bins);
         return *bins;
     }
-    std::vector<std::unique_ptr<Bins3>> parts(std::size_t(workers - 1));
-    std::vector<std::future<void>> futs;
+    // One task per chunk (run_tasks: the host executor's, or threads of
+    // ours), each into a table of its own: while this thread waits, a host's
+    // work-stealing pool may run another subtree's build on it, which uses
+    // (and leaves empty) this thread's thread_local table; it is filled only
+    // after the wait.
+    std::vector<std::unique_ptr<Bins3>> parts(static_cast<std::size_t>(workers));
+    for (auto& part : parts) part = std::make_unique<Bins3>();
     const std::uint32_t chunk = (n + std::uint32_t(workers) - 1) / std::uint32_t(workers);
-    for (int w = 1; w < workers; ++w) {
-        parts[std::size_t(w - 1)] = std::make_unique<Bins3>();
+    run_tasks(std::size_t(workers), [&](std::size_t w) {
         const std::uint32_t b = std::min(end, begin + chunk * std::uint32_t(w));
         const std::uint32_t e = std::min(end, b + chunk);
-        Bins3* out = parts[std::size_t(w - 1)].get();
-        auto task = [&, b, e, out] { bin_range(ctx, b, e, binner, *out); };
-        try {  // no thread (a process or memory limit): bin this chunk here
-            futs.push_back(std::async(std::launch::async, task));
-        } catch (const std::exception&) {
-            task();
-        }
-    }
-    bin_range(ctx, begin, std::min(end, begin + chunk), binner, *bins);
-    for (auto& f : futs) f.get();
+        bin_range(ctx, b, e, binner, *parts[w]);
+    });
     for (const auto& part : parts) merge_bins(*bins, *part, binner.nbins);
     return *bins;
 }

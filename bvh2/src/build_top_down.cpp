@@ -1,10 +1,10 @@
 #include <algorithm>
 #include <cmath>
-#include <exception>
-#include <future>
 #include <utility>
+#include <vector>
 
 #include "build_common.h"
+#include "simdbvh/kernels/parallel.h"
 
 namespace simdbvh::detail {
 
@@ -15,17 +15,6 @@ namespace {
 // sequential recursion would have put it, so any thread count gives the same
 // tree bit for bit.
 constexpr std::uint32_t kTaskMin = 32 * 1024;
-
-// Runs `f` on a new thread; an invalid future when no thread can start (a
-// process or memory limit): the caller then builds that subtree itself.
-template <class F>
-std::future<void> start_task(F&& f) {
-    try {
-        return std::async(std::launch::async, std::forward<F>(f));
-    } catch (const std::exception&) {
-        return {};
-    }
-}
 
 struct Builder {
     BuildContext& ctx;
@@ -60,30 +49,29 @@ struct Builder {
         nodes[at].count = 0;
         nodes.resize(nodes.size() + 2);
         const std::uint32_t mid = r.mid;
-        std::vector<Node2> right_nodes;
-        std::future<void> fut;
         if (n >= kTaskMin && ctx.spare_threads.fetch_sub(1) > 0) {
+            // The right subtree as a task of its own (run_tasks: the host
+            // executor's, or a thread of ours), into its own array, spliced
+            // after both sides are done. The task returns its thread when it
+            // ends (not when the parent joins it), so a thread that finished
+            // a small side of an uneven split picks up work in the larger side.
+            std::vector<Node2> right_nodes;
             right_nodes.reserve(2 * std::size_t(end - mid));  // address space only: no copies while it grows
             right_nodes.resize(1);
-            // The task returns its thread when it ends (not when the parent
-            // joins it), so a thread that finished a small side of an uneven
-            // split picks up work in the larger side.
-            fut = start_task([&] {
+            run_tasks(2, [&](std::size_t k) {
+                if (k == 0) return build(nodes, left, begin, mid, depth + 1, r.left);
                 struct Release {
                     std::atomic<int>& n;
                     ~Release() { n.fetch_add(1); }
                 } release{ctx.spare_threads};
                 build(right_nodes, 0, mid, end, depth + 1, r.right);
             });
-        }
-        if (n >= kTaskMin && !fut.valid()) ctx.spare_threads.fetch_add(1);
-        build(nodes, left, begin, mid, depth + 1, r.left);
-        if (fut.valid()) {
-            fut.get();
             splice(nodes, left + 1, right_nodes);
-        } else {
-            build(nodes, left + 1, mid, end, depth + 1, r.right);
+            return;
         }
+        if (n >= kTaskMin) ctx.spare_threads.fetch_add(1);
+        build(nodes, left, begin, mid, depth + 1, r.left);
+        build(nodes, left + 1, mid, end, depth + 1, r.right);
     }
 
     // Puts sub[0] at nodes[at] and sub[1..] at the end of nodes.

@@ -21,14 +21,13 @@
 // the dynamic program, so the SAH collapse never costs more under this model.
 #include <algorithm>
 #include <cmath>
-#include <exception>
-#include <future>
 #include <limits>
 #include <span>
 #include <string>
 
 #include "collapse.h"
 #include "simdbvh/kernels/error.h"
+#include "simdbvh/kernels/parallel.h"
 
 namespace simdbvh::bvh8 {
 
@@ -98,16 +97,15 @@ struct Collapser {
         }
         Costs cl, cr;
         std::uint32_t ll = 0, lr = 0;
-        std::future<void> right_task;
-        if (spawn > 0 && prim_count[n] >= kTaskMin) {
-            try {  // no thread (a process or memory limit): solve it here
-                right_task = std::async(std::launch::async, [&] { cr = solve_sah(right(n), spawn - 1, lr); });
-            } catch (const std::exception&) {
-            }
+        if (spawn > 0 && prim_count[n] >= kTaskMin) {  // the two sides as tasks (the host executor's, or threads)
+            run_tasks(2, [&](std::size_t k) {
+                if (k == 0) cl = solve_sah(left(n), spawn - 1, ll);
+                else cr = solve_sah(right(n), spawn - 1, lr);
+            });
+        } else {
+            cl = solve_sah(left(n), spawn - 1, ll);
+            cr = solve_sah(right(n), spawn - 1, lr);
         }
-        cl = solve_sah(left(n), spawn - 1, ll);
-        if (right_task.valid()) right_task.get();
-        else cr = solve_sah(right(n), spawn - 1, lr);
         leaves = ll + lr;
         const int budget = int(std::min<std::uint32_t>(leaves, N));  // slots worth computing
         if (n == 0) { root_left = cl; root_right = cr; }

@@ -96,4 +96,45 @@ void parallel_for(std::size_t n, int threads, const std::function<void(std::size
     if (error) std::rethrow_exception(error);
 }
 
+void run_tasks(std::size_t count, const std::function<void(std::size_t)>& task) {
+    if (count == 0) return;
+    if (count == 1) {
+        task(0);
+        return;
+    }
+    std::exception_ptr error;
+    std::mutex error_mutex;
+    auto guarded = [&](std::size_t k) {
+        try {
+            task(k);
+        } catch (...) {
+            std::lock_guard<std::mutex> lock(error_mutex);
+            if (!error) error = std::current_exception();
+        }
+    };
+    if (const std::shared_ptr<const Executor> ex = current_executor()) {
+        (*ex)(count, [&](std::size_t k) {
+            if (k < count) guarded(k);
+        });
+    } else {
+        // Everything allocated before the first thread starts: nothing below
+        // throws while a thread is joinable (std::terminate).
+        std::vector<std::thread> threads;
+        threads.reserve(count - 1);
+        std::vector<char> started(count, 0);
+        for (std::size_t k = 1; k < count; ++k) {
+            try {
+                threads.emplace_back(guarded, k);
+                started[k] = 1;
+            } catch (const std::exception&) {  // no thread (a process or memory limit): run it here below
+            }
+        }
+        guarded(0);
+        for (std::size_t k = 1; k < count; ++k)
+            if (!started[k]) guarded(k);
+        for (std::thread& t : threads) t.join();
+    }
+    if (error) std::rethrow_exception(error);
+}
+
 }  // namespace simdbvh

@@ -30,13 +30,24 @@ struct ParallelOptions {
 // return when every call has returned. run never throws (parallel_for
 // captures the first exception and rethrows it after the executor returns).
 using Executor = std::function<void(std::size_t chunks, const std::function<void(std::size_t chunk)>& run)>;
-// Process-wide: with an executor set, parallel_for with threads > 1 gives its
-// chunks to it instead of starting threads (threads <= 1 still runs inline).
+// Process-wide: with an executor set, parallel_for with threads > 1 and
+// run_tasks give their chunks to it instead of starting threads (threads <= 1
+// still runs inline): the builds (BVH2 subtrees and binning, collapse, pack)
+// and the batched traces then start no thread of their own.
 // An empty function restores the library's own threads. Safe to call at any
 // time; a parallel_for already running keeps the executor it started with.
 void set_executor(Executor executor);
 
 void parallel_for(std::size_t n, int threads, const std::function<void(std::size_t, std::size_t)>& body,
                   const ParallelOptions& opts = {});
+
+// Fork-join: runs task(k) for every k in [0, count) and returns when all have
+// returned, rethrowing the first exception. With a host executor the tasks
+// are its chunks (the builders call this recursively, one level per subtree
+// split: the executor must allow a chunk to call it again, as TBB's and
+// OpenMP's task pools do). Without one, task 0 runs on the calling thread and
+// each other task on a thread of its own (unpinned); a task whose thread
+// cannot start runs on the calling thread. count <= 1 runs inline.
+void run_tasks(std::size_t count, const std::function<void(std::size_t)>& task);
 
 }  // namespace simdbvh
