@@ -62,6 +62,38 @@ std::vector<double> fit_nonnegative(const std::vector<Features>& x, const std::v
     }
 }
 
+// Amdahl's parallel fraction p of a method's build: the all-core build of
+// each fit scene of at least kParMin triangles against its one-thread build,
+// b_t / b_1 = 1 - p (1 - 1/t), least squares over the scenes, clamped to [0, 1].
+// Smaller builds are dominated by fixed costs and thread start-up. The trees
+// share one p (every tree is the same BVH2 build, the wide ones plus a
+// collapse): fitted over all of their rows, it is less noisy than per method.
+constexpr std::size_t kParMin = 50000;
+double fit_build_par(const std::vector<SweepRow>& rows, AccelMethod m) {
+    std::map<std::string, double> one, all;  // by method + scene
+    std::map<std::string, int> threads;
+    for (const SweepRow& r : rows) {
+        const auto rm = parse_accel_method(r.method);
+        if (!rm || (is_tree(m) ? !is_tree(*rm) : *rm != m)) continue;
+        if (r.held_out || r.triangles < kParMin || !(r.build_ms > 0)) continue;
+        const std::string key = r.method + " " + r.scene;
+        if (r.threads == 1) one[key] = r.build_ms;
+        else {
+            all[key] = r.build_ms;
+            threads[key] = r.threads;
+        }
+    }
+    double sxx = 0, sxy = 0;
+    for (const auto& [scene, b1] : one) {
+        const auto it = all.find(scene);
+        if (it == all.end()) continue;
+        const double x = 1.0 - 1.0 / double(threads[scene]);  // 1 - ratio = p x
+        sxx += x * x;
+        sxy += x * (1.0 - it->second / b1);
+    }
+    return sxx > 0 ? std::clamp(sxy / sxx, 0.0, 1.0) : 0.0;
+}
+
 }  // namespace
 
 CostModel fit_cost_model(const std::vector<SweepRow>& rows, Isa isa) {
@@ -93,6 +125,7 @@ CostModel fit_cost_model(const std::vector<SweepRow>& rows, Isa isa) {
         c.ray0 = t[1];
         c.ray1 = t[2];
         c.ray2 = t[3];
+        c.build_par = fit_build_par(rows, m);
     }
     return model;
 }

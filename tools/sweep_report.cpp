@@ -91,11 +91,11 @@ std::size_t passed(const std::vector<SweepCheck>& checks) {
 }
 
 Table model_table(const CostModel& m) {
-    Table t({"method", "build0 ms", "build1 ms", "call ms", "ray0 ms", "ray1 ms", "ray2 ms"});
+    Table t({"method", "build0 ms", "build1 ms", "call ms", "ray0 ms", "ray1 ms", "ray2 ms", "build par"});
     for (AccelMethod a : kAccelMethods) {
         const MethodCost& c = m.cost[std::size_t(a)];
         t.row({std::string(name(a)), fmt("%.3g", c.build0), fmt("%.3g", c.build1), fmt("%.3g", c.call),
-               fmt("%.3g", c.ray0), fmt("%.3g", c.ray1), fmt("%.3g", c.ray2)});
+               fmt("%.3g", c.ray0), fmt("%.3g", c.ray1), fmt("%.3g", c.ray2), fmt("%.2f", c.build_par)});
     }
     return t;
 }
@@ -119,7 +119,8 @@ Json sweep_json(const SweepConfig& c, const SweepResults& r) {
     for (AccelMethod a : kAccelMethods) {
         const MethodCost& mc = r.model.cost[std::size_t(a)];
         j["model"][std::string(name(a))] = {{"build0", mc.build0}, {"build1", mc.build1}, {"call", mc.call},
-                                            {"ray0", mc.ray0}, {"ray1", mc.ray1}, {"ray2", mc.ray2}};
+                                            {"ray0", mc.ray0}, {"ray1", mc.ray1}, {"ray2", mc.ray2},
+                                            {"build_par", mc.build_par}};
     }
     for (const SweepCheck& ck : r.checks)
         j["check"].push_back({{"scene", ck.scene}, {"triangles", ck.triangles}, {"rays", ck.rays},
@@ -142,7 +143,7 @@ std::string model_block(const SweepConfig& c, const CostModel& m) {
         const MethodCost& mc = m.cost[std::size_t(a)];
         s += std::string(a == kAccelMethods[0] ? "" : ",\n    ") + "{" + fmt("%.6g", mc.build0) + ", " +
              fmt("%.6g", mc.build1) + ", " + fmt("%.6g", mc.call) + ", " + fmt("%.6g", mc.ray0) + ", " +
-             fmt("%.6g", mc.ray1) + ", " + fmt("%.6g", mc.ray2) + "}";
+             fmt("%.6g", mc.ray1) + ", " + fmt("%.6g", mc.ray2) + ", " + fmt("%.4g", mc.build_par) + "}";
     }
     return s + "}}}};\n";
 }

@@ -1,6 +1,7 @@
 // The cost model's formula and the choice (the coefficients: cost_model_fit.cpp).
 #include "simdbvh/bvh8/cost_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -55,8 +56,10 @@ double ray_cache_term(AccelMethod m, std::size_t triangles) {
 double predict_ms(const CostModel& model, AccelMethod m, std::size_t triangles, std::size_t rays, int threads) {
     const MethodCost& c = model.cost[std::size_t(m)];
     const double build = c.build0 + c.build1 * build_size_term(m, triangles);
-    const double per_ray = c.ray0 + c.ray1 * ray_size_term(m, triangles) + c.ray2 * ray_cache_term(m, triangles);
-    return build + c.call + double(rays) * per_ray / double(threads < 1 ? 1 : threads);
+    const double t = double(threads < 1 ? 1 : threads);
+    const double per_ray = (c.ray0 + c.ray1 * ray_size_term(m, triangles)) / t + c.ray2 * ray_cache_term(m, triangles);
+    const double par = std::clamp(c.build_par, 0.0, 1.0);
+    return build * (1.0 - par + par / t) + c.call + double(rays) * per_ray;
 }
 
 AccelChoice choose(const CostModel& model, std::size_t triangles, std::size_t rays, int threads) {

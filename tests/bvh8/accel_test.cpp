@@ -4,6 +4,8 @@
 // names, traced directly, for every method, closest and any hit.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "simdbvh/kernels/topology.h"
 
 #include <cstring>
@@ -55,6 +57,24 @@ TEST(CostModel, BruteForceCacheCliffIsAStepAtTheLastLevelCache) {
     EXPECT_NEAR(predict_ms(m, AccelMethod::brute8, held + 1, 10), 1e-6 * n1 + 1e-3 + 10 * n1 * 5e-6, 1e-9 * n1);
     EXPECT_NEAR(predict_ms(m, AccelMethod::brute8, held, 10), 1e-6 * double(held) + 1e-3 + 10 * double(held) * 2e-6,
                 1e-9 * n1);
+}
+
+TEST(CostModel, ThreadsDivideTheParallelBuildAndTheComputeNotTheMemoryStream) {
+    CostModel m = hand_model();
+    MethodCost& b8 = m.cost[std::size_t(AccelMethod::bvh8)];
+    b8.build_par = 0.8;
+    // bvh8, n = 1000, 1000 rays: build 0.01 + 1.2e-4 * 1000 log2(1001); trace 1000 (4e-5 + 4e-5 log2(1001)).
+    const double g = 1000.0 * std::log2(1001.0), f = std::log2(1001.0);
+    const double build = 0.01 + 1.2e-4 * g, trace = 1000.0 * (4e-5 + 4e-5 * f);
+    EXPECT_NEAR(predict_ms(m, AccelMethod::bvh8, 1000, 1000, 1), build + trace, 1e-9);
+    EXPECT_NEAR(predict_ms(m, AccelMethod::bvh8, 1000, 1000, 2), build * 0.6 + trace / 2, 1e-9);
+    // brute8 past the cache: the ray2 part stays whole on two threads.
+    const std::size_t n = brute_cache_triangles(AccelMethod::brute8) + 1;
+    MethodCost& bf = m.cost[std::size_t(AccelMethod::brute8)];
+    bf.ray2 = 3e-6;
+    const double nn = double(n);
+    const double want = 1e-6 * nn + 1e-3 + 10.0 * (2e-6 * nn) / 2.0 + 10.0 * 3e-6 * nn;
+    EXPECT_NEAR(predict_ms(m, AccelMethod::brute8, n, 10, 2), want, 1e-9 * nn);
 }
 
 TEST(CostModel, TinyMeshFewRaysIsSimdBruteForce) {

@@ -5,11 +5,18 @@
 // coefficients were fitted to `simdbvh bench --sweep` on one machine, one set
 // per ISA (src/cost_model_fit.cpp holds them and names the command).
 //
-//   time_ms = build_ms + call_ms + rays * ray_ms / threads
+//   time_ms = build_ms * (1 - build_par + build_par / threads) + call_ms
+//           + rays * (ray0 + ray1 * f(n)) / threads + rays * ray2 * h(n)
 //   build_ms = build0 + build1 * g(n)   g: n log2(n+1) for the trees, n for brute8, 0 for brute
 //   ray_ms   = ray0   + ray1   * f(n)   f: log2(n+1) for the trees, n for brute and brute8
 //            + ray2 * h(n)                h: brute and brute8 only, n when the triangles do not fit
 //                                            the last-level cache (n > llc / bytes per triangle), else 0
+//
+// build_par is the parallel fraction of the build (Amdahl), fitted from the
+// sweep's one- and all-core builds of the larger fit scenes. The memory term
+// is not divided by the threads: streaming from memory does not scale with
+// cores that share the memory bus (on the reference machine two threads of the
+// SIMD brute force over the dragon took as long as one).
 //
 // h is the cache cliff of the brute forces: every ray streams all n triangles,
 // at about 0.6 ns per triangle while they stay in the cache and several times
@@ -18,8 +25,6 @@
 // cliff is a step. The cache size is this machine's (topology(): L3, else L2,
 // else 8 MiB), so a model fitted on one machine moves its cliff to another's.
 //
-// Only the trace part is divided by the thread count (the builds are costed
-// at one thread: conservative for the trees).
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -42,6 +47,7 @@ bool is_tree(AccelMethod m);
 
 struct MethodCost {  // milliseconds; see the formula above
     double build0 = 0, build1 = 0, call = 0, ray0 = 0, ray1 = 0, ray2 = 0;
+    double build_par = 0;  // parallel fraction of the build, in [0, 1]
 };
 
 struct CostModel {
