@@ -103,7 +103,8 @@ TEST(HostExecutor, NestedTasksOnHostThreadsGiveTheSameTree) {
         for (std::size_t c = chunks; c-- > 0;) pool.emplace_back([&run, c] { run(c); });
         for (std::thread& t : pool) t.join();
     });
-    for (int threads : {2, 4}) expect_same_tree(build(threads), one);
+    expect_same_tree(build(2), one);
+    if (!test::kUnderSanitizer) expect_same_tree(build(4), one);  // (TSan: 5 s a build)
     EXPECT_GT(calls.load(), 0);
     // An exception inside a task comes back to the caller of run_tasks.
     EXPECT_THROW(run_tasks(3, [](std::size_t k) {
