@@ -9,6 +9,7 @@
 #include "simdbvh/bvh2/bvh2.h"
 #include "simdbvh/scene/rays.h"
 #include "simdbvh/scene/scenes.h"
+#include "support/sanitizer.h"
 
 namespace simdbvh {
 namespace {
@@ -41,7 +42,9 @@ TEST_P(Bvh2VsBrute, ClosestAndAnyHitMatchBruteForce) {
     opts.builder = c.builder;
     const Bvh2 bvh = Bvh2::build(mesh, opts);
     // Brute force is O(rays x triangles): keep the product near 1e8.
-    const std::size_t count = std::clamp<std::size_t>(100'000'000 / std::max<std::size_t>(mesh.size(), 1), 500, 20000);
+    // (an eighth of the rays under a sanitizer: support/sanitizer.h)
+    const std::size_t count = test::sampled(
+        std::clamp<std::size_t>(100'000'000 / std::max<std::size_t>(mesh.size(), 1), 500, 20000), 200);
     const auto rays = scene::generate_rays(mesh, c.kind, count, /*seed=*/7);
     ASSERT_EQ(rays.size(), count);
     std::vector<Hit> got(rays.size()), any(rays.size());

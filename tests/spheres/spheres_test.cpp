@@ -12,6 +12,7 @@
 #include "simdbvh/bvh2/spheres.h"
 #include "simdbvh/scene/rays.h"
 #include "simdbvh/scene/scenes.h"
+#include "support/sanitizer.h"
 
 namespace simdbvh {
 namespace {
@@ -40,7 +41,9 @@ TEST_P(SpheresVsBrute, ClosestAndAnyHitMatchBruteForce) {
         GTEST_SKIP() << "scene '" << c.scene << "' is not cached: run scripts/fetch_scenes.sh";
     const Mesh mesh = scene::load_scene(c.scene);
     const SphereBvh bvh = SphereBvh::build(mesh);
-    const std::size_t count = std::clamp<std::size_t>(100'000'000 / std::max<std::size_t>(mesh.size(), 1), 500, 20000);
+    // (an eighth of the rays under a sanitizer: support/sanitizer.h)
+    const std::size_t count = test::sampled(
+        std::clamp<std::size_t>(100'000'000 / std::max<std::size_t>(mesh.size(), 1), 500, 20000), 200);
     const auto rays = scene::generate_rays(mesh, c.kind, count, /*seed=*/11);
     std::vector<Hit> got(rays.size()), any(rays.size());
     intersect(bvh, rays, got);
