@@ -320,6 +320,53 @@ void EmbreeScene::occluded(std::span<const Ray> rays, std::span<std::uint8_t> ou
     for (std::size_t i = 0; i < rays.size(); ++i) out[i] = occluded(rays[i]) ? 1 : 0;
 }
 
+namespace {
+constexpr std::size_t kStream = 256;
+}
+
+void EmbreeScene::intersect_stream(std::span<const Ray> rays, std::span<Hit> hits) const {
+    if (rays.size() != hits.size()) throw Error("EmbreeScene::intersect_stream: rays and hits differ in size");
+    std::vector<RTCRayHit> rh(std::min(rays.size(), kStream));
+    for (std::size_t b = 0; b < rays.size(); b += kStream) {
+        const std::size_t n = std::min(kStream, rays.size() - b);
+        for (std::size_t i = 0; i < n; ++i) {
+            rh[i] = embree_ray_hit(rays[b + i]);
+            if (!passes(rays[b + i])) {  // an empty interval: Embree skips the ray
+                rh[i].ray.tnear = 1.0f;
+                rh[i].ray.tfar = 0.0f;
+            }
+        }
+        RTCIntersectContext ctx;
+        rtcInitIntersectContext(&ctx);
+        rtcIntersect1M(impl_->scene, &ctx, rh.data(), unsigned(n), sizeof(RTCRayHit));
+        impl_->check("rtcIntersect1M");
+        for (std::size_t i = 0; i < n; ++i)
+            hits[b + i] = rh[i].hit.geomID == RTC_INVALID_GEOMETRY_ID
+                              ? Hit{}
+                              : Hit{rh[i].ray.tfar, rh[i].hit.u, rh[i].hit.v, rh[i].hit.primID};
+    }
+}
+
+void EmbreeScene::occluded_stream(std::span<const Ray> rays, std::span<std::uint8_t> out) const {
+    if (rays.size() != out.size()) throw Error("EmbreeScene::occluded_stream: rays and results differ in size");
+    std::vector<RTCRay> r(std::min(rays.size(), kStream));
+    for (std::size_t b = 0; b < rays.size(); b += kStream) {
+        const std::size_t n = std::min(kStream, rays.size() - b);
+        for (std::size_t i = 0; i < n; ++i) {
+            r[i] = embree_ray_hit(rays[b + i]).ray;
+            if (!passes(rays[b + i])) {
+                r[i].tnear = 1.0f;
+                r[i].tfar = 0.0f;
+            }
+        }
+        RTCIntersectContext ctx;
+        rtcInitIntersectContext(&ctx);
+        rtcOccluded1M(impl_->scene, &ctx, r.data(), unsigned(n), sizeof(RTCRay));
+        impl_->check("rtcOccluded1M");
+        for (std::size_t i = 0; i < n; ++i) out[b + i] = r[i].tfar == -std::numeric_limits<float>::infinity() ? 1 : 0;
+    }
+}
+
 std::uint64_t EmbreeScene::invalid_rays() const { return impl_->invalid.load(); }
 std::uint64_t EmbreeScene::unsupported_rays() const { return impl_->unsupported.load(); }
 void EmbreeScene::reset_counters() {

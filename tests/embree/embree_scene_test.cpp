@@ -154,6 +154,32 @@ TEST(EmbreeScene, AgainstReferenceOnIcosphere) {
 // update_vertices: a refit scene (and a medium one, which rebuilds) answers
 // for the moved mesh: the same prims as a scene built on the moved mesh for
 // almost every ray, and far from the answers before the move.
+TEST(EmbreeScene, StreamCallsGiveTheSingleRayAnswers) {
+    const Mesh mesh = scene::load_scene("icosphere-4");
+    const EmbreeScene embree(mesh);
+    for (scene::RayKind kind : {scene::RayKind::primary, scene::RayKind::incoherent}) {
+        std::vector<Ray> rays = scene::generate_rays(mesh, kind, 1000, 5);
+        rays[3].dir = {0, 0, 0};                                            // invalid: a miss either way
+        rays[4].tmax = std::numeric_limits<float>::quiet_NaN();            // invalid too
+        std::vector<Hit> one(rays.size()), stream(rays.size());
+        std::vector<std::uint8_t> occ_one(rays.size()), occ_stream(rays.size());
+        embree.intersect(rays, one);
+        embree.intersect_stream(rays, stream);
+        embree.occluded(rays, occ_one);
+        embree.occluded_stream(rays, occ_stream);
+        std::size_t hits = 0;
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            ASSERT_EQ(stream[i].prim, one[i].prim) << "ray " << i;
+            ASSERT_EQ(stream[i].t, one[i].t) << "ray " << i;
+            ASSERT_EQ(occ_stream[i], occ_one[i]) << "ray " << i;
+            hits += one[i].hit();
+        }
+        EXPECT_GT(hits, 100u);
+        EXPECT_FALSE(stream[3].hit());
+        EXPECT_FALSE(stream[4].hit());
+    }
+}
+
 TEST(EmbreeScene, UpdateVerticesFollowsTheMovedMesh) {
     const Mesh m = scene::random_soup(4000, 2);
     const Mesh moved = scene::twist(m, 2.0);

@@ -85,6 +85,12 @@ public:
     // Batches (one rtc*1 call per ray); sizes must match (throws simdbvh::Error).
     void intersect(std::span<const Ray> rays, std::span<Hit> hits) const;
     void occluded(std::span<const Ray> rays, std::span<std::uint8_t> occluded) const;  // 1 = occluded
+    // Batches through Embree's stream API (rtcIntersect1M / rtcOccluded1M, 256
+    // rays per call, default context flags), as Open3D's RaycastingScene calls
+    // it: Embree may trace coherent rays of a stream as packets, which its
+    // single-ray calls cannot. The same answers as the calls above.
+    void intersect_stream(std::span<const Ray> rays, std::span<Hit> hits) const;
+    void occluded_stream(std::span<const Ray> rays, std::span<std::uint8_t> occluded) const;
 
     // Every hit along the ray, counted the way Open3D's RaycastingScene
     // counts intersections: rtcIntersect1 with a context filter that counts
