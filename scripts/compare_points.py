@@ -11,7 +11,9 @@ markdown table and writes JSON.
 
     /usr/bin/python3 scripts/compare_points.py --scene dragon --count 200000
 
-Debian 12: python3-open3d, python3-numpy (scripts/setup.sh installs them).
+Debian 12: python3-open3d, python3-numpy (scripts/setup.sh installs them). Open3D runs with
+scripts/open3d/embree_mask_shim.c preloaded: without it Debian's build misses every ray, so its
+occupancy is 0 everywhere and its signed distances are all positive (docs/open3d.md).
 """
 import argparse
 import gzip
@@ -27,6 +29,9 @@ import time
 
 import numpy as np
 import open3d as o3d
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "open3d"))
+from shim import preload_env  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SCENES = {"dragon": "dragon_vrip.ply.gz", "dragon-res2": "dragon_vrip_res2.ply.gz",
@@ -85,12 +90,12 @@ def o3d_worker(argv):
     np.savez(out, ms=ms, **res)
 
 
-def run_o3d(query, threads, reps, ply, pts_file, tmp):
+def run_o3d(query, threads, reps, ply, pts_file, tmp, env):
     out = os.path.join(tmp, "o3d.npz")
     if os.path.exists(out):
         os.remove(out)
     r = subprocess.run([sys.executable, os.path.abspath(__file__), "--o3d-worker", query, str(threads), str(reps),
-                        ply, pts_file, out], capture_output=True, text=True)
+                        ply, pts_file, out], capture_output=True, text=True, env=env)
     if r.returncode != 0 or not os.path.exists(out):
         last = (r.stderr.strip().splitlines() or ["exit status %d" % r.returncode])[-1]
         return None, f"crashed (exit {r.returncode}): {last[:160]}"
@@ -140,9 +145,10 @@ def main():
         verts = np.asarray(mesh.vertices, dtype=np.float32)
         tris = np.asarray(mesh.triangles, dtype=np.uint32)
         o3d_results, failures = {}, {}
+        env = preload_env(tmp)  # Debian's Open3D misses every ray without it (docs/open3d.md)
         for t in a.threads:
             for query in ("inside", "signed distance", "closest point"):
-                ms, res = run_o3d(query, t, a.reps, ply, pts_file, tmp)
+                ms, res = run_o3d(query, t, a.reps, ply, pts_file, tmp, env)
                 if ms is None:
                     failures[query] = res
                     rows.append({"method": "open3d RaycastingScene", "query": query, "threads": t, "failed": res})

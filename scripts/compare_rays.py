@@ -148,10 +148,9 @@ def main():
             h = bvh.intersect(o, d, threads=args.threads[-1])
             ours[kind] = (res, h["t"], h["prim"].astype(np.int64))
         np.savez(os.path.join(tmp, "input.npz"), **arrays)
-        shim = os.path.join(tmp, "embree_mask_shim.so")
-        subprocess.run(["cc", "-O2", "-shared", "-fPIC", os.path.join(ROOT, "scripts", "open3d", "embree_mask_shim.c"),
-                        "-o", shim, "-ldl"], check=True)
-        env = dict(os.environ, LD_PRELOAD=shim)
+        sys.path.insert(0, os.path.join(ROOT, "scripts", "open3d"))
+        from shim import preload_env
+        env = preload_env(tmp)
         r = subprocess.run([sys.executable, os.path.abspath(__file__), "--worker", os.path.join(tmp, "input.npz"),
                             "--tmp", tmp, "--reps", str(args.reps), "--threads", *map(str, args.threads)],
                            env=env, capture_output=True, text=True)
