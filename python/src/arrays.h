@@ -1,15 +1,21 @@
 #pragma once
-// numpy <-> simdbvh conversions for the Python module: N x 3 point arrays,
-// rays from origins and directions, and output arrays. Inputs are converted to
-// float32 (a copy when the dtype or layout requires it, as the docstrings say).
+// numpy <-> simdbvh conversions for the Python module (shared by module.cpp
+// and scene.cpp): N x 3 point arrays, meshes, rays from origins and
+// directions, and output arrays; argument checks for threads and isa. Inputs
+// are converted to float32 (a copy when the dtype or layout requires it, as
+// the docstrings say).
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "simdbvh/kernels/error.h"
+#include "simdbvh/kernels/isa.h"
 #include "simdbvh/kernels/ray.h"
+#include "simdbvh/mesh.h"
 
 namespace simdbvh::python {
 
@@ -30,6 +36,43 @@ inline F32 as_points(const py::handle& obj, const char* what) {
 }
 
 inline const Vec3* vec3s(const F32& a) { return reinterpret_cast<const Vec3*>(a.data()); }
+
+inline int check_threads(int threads) {
+    if (threads < 1 || threads > 1024) throw Error("threads must be 1..1024 (got " + std::to_string(threads) + ")");
+    return threads;
+}
+
+// isa=None -> nullopt (the caller's default); a name -> that ISA, checked against the CPU.
+inline std::optional<Isa> isa_arg(const std::optional<std::string>& isa) {
+    if (!isa) return std::nullopt;
+    const auto parsed = parse_isa(*isa);
+    if (!parsed) throw Error("isa must be 'scalar', 'avx2' or 'avx512' (got '" + *isa + "')");
+    require(*parsed);
+    return parsed;
+}
+
+// A validated mesh from (n, 3) vertices and (m, 3) integer faces (copied).
+inline Mesh mesh_from_arrays(const py::handle& vertices, const py::handle& faces) {
+    const F32 v = as_points(vertices, "vertices");
+    using I64 = py::array_t<long long, py::array::c_style | py::array::forcecast>;
+    const I64 f = I64::ensure(faces);
+    if (!f || f.ndim() != 2 || f.shape(1) != 3) throw Error("faces: expected an integer array of shape (m, 3)");
+    Mesh m;
+    m.positions.assign(vec3s(v), vec3s(v) + v.shape(0));
+    m.triangles.resize(std::size_t(f.shape(0)));
+    const long long* idx = f.data();
+    const auto nv = static_cast<long long>(m.positions.size());
+    for (std::size_t t = 0; t < m.triangles.size(); ++t)
+        for (int k = 0; k < 3; ++k) {
+            const long long i = idx[3 * t + k];
+            if (i < 0 || i >= nv)
+                throw Error("faces: triangle " + std::to_string(t) + " has vertex index " + std::to_string(i) +
+                            " out of range (" + std::to_string(nv) + " vertices)");
+            m.triangles[t][k] = std::uint32_t(i);
+        }
+    validate(m);
+    return m;
+}
 
 // One float per ray: a scalar, or an array of n.
 inline std::vector<float> per_ray(const py::handle& obj, std::size_t n, const char* what) {

@@ -25,33 +25,6 @@ namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-int check_threads(int threads) {
-    if (threads < 1 || threads > 1024) throw Error("threads must be 1..1024 (got " + std::to_string(threads) + ")");
-    return threads;
-}
-
-Mesh mesh_from_arrays(const py::handle& vertices, const py::handle& faces) {
-    const F32 v = as_points(vertices, "vertices");
-    using I64 = py::array_t<long long, py::array::c_style | py::array::forcecast>;
-    const I64 f = I64::ensure(faces);
-    if (!f || f.ndim() != 2 || f.shape(1) != 3) throw Error("faces: expected an integer array of shape (m, 3)");
-    Mesh m;
-    m.positions.assign(vec3s(v), vec3s(v) + v.shape(0));
-    m.triangles.resize(std::size_t(f.shape(0)));
-    const long long* idx = f.data();
-    const auto nv = static_cast<long long>(m.positions.size());
-    for (std::size_t t = 0; t < m.triangles.size(); ++t)
-        for (int k = 0; k < 3; ++k) {
-            const long long i = idx[3 * t + k];
-            if (i < 0 || i >= nv)
-                throw Error("faces: triangle " + std::to_string(t) + " has vertex index " + std::to_string(i) +
-                            " out of range (" + std::to_string(nv) + " vertices)");
-            m.triangles[t][k] = std::uint32_t(i);
-        }
-    validate(m);
-    return m;
-}
-
 InsideOptions::Rule parse_rule(const std::string& r) {
     if (r == "winding") return InsideOptions::Rule::winding;
     if (r == "parity") return InsideOptions::Rule::parity;
@@ -64,10 +37,7 @@ public:
         : mesh_(std::move(mesh)), method_(method) {
         if (method_ != "bvh4" && method_ != "bvh8" && method_ != "bvh16" && method_ != "bvh2" && method_ != "brute")
             throw Error("method must be 'bvh4', 'bvh8', 'bvh16', 'bvh2' or 'brute' (got '" + method_ + "')");
-        if (isa) {
-            const auto parsed = parse_isa(*isa);
-            if (!parsed) throw Error("isa must be 'scalar', 'avx2' or 'avx512' (got '" + *isa + "')");
-            require(*parsed);
+        if (const auto parsed = isa_arg(isa)) {
             isa_ = *parsed;
         } else {
             isa_ = active_isa();
