@@ -7,8 +7,11 @@
     inside = bvh.contains(points)                 # exact, one ray per point
     d = bvh.signed_distance(points)               # negative inside
 
+    scene = simdbvh.load_scene("room")            # or simdbvh.Scene(meshes=[mesh], spheres=..., instances=..., planes=...)
+    hits = scene.intersect(origins, directions)   # dict: hit, t, u, v, prim, geom, inst
+
 Errors raise simdbvh.Error (a ValueError) with the library's message.
 """
-from ._simdbvh import BVH, Error, Mesh, isas, load
+from ._simdbvh import BVH, Error, Mesh, Scene, isas, load, load_scene
 
-__all__ = ["BVH", "Error", "Mesh", "isas", "load"]
+__all__ = ["BVH", "Error", "Mesh", "Scene", "isas", "load", "load_scene"]

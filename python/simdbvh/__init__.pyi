@@ -1,4 +1,4 @@
-from typing import Optional, Sequence, TypedDict, Union
+from typing import Optional, Sequence, Tuple, TypedDict, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -47,3 +47,52 @@ class BVH:
                         threads: int = 1) -> dict[str, np.ndarray]: ...
     def intersect_all(self, origins: ArrayLike, directions: ArrayLike, tmin: Scalar = 0.0, tmax: Scalar = ...,
                       max_hits: int = 1024) -> dict[str, np.ndarray]: ...
+
+class SceneStats(TypedDict, total=False):
+    geometries: int
+    instances: int
+    planes: int
+    primitives: int
+    instanced_primitives: int
+    # Not for method="brute" (no trees):
+    build_ms: float
+    bytes: int
+    bytes_per_instance: int
+    volume_corners: float
+    volume_child_corners: float
+    max_cond: float
+
+MeshLike = Union[Mesh, Tuple[ArrayLike, ArrayLike]]  # a Mesh or (vertices (n, 3), faces (m, 3))
+
+class Scene:
+    """Geometries (meshes, sphere sets, box sets; indexed in that order) placed by instances, plus planes.
+
+    Hits: prim, geom, inst are int64, -1 for a miss; plane k reports prim = k, geom = -1,
+    inst = num_instances + k.
+    """
+    def __init__(self, *, meshes: Optional[Union[MeshLike, Sequence[MeshLike]]] = None,
+                 spheres: Optional[Union[ArrayLike, Sequence[ArrayLike]]] = None,   # (n, 4): center, radius
+                 boxes: Optional[Union[ArrayLike, Sequence[ArrayLike]]] = None,     # (n, 6): min, max
+                 instances: Optional[Sequence[Tuple[int, ArrayLike]]] = None,       # (geometry, (3, 4) or (4, 4))
+                 planes: Optional[ArrayLike] = None,                                # (n, 6): point, normal
+                 method: str = "bvh8", isa: Optional[str] = None) -> None: ...
+    @property
+    def num_geometries(self) -> int: ...
+    @property
+    def num_instances(self) -> int: ...
+    @property
+    def num_planes(self) -> int: ...
+    @property
+    def method(self) -> str: ...
+    @property
+    def isa(self) -> str: ...
+    @property
+    def stats(self) -> SceneStats: ...
+    @property
+    def bounds(self) -> npt.NDArray[np.float32]: ...
+    def intersect(self, origins: ArrayLike, directions: ArrayLike, tmin: Scalar = 0.0, tmax: Scalar = ...,
+                  threads: int = 1, normals: bool = False) -> dict[str, np.ndarray]: ...
+    def occluded(self, origins: ArrayLike, directions: ArrayLike, tmin: Scalar = 0.0, tmax: Scalar = ...,
+                 threads: int = 1) -> npt.NDArray[np.bool_]: ...
+
+def load_scene(name: str, method: str = "bvh8", isa: Optional[str] = None) -> Scene: ...

@@ -1,6 +1,7 @@
 // simdbvh for Python: meshes from numpy arrays, batched ray and point queries
 // on numpy arrays with the GIL released. Errors raise simdbvh.Error (a
-// ValueError) with the library's message.
+// ValueError) with the library's message. Scenes (instances, spheres, boxes,
+// planes) are bound in scene.cpp.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -337,6 +338,9 @@ py::array_t<std::int64_t> faces_of(const Mesh& m) {
 }
 
 }  // namespace
+
+void bind_scene(py::module_& m);  // scene.cpp: simdbvh.Scene and load_scene
+
 }  // namespace simdbvh::python
 
 PYBIND11_MODULE(_simdbvh, m) {
@@ -417,4 +421,6 @@ PYBIND11_MODULE(_simdbvh, m) {
         for (Isa i : supported_isas()) out.emplace_back(name(i));
         return out;
     }, "The instruction sets this CPU supports.");
+
+    bind_scene(m);
 }
