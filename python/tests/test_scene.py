@@ -444,3 +444,21 @@ def test_gil_is_released_during_build_and_trace():
     during = [x for x in ticks if start < x < end]
     assert end - start > 0.05, "the trace must take a while for this test to mean anything"
     assert len(during) >= 10, f"only {len(during)} ticks in {end - start:.3f} s: the GIL was held"
+
+
+def test_a_mesh_file_is_one_geometry_and_references_are_stable(tmp_path):
+    import gc
+    import sys
+    (tmp_path / "tri.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    s = simdbvh.load_scene(str(tmp_path / "tri.obj"), method="bvh4")
+    assert (s.num_geometries, s.num_instances, s.num_planes) == (1, 1, 0)
+    o = np.tile([0.25, 0.5, 2.0], (500, 1))
+    d = np.tile([0.0, 0.0, -1.0], (500, 1))
+    refs = (sys.getrefcount(o), sys.getrefcount(d), sys.getrefcount(s))
+    for _ in range(200):
+        h = s.intersect(o, d, normals=True)
+        s.occluded(o, d)
+    assert h["t"][0] == 2.0 and h["u"][0] == 0.25 and h["v"][0] == 0.5
+    del h
+    gc.collect()
+    assert (sys.getrefcount(o), sys.getrefcount(d), sys.getrefcount(s)) == refs
