@@ -2,8 +2,10 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 #include <string>
+#include <system_error>
 
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/scene/scene_desc.h"
@@ -110,6 +112,13 @@ SceneDesc load_scene_desc(std::string_view name) {
     if (is_builtin_scene(name)) return builtin_scene(name);
     const std::filesystem::path p{std::string(name)};
     if (p.extension() == ".json") return load_scene_json(p);
+    // "instances-0", "spheres-x": a built-in's name with a bad count (unless such a file exists).
+    for (std::string_view base : {"instances-", "spheres-"}) {
+        std::error_code ec;
+        if (name.substr(0, base.size()) == base && !std::filesystem::exists(p, ec))
+            throw Error("scene '" + std::string(name) + "': not a built-in scene (" + std::string(base) +
+                        "N needs N a whole number from 1 to 10000000) and no such file");
+    }
     SceneDesc s;
     s.geometries.push_back(load_scene(name));
     s.instances.push_back({0, Affine3{}});

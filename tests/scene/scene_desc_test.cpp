@@ -109,6 +109,18 @@ TEST(SceneBuiltin, NamesAndSpheres) {
     EXPECT_THROW(builtin_scene("spheres-20000000"), Error);
 }
 
+TEST(SceneBuiltin, BadCountNamesTheBuiltIn) {
+    for (const char* name : {"instances-0", "spheres-x", "instances-"}) {
+        try {
+            load_scene_desc(name);
+            ADD_FAILURE() << name << " loaded";
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find("not a built-in scene"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+        }
+    }
+}
+
 TEST(SceneBuiltin, RoomWhenCached) {
     if (!is_cached("bunny") || !is_cached("teapot")) GTEST_SKIP() << "bunny/teapot not cached";
     const SceneDesc s = room_scene();
