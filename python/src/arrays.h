@@ -7,13 +7,17 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "simdbvh/kernels/error.h"
+#include "simdbvh/kernels/hit.h"
 #include "simdbvh/kernels/isa.h"
+#include "simdbvh/kernels/parallel.h"
 #include "simdbvh/kernels/ray.h"
 #include "simdbvh/mesh.h"
 
@@ -95,6 +99,74 @@ inline std::vector<Ray> make_rays(const py::handle& origins, const py::handle& d
     std::vector<Ray> rays(n);
     for (std::size_t i = 0; i < n; ++i) rays[i] = Ray{vec3s(o)[i], lo[i], vec3s(d)[i], hi[i]};
     return rays;
+}
+
+// The rays of origins, directions, tmin and tmax as views of the caller's
+// arrays (converted to float32 only when their dtype or layout requires it):
+// a batch is traced in chunks built from these views (for_ray_chunks), so no
+// array of n Ray records is ever allocated.
+class RayArrays {
+public:
+    RayArrays(const py::handle& origins, const py::handle& directions, const py::handle& tmin,
+              const py::handle& tmax)
+        : o_(as_points(origins, "origins")), d_(as_points(directions, "directions")) {
+        if (o_.shape(0) != d_.shape(0))
+            throw Error("origins and directions differ in length (" + std::to_string(o_.shape(0)) + " and " +
+                        std::to_string(d_.shape(0)) + ")");
+        n_ = std::size_t(o_.shape(0));
+        lo_ = bound(tmin, "tmin", lo1_);
+        hi_ = bound(tmax, "tmax", hi1_);
+    }
+    std::size_t size() const { return n_; }
+    // Safe without the GIL (reads the arrays' memory only).
+    Ray operator[](std::size_t i) const {
+        return Ray{vec3s(o_)[i], lo_ ? lo_[i] : lo1_, vec3s(d_)[i], hi_ ? hi_[i] : hi1_};
+    }
+
+private:
+    // A scalar (returns nullptr, the value in `one`) or an array of n (kept alive in keep_).
+    const float* bound(const py::handle& obj, const char* what, float& one) {
+        F32 a = F32::ensure(obj);
+        if (!a) throw Error(std::string(what) + ": expected a number or an array of numbers");
+        if (a.ndim() == 0) {
+            one = a.data()[0];
+            return nullptr;
+        }
+        if (a.ndim() != 1 || std::size_t(a.shape(0)) != n_)
+            throw Error(std::string(what) + ": expected a number or shape (" + std::to_string(n_) + ",)");
+        keep_.push_back(a);
+        return keep_.back().data();
+    }
+    F32 o_, d_;
+    std::vector<F32> keep_;  // tmin, tmax arrays (lo_ and hi_ point into the arrays, not into this vector)
+    std::size_t n_ = 0;
+    const float *lo_ = nullptr, *hi_ = nullptr;
+    float lo1_ = 0.0f, hi1_ = 0.0f;
+};
+
+// Rays per chunk: 512 KiB of Ray records and 384 KiB of hits per thread, and at
+// least kIsaCalibrationRays (bvh8.h), so a first chunk can still calibrate.
+inline constexpr std::size_t kRayChunk = 16384;
+
+// Calls chunk(rays, hits, begin) for consecutive chunks of at most kRayChunk
+// rays (rays[k] is ray begin + k; hits has the same length, for the caller to
+// fill and read), spread over `threads`. Call without the GIL; chunk must not
+// touch Python objects. Each thread reuses one buffer pair across its chunks.
+template <class HitT = Hit, class Chunk>
+void for_ray_chunks(const RayArrays& in, int threads, Chunk&& chunk) {
+    ParallelOptions po;
+    po.grain = kRayChunk;
+    parallel_for(in.size(), threads, [&](std::size_t b, std::size_t e) {
+        thread_local std::vector<Ray> rays;
+        thread_local std::vector<HitT> hits;
+        for (std::size_t c = b; c < e; c += kRayChunk) {
+            const std::size_t m = std::min(kRayChunk, e - c);
+            rays.resize(m);
+            hits.resize(m);
+            for (std::size_t k = 0; k < m; ++k) rays[k] = in[c + k];
+            chunk(std::span<const Ray>(rays.data(), m), std::span<HitT>(hits.data(), m), c);
+        }
+    }, po);
 }
 
 template <class T>

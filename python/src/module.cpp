@@ -53,48 +53,58 @@ public:
 
     py::dict intersect(const py::handle& o, const py::handle& d, const py::handle& tmin, const py::handle& tmax,
                        int threads, bool any, bool points = false, bool normals = false) const {
-        const std::vector<Ray> rays = make_rays(o, d, tmin, tmax);
-        std::vector<Hit> hits(rays.size());
+        const RayArrays rays(o, d, tmin, tmax);
+        const std::size_t n = rays.size();
+        auto t = empty_array<float>(n), u = empty_array<float>(n), v = empty_array<float>(n);
+        auto prim = empty_array<std::int64_t>(n);
+        auto hit = empty_array<bool>(n);
+        float *pt = t.mutable_data(), *pu = u.mutable_data(), *pv = v.mutable_data();
+        std::int64_t* pprim = prim.mutable_data();
+        bool* phit = hit.mutable_data();
+        std::vector<Hit> all(points || normals ? n : 0);  // the rows below need every hit
         {
             py::gil_scoped_release nogil;
-            TraceOptions opts;
-            opts.threads = check_threads(threads);
-            auto wide = [&](const auto& bvh) {
-                if (isa_auto_) {  // chosen by speed (bvh8.h), or the forced SIMDBVH_ISA
-                    if (any) occluded(bvh, rays, hits, opts);
-                    else simdbvh::intersect(bvh, rays, hits, opts);
-                } else if (any) {
-                    occluded(bvh, rays, hits, opts, isa_);
+            TraceOptions one;  // the chunks are spread over the threads; each traces on one
+            one.threads = 1;
+            auto trace = [&](std::span<const Ray> r, std::span<Hit> h) {
+                auto wide = [&](const auto& bvh) {
+                    if (isa_auto_) {  // chosen by speed (bvh8.h), or the forced SIMDBVH_ISA
+                        if (any) occluded(bvh, r, h, one);
+                        else simdbvh::intersect(bvh, r, h, one);
+                    } else if (any) {
+                        occluded(bvh, r, h, one, isa_);
+                    } else {
+                        simdbvh::intersect(bvh, r, h, one, isa_);
+                    }
+                };
+                if (bvh4_) {
+                    wide(*bvh4_);
+                } else if (bvh8_) {
+                    wide(*bvh8_);
+                } else if (bvh16_) {
+                    wide(*bvh16_);
+                } else if (method_ == "bvh2") {
+                    if (any) simdbvh::occluded(bvh2_, r, h, one);
+                    else simdbvh::intersect(bvh2_, r, h, one);
                 } else {
-                    simdbvh::intersect(bvh, rays, hits, opts, isa_);
+                    for (std::size_t i = 0; i < r.size(); ++i)
+                        h[i] = any ? brute_force_occluded(mesh_, r[i]) : brute_force_intersect(mesh_, r[i]);
                 }
             };
-            if (bvh4_) {
-                wide(*bvh4_);
-            } else if (bvh8_) {
-                wide(*bvh8_);
-            } else if (bvh16_) {
-                wide(*bvh16_);
-            } else if (method_ == "bvh2") {
-                if (any) simdbvh::occluded(bvh2_, rays, hits, opts);
-                else simdbvh::intersect(bvh2_, rays, hits, opts);
-            } else {
-                parallel_for(rays.size(), opts.threads, [&](std::size_t b, std::size_t e) {
-                    for (std::size_t i = b; i < e; ++i)
-                        hits[i] = any ? brute_force_occluded(mesh_, rays[i]) : brute_force_intersect(mesh_, rays[i]);
-                });
-            }
+            for_ray_chunks(rays, check_threads(threads), [&](std::span<const Ray> r, std::span<Hit> h, std::size_t b) {
+                trace(r, h);
+                for (std::size_t k = 0; k < h.size(); ++k) {
+                    const std::size_t i = b + k;
+                    pt[i] = h[k].t;
+                    pu[i] = h[k].u;
+                    pv[i] = h[k].v;
+                    pprim[i] = h[k].hit() ? std::int64_t(h[k].prim) : -1;
+                    phit[i] = h[k].hit();
+                }
+                if (!all.empty()) std::copy(h.begin(), h.end(), all.begin() + std::ptrdiff_t(b));
+            });
         }
-        auto t = empty_array<float>(hits.size()), u = empty_array<float>(hits.size()), v = empty_array<float>(hits.size());
-        auto prim = empty_array<std::int64_t>(hits.size());
-        auto hit = empty_array<bool>(hits.size());
-        for (std::size_t i = 0; i < hits.size(); ++i) {
-            t.mutable_data()[i] = hits[i].t;
-            u.mutable_data()[i] = hits[i].u;
-            v.mutable_data()[i] = hits[i].v;
-            prim.mutable_data()[i] = hits[i].hit() ? std::int64_t(hits[i].prim) : -1;
-            hit.mutable_data()[i] = hits[i].hit();
-        }
+        const std::vector<Hit>& hits = all;
         py::dict out;
         out["hit"] = hit;
         out["t"] = t;

@@ -18,7 +18,6 @@
 #include <vector>
 
 #include "arrays.h"
-#include "simdbvh/kernels/parallel.h"
 #include "simdbvh/scene/scene_desc.h"
 #include "simdbvh/scene_accel/scene.h"
 
@@ -174,32 +173,45 @@ public:
 
     py::dict intersect(const py::handle& o, const py::handle& d, const py::handle& tmin, const py::handle& tmax,
                        int threads, bool normals) const {
-        const std::vector<Ray> rays = make_rays(o, d, tmin, tmax);
-        std::vector<SceneHit> hits(rays.size());
-        std::vector<Vec3> nrm;
-        {
-            py::gil_scoped_release nogil;
-            trace(rays, hits, check_threads(threads), false);
-            if (normals) {
-                nrm.resize(hits.size());
-                for (std::size_t i = 0; i < hits.size(); ++i)
-                    if (hits[i].hit()) nrm[i] = hit_normal(desc_, rays[i], hits[i]);
-            }
-        }
-        const std::size_t n = hits.size();
+        const RayArrays rays(o, d, tmin, tmax);
+        const std::size_t n = rays.size();
         auto hit = empty_array<bool>(n);
         auto t = empty_array<float>(n), u = empty_array<float>(n), v = empty_array<float>(n);
         auto prim = empty_array<std::int64_t>(n), geom = empty_array<std::int64_t>(n);
         auto inst = empty_array<std::int64_t>(n);
-        for (std::size_t i = 0; i < n; ++i) {
-            const SceneHit& h = hits[i];
-            hit.mutable_data()[i] = h.hit();
-            t.mutable_data()[i] = h.t;
-            u.mutable_data()[i] = h.u;
-            v.mutable_data()[i] = h.v;
-            prim.mutable_data()[i] = id(h.prim);
-            geom.mutable_data()[i] = h.hit() ? id(h.geom) : -1;
-            inst.mutable_data()[i] = h.hit() ? id(h.inst) : -1;
+        py::array_t<float> nrm = normals ? empty_points(n) : empty_points(0);
+        bool* phit = hit.mutable_data();
+        float *pt = t.mutable_data(), *pu = u.mutable_data(), *pv = v.mutable_data(), *pn = nrm.mutable_data();
+        std::int64_t *pprim = prim.mutable_data(), *pgeom = geom.mutable_data(), *pinst = inst.mutable_data();
+        {
+            py::gil_scoped_release nogil;
+            for_ray_chunks<SceneHit>(rays, check_threads(threads),
+                                     [&](std::span<const Ray> r, std::span<SceneHit> hs, std::size_t b) {
+                trace(r, hs, false);
+                for (std::size_t k = 0; k < hs.size(); ++k) {
+                    const SceneHit& h = hs[k];
+                    const std::size_t i = b + k;
+                    phit[i] = h.hit();
+                    pt[i] = h.t;
+                    pu[i] = h.u;
+                    pv[i] = h.v;
+                    pprim[i] = id(h.prim);
+                    pgeom[i] = h.hit() ? id(h.geom) : -1;
+                    pinst[i] = h.hit() ? id(h.inst) : -1;
+                    if (!normals) continue;
+                    // Unit, in double, rounded once; a zero normal (a degenerate primitive) stays zero; misses NaN.
+                    float* p = pn + 3 * i;
+                    if (!h.hit()) {
+                        p[0] = p[1] = p[2] = std::numeric_limits<float>::quiet_NaN();
+                        continue;
+                    }
+                    const Vec3 m = hit_normal(desc_, r[k], h);
+                    const double x = m.x, y = m.y, z = m.z, len = std::sqrt(x * x + y * y + z * z);
+                    p[0] = len > 0 ? float(x / len) : 0.0f;
+                    p[1] = len > 0 ? float(y / len) : 0.0f;
+                    p[2] = len > 0 ? float(z / len) : 0.0f;
+                }
+            });
         }
         py::dict out;
         out["hit"] = hit;
@@ -209,35 +221,23 @@ public:
         out["prim"] = prim;
         out["geom"] = geom;
         out["inst"] = inst;
-        if (normals) {
-            // Unit, in double, rounded once; a zero normal (a degenerate primitive) stays zero; misses NaN.
-            auto a = empty_points(n);
-            float* p = a.mutable_data();
-            for (std::size_t i = 0; i < n; ++i, p += 3) {
-                if (!hits[i].hit()) {
-                    p[0] = p[1] = p[2] = std::numeric_limits<float>::quiet_NaN();
-                    continue;
-                }
-                const double x = nrm[i].x, y = nrm[i].y, z = nrm[i].z, len = std::sqrt(x * x + y * y + z * z);
-                p[0] = len > 0 ? float(x / len) : 0.0f;
-                p[1] = len > 0 ? float(y / len) : 0.0f;
-                p[2] = len > 0 ? float(z / len) : 0.0f;
-            }
-            out["normals"] = a;
-        }
+        if (normals) out["normals"] = nrm;
         return out;
     }
 
     py::array_t<bool> occluded(const py::handle& o, const py::handle& d, const py::handle& tmin,
                                const py::handle& tmax, int threads) const {
-        const std::vector<Ray> rays = make_rays(o, d, tmin, tmax);
-        std::vector<SceneHit> hits(rays.size());
+        const RayArrays rays(o, d, tmin, tmax);
+        auto out = empty_array<bool>(rays.size());
+        bool* p = out.mutable_data();
         {
             py::gil_scoped_release nogil;
-            trace(rays, hits, check_threads(threads), true);
+            for_ray_chunks<SceneHit>(rays, check_threads(threads),
+                                     [&](std::span<const Ray> r, std::span<SceneHit> hs, std::size_t b) {
+                trace(r, hs, true);
+                for (std::size_t k = 0; k < hs.size(); ++k) p[b + k] = hs[k].hit();
+            });
         }
-        auto out = empty_array<bool>(hits.size());
-        for (std::size_t i = 0; i < hits.size(); ++i) out.mutable_data()[i] = hits[i].hit();
         return out;
     }
 
@@ -291,27 +291,15 @@ private:
             stats_.instanced_primitives += primitives_of(desc_.geometries[in.geometry]);
     }
 
-    // Called without the GIL.
-    void trace(std::span<const Ray> rays, std::span<SceneHit> hits, int threads, bool any) const {
+    // One chunk of rays on the calling thread (for_ray_chunks spreads the chunks over the threads). Called
+    // without the GIL. The brute force validates the scene and inverts its transforms once per chunk.
+    void trace(std::span<const Ray> rays, std::span<SceneHit> hits, bool any) const {
         std::visit([&](const auto& b) {
             if constexpr (std::is_same_v<std::decay_t<decltype(b)>, std::monostate>) {
-                // The brute force is serial: one chunk per thread (each chunk validates the scene and inverts
-                // its transforms once).
-                auto run = [&](std::size_t lo, std::size_t hi) {
-                    const auto r = rays.subspan(lo, hi - lo);
-                    const auto h = hits.subspan(lo, hi - lo);
-                    any ? brute_force_occluded(desc_, r, h) : brute_force_intersect(desc_, r, h);
-                };
-                if (threads <= 1 || rays.size() < 2) {
-                    run(0, rays.size());
-                } else {
-                    ParallelOptions po;
-                    po.grain = (rays.size() + std::size_t(threads) - 1) / std::size_t(threads);
-                    parallel_for(rays.size(), threads, run, po);
-                }
+                any ? brute_force_occluded(desc_, rays, hits) : brute_force_intersect(desc_, rays, hits);
             } else {
-                if (any) simdbvh::occluded(b, rays, hits, isa_, threads);
-                else simdbvh::intersect(b, rays, hits, isa_, threads);
+                if (any) simdbvh::occluded(b, rays, hits, isa_, 1);
+                else simdbvh::intersect(b, rays, hits, isa_, 1);
             }
         }, bvh_);
     }

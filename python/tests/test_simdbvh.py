@@ -268,13 +268,15 @@ def test_memory_and_reference_counts_are_stable():
 
 
 def test_bit_identical_to_the_cli(tmp_path):
-    """The same rays through the C++ CLI (simdbvh trace) and the module."""
+    """The same rays through the C++ CLI (simdbvh trace) and the module: 40,000 rays with per-ray tmin and tmax,
+    so the module's chunks (kRayChunk = 16,384 rays, python/src/arrays.h) end inside the batch, on one thread and
+    on two."""
     import subprocess
     cli = os.environ.get("SIMDBVH_CLI")
     if not cli:
         pytest.skip("SIMDBVH_CLI is not set (ctest sets it)")
     rays = tmp_path / "r.bin"
-    r = subprocess.run([cli, "gen-rays", "--scene", "icosphere-3", "--kind", "incoherent", "--count", "4000",
+    r = subprocess.run([cli, "gen-rays", "--scene", "icosphere-3", "--kind", "incoherent", "--count", "40000",
                         "--out", str(rays)], capture_output=True, text=True)
     assert r.returncode == 0, r.stdout + r.stderr
     rec = np.fromfile(rays, dtype="<f4").reshape(-1, 8)
@@ -285,9 +287,12 @@ def test_bit_identical_to_the_cli(tmp_path):
                             "--method", method], capture_output=True, text=True)
         assert r.returncode == 0, r.stdout + r.stderr
         want = np.fromfile(hits, dtype=np.dtype([("t", "<f4"), ("u", "<f4"), ("v", "<f4"), ("prim", "<u4")]))
-        got = simdbvh.BVH(mesh, method=method).intersect(rec[:, 0:3], rec[:, 4:7], tmin=rec[:, 3], tmax=rec[:, 7])
-        np.testing.assert_array_equal(got["t"].view(np.uint32), want["t"].view(np.uint32))
-        np.testing.assert_array_equal(got["u"].view(np.uint32), want["u"].view(np.uint32))
-        np.testing.assert_array_equal(got["v"].view(np.uint32), want["v"].view(np.uint32))
-        np.testing.assert_array_equal(got["prim"], np.where(want["prim"] == 0xFFFFFFFF, -1, want["prim"]))
-        assert got["hit"].sum() > 1000
+        bvh = simdbvh.BVH(mesh, method=method)
+        for threads in (1, 2):
+            got = bvh.intersect(rec[:, 0:3], rec[:, 4:7], tmin=rec[:, 3], tmax=rec[:, 7], threads=threads)
+            np.testing.assert_array_equal(got["t"].view(np.uint32), want["t"].view(np.uint32))
+            np.testing.assert_array_equal(got["u"].view(np.uint32), want["u"].view(np.uint32))
+            np.testing.assert_array_equal(got["v"].view(np.uint32), want["v"].view(np.uint32))
+            np.testing.assert_array_equal(got["prim"], np.where(want["prim"] == 0xFFFFFFFF, -1, want["prim"]))
+            np.testing.assert_array_equal(got["hit"], want["prim"] != 0xFFFFFFFF)
+            assert got["hit"].sum() > 10000
