@@ -23,23 +23,23 @@ struct FittedSet {
 // and build_par (cost_model.h); sets fitted before a term existed leave it 0.
 // sweep:scalar:begin
 // simdbvh bench --sweep --report out/sweep-scalar --model-out bvh8/src/cost_model_fit.cpp
-// AMD EPYC | 2 cores, 2 threads | L1d 32 KiB, L2 1 MiB, L3 32 MiB | ISAs scalar avx2 avx512 (active scalar) | hwloc
-constexpr FittedSet kScalar{true, {Isa::scalar, {{{0, 0, 6.09148e-05, 1.3696e-05, 9.23574e-06},
-    {0.000159874, 7.13266e-06, 8.50016e-05, 7.12718e-05, 8.1216e-06},
-    {0.000132104, 2.58273e-05, 8.47929e-05, 5.12027e-06, 1.55767e-05},
-    {0.00123173, 3.09527e-05, 9.89637e-05, 2.20265e-05, 1.86517e-05},
-    {0.000804997, 3.19017e-05, 0.000113327, 3.24592e-05, 1.99136e-05},
-    {0.00106701, 3.39046e-05, 0.000104558, 4.99452e-05, 2.0038e-05}}}}};
+// AMD EPYC | 2 cores, 2 threads | L1d 32 KiB, L2 512 KiB, L3 32 MiB | ISAs scalar avx2 (active scalar) | hwloc
+constexpr FittedSet kScalar{true, {Isa::scalar, {{{0, 0, 0.000110855, 4.90107e-05, 1.59825e-05, 0, 0},
+    {0.000573555, 1.03088e-05, 9.32781e-05, 0.000166602, 1.4006e-05, 0, 0.04716},
+    {0.000378011, 3.5535e-05, 0.000118577, 3.11044e-05, 2.00433e-05, 0, 0.5513},
+    {0.00177812, 3.12647e-05, 0.000115026, 9.10928e-05, 2.11873e-05, 0, 0.5513},
+    {0.00167784, 3.28648e-05, 0.000122537, 0.000113521, 2.07271e-05, 0, 0.5513},
+    {0.00205412, 3.25807e-05, 9.10532e-05, 0.000147867, 2.12219e-05, 0, 0.5513}}}}};
 // sweep:scalar:end
 // sweep:avx2:begin
 // simdbvh bench --sweep --report out/sweep-avx2 --model-out bvh8/src/cost_model_fit.cpp
-// AMD EPYC | 2 cores, 2 threads | L1d 32 KiB, L2 1 MiB, L3 32 MiB | ISAs scalar avx2 avx512 (active avx2) | hwloc
-constexpr FittedSet kAvx2{true, {Isa::avx2, {{{0, 0, 4.29226e-05, 1.03185e-05, 1.06656e-05},
-    {0.000252355, 7.2326e-06, 7.43555e-05, 2.14408e-05, 8.45915e-07},
-    {0.000135276, 3.05274e-05, 7.59309e-05, 7.10222e-08, 1.61635e-05},
-    {0.00117908, 3.6806e-05, 7.95745e-05, 7.19915e-06, 1.19363e-05},
-    {0.000790783, 3.87115e-05, 7.71586e-05, 9.0221e-06, 1.02447e-05},
-    {0.00102635, 3.93928e-05, 6.73027e-05, 1.58587e-05, 8.92966e-06}}}}};
+// AMD EPYC | 2 cores, 2 threads | L1d 32 KiB, L2 512 KiB, L3 32 MiB | ISAs scalar avx2 (active avx2) | hwloc
+constexpr FittedSet kAvx2{true, {Isa::avx2, {{{0, 0, 0.000102428, 2.88041e-05, 1.49939e-05, 0, 0},
+    {0.000397611, 1.04796e-05, 0.000105731, 3.18445e-05, 9.54398e-07, 2.96244e-06, 0.1739},
+    {0.000280896, 3.82526e-05, 0.000119878, 1.10662e-05, 1.93906e-05, 0, 0.7003},
+    {0.0019298, 3.38721e-05, 0.00012189, 1.1514e-05, 1.4599e-05, 0, 0.7003},
+    {0.00157605, 3.36797e-05, 0.000119943, 1.9249e-05, 1.23002e-05, 0, 0.7003},
+    {0.00147869, 3.36017e-05, 0.000124055, 2.5385e-05, 1.11254e-05, 0, 0.7003}}}}};
 // sweep:avx2:end
 // sweep:avx512:begin
 // simdbvh bench --sweep --report out/sweep --model-out bvh8/src/cost_model_fit.cpp --readme README.md

@@ -399,7 +399,10 @@ PYBIND11_MODULE(_simdbvh, m) {
              "Closest hits: dict of hit (bool), t, prim (-1 for a miss), u, v. Ties at equal t go to the lower id. "
              "points=True adds 'points' (n, 3): (1-u-v) v0 + u v1 + v v2 evaluated in double, rounded to float32 "
              "(on the hit triangle); normals=True adds 'normals' (n, 3): the unit geometric normal "
-             "(v1 - v0) x (v2 - v0) by the triangle's winding, not turned toward the ray. Misses: NaN rows.")
+             "(v1 - v0) x (v2 - v0) by the triangle's winding, not turned toward the ray. Misses: NaN rows. "
+             "origins, directions (n, 3) and tmin, tmax (numbers or (n,)) are read in place when they are "
+             "C-contiguous float32 and converted (copied) otherwise; the rays are traced in chunks of 16,384 "
+             "spread over `threads`, the answers written straight into the returned arrays.")
         .def("occluded", [](const Bvh& b, const py::handle& o, const py::handle& d, const py::handle& tmin,
                             const py::handle& tmax, int threads) {
             return b.intersect(o, d, tmin, tmax, threads, true)["hit"];
