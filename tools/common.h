@@ -26,5 +26,6 @@ int cmd_panel(const std::vector<std::string>& args);
 int cmd_gen_points(const std::vector<std::string>& args);
 int cmd_distance(const std::vector<std::string>& args);
 int cmd_inside(const std::vector<std::string>& args);
+int cmd_classify(const std::vector<std::string>& args);
 
 }  // namespace simdbvh::cli

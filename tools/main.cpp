@@ -48,6 +48,7 @@ int main(int argc, char** argv) {
         if (cmd == "gen-points") return cmd_gen_points(args);
         if (cmd == "distance") return cmd_distance(args);
         if (cmd == "inside") return cmd_inside(args);
+        if (cmd == "classify") return cmd_classify(args);
         return 2;
     } catch (const UsageError& e) {
         std::cerr << "simdbvh: " << e.what() << "\n";

@@ -41,6 +41,11 @@ constexpr CommandText kCommands[] = {
     {"inside", R"(inside   --scene S --points POINTS.bin --out SIDES.bin [--threads N] [--rule winding|parity]
            exact inside/outside per point: one byte (0 outside, 1 inside, 2 on the surface)
 )"},
+    {"classify", R"(classify --scene S --rays RAYS.bin --hits HITS.bin [--threads N] [--json FILE]
+           any method's closest hits (16-byte hit records, e.g. another library's answers) classified per ray
+           against the double-precision reference: agree, tie, leak, false_hit, wrong_triangle, t_error
+           (docs/accuracy.md); O(rays x triangles), for ray families and samples
+)"},
     {"bench", R"(bench    [--scene S] [--quick] [--threads N] [--json FILE] [--report DIR] [--readme README.md]
            [--reps N] [--build-reps N] [--rays N] [--sample N] [--stats-rays N] [--no-report]
            [--width-scenes S1,S2|none] [--refit-frames N]
