@@ -24,6 +24,7 @@
 namespace simdbvh::python {
 
 namespace py = pybind11;
+using namespace pybind11::literals;  // "name"_a = value: the result dicts
 using F32 = py::array_t<float, py::array::c_style | py::array::forcecast>;
 
 // A C-contiguous float32 (n, 3) array (forcecast copies other dtypes and layouts).

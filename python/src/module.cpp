@@ -105,12 +105,7 @@ public:
             });
         }
         const std::vector<Hit>& hits = all;
-        py::dict out;
-        out["hit"] = hit;
-        out["t"] = t;
-        out["prim"] = prim;
-        out["u"] = u;
-        out["v"] = v;
+        py::dict out("hit"_a = hit, "t"_a = t, "prim"_a = prim, "u"_a = u, "v"_a = v);
         if (points) out["points"] = hit_points(hits);
         if (normals) out["normals"] = hit_normals(hits);
         return out;
@@ -178,13 +173,7 @@ public:
             v.mutable_data()[i] = res[i].v;
             for (int k = 0; k < 3; ++k) pts.mutable_data()[3 * i + k] = res[i].point[k];
         }
-        py::dict out;
-        out["distance"] = dist;
-        out["prim"] = prim;
-        out["points"] = pts;
-        out["u"] = u;
-        out["v"] = v;
-        return out;
+        return py::dict("distance"_a = dist, "prim"_a = prim, "points"_a = pts, "u"_a = u, "v"_a = v);
     }
 
     std::vector<PointSide> side_list(const py::handle& points, const std::string& rule, int threads) const {
@@ -247,10 +236,7 @@ public:
             w.mutable_data()[i] = res[i].winding;
             c.mutable_data()[i] = res[i].crossings;
         }
-        py::dict out;
-        out["winding"] = w;
-        out["crossings"] = c;
-        return out;
+        return py::dict("winding"_a = w, "crossings"_a = c);
     }
 
     py::dict all(const py::handle& o, const py::handle& d, const py::handle& tmin, const py::handle& tmax,
@@ -283,15 +269,8 @@ public:
                 ++k;
             }
         }
-        py::dict out;
-        out["ray"] = ray;
-        out["t"] = t;
-        out["prim"] = prim;
-        out["u"] = u;
-        out["v"] = v;
-        out["facing"] = facing;
-        out["dropped"] = dropped;
-        return out;
+        return py::dict("ray"_a = ray, "t"_a = t, "prim"_a = prim, "u"_a = u, "v"_a = v, "facing"_a = facing,
+                        "dropped"_a = dropped);
     }
 
     const Mesh& mesh() const { return mesh_; }

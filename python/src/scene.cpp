@@ -213,14 +213,7 @@ public:
                 }
             });
         }
-        py::dict out;
-        out["hit"] = hit;
-        out["t"] = t;
-        out["u"] = u;
-        out["v"] = v;
-        out["prim"] = prim;
-        out["geom"] = geom;
-        out["inst"] = inst;
+        py::dict out("hit"_a = hit, "t"_a = t, "u"_a = u, "v"_a = v, "prim"_a = prim, "geom"_a = geom, "inst"_a = inst);
         if (normals) out["normals"] = nrm;
         return out;
     }

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import simdbvh
+from gil_probe import assert_gil_released
 
 CUBE_V = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0],
                    [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]], dtype=np.float64)
@@ -215,31 +216,12 @@ def test_load_a_file(tmp_path):
 
 def test_gil_is_released_during_a_long_trace():
     """A second Python thread keeps running while one thread traces."""
-    import threading
-    import time
     mesh = sphere_mesh(64)
     bvh = simdbvh.BVH(mesh, method="brute")  # slow on purpose: ~16k triangles per ray
     rng = np.random.default_rng(3)
     o = rng.uniform(-2, 2, (3000, 3))
     d = -o + rng.uniform(-0.1, 0.1, (3000, 3))
-    ticks = []
-    done = threading.Event()
-
-    def ticker():
-        while not done.is_set():
-            ticks.append(time.perf_counter())
-            time.sleep(0.001)
-
-    t = threading.Thread(target=ticker)
-    t.start()
-    start = time.perf_counter()
-    bvh.intersect(o, d)
-    end = time.perf_counter()
-    done.set()
-    t.join()
-    during = [x for x in ticks if start < x < end]
-    assert end - start > 0.05, "the trace must take a while for this test to mean anything"
-    assert len(during) >= 10, f"only {len(during)} ticks in {end - start:.3f} s: the GIL was held"
+    assert_gil_released(lambda: bvh.intersect(o, d))
 
 
 def test_memory_and_reference_counts_are_stable():
