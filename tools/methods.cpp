@@ -108,7 +108,7 @@ public:
         parallel_for(rays.size(), spec_.threads, [&](std::size_t b, std::size_t e) {
             for (std::size_t i = b; i < e; ++i)
                 hits[i] = any ? brute_force_occluded(mesh_, rays[i], spec_.test) : brute_force_intersect(mesh_, rays[i], spec_.test);
-        });
+        }, options_for_cost(mesh_.size()));
     }
 
 private:

@@ -1,5 +1,6 @@
 // Kernel micro-benchmarks: box1, box8, tri1 and tri8 (watertight, Moller) for
-// every ISA, with data that fits L1 (/l1) or streams 64 MiB from memory (/mem).
+// every ISA, with data that fits L1 (/l1) or streams 64 MiB from memory (/mem);
+// brute8: the SIMD brute-force loop over 8 MiB or 64 MiB, tiled against per ray.
 // items_per_second = box or triangle tests per second.
 //   ./simdbvh_bench_kernels --benchmark_min_time=0.2
 #include <benchmark/benchmark.h>
@@ -136,7 +137,46 @@ void BM_Tri8(benchmark::State& st, TriangleTest test, Isa isa, bool mem) {
     st.SetItemsProcessed(std::int64_t(st.iterations()) * std::int64_t(nrays * nblocks * 8));
 }
 
+// brute8_<tiled|per_ray>/<isa>/<l3|mem>: 64 rays' closest hits over 8 MiB
+// (l3: past L2, like dragon-res2's 203k triangles) or 64 MiB (mem) of Tri8
+// blocks. tiled is one batched call (the loop walks the blocks in L1-sized
+// tiles for 8 rays at a time); per_ray is one call per ray, which streams every
+// block once per ray (the loop before tiling). Same answers, same rays.
+void BM_Brute8(benchmark::State& st, bool tiled, Isa isa, bool mem) {
+    if (skip_unsupported(st, isa)) return;
+    const std::size_t nblocks = (mem ? kMemBytes : kMemBytes / 8) / sizeof(Tri8);
+    const std::size_t nrays = 64;
+    Rng rng(9);
+    std::vector<Tri8> blocks(nblocks);
+    for (std::size_t b = 0; b < nblocks; ++b)
+        for (int j = 0; j < 8; ++j) {
+            const Tri1 t = make_tri(rng, std::uint32_t(8 * b + j));
+            blocks[b].set(j, t.v0 * 0.05f, t.v1 * 0.05f, t.v2 * 0.05f, t.prim);  // small triangles: few hits
+        }
+    const std::vector<Ray> rays = make_rays(nrays, 10);
+    std::vector<Hit> hits(nrays);
+    for (auto _ : st) {
+        if (tiled) {
+            kernels::intersect_tri8(rays, blocks, TriangleTest::watertight, hits, isa);
+        } else {
+            for (std::size_t i = 0; i < nrays; ++i)
+                kernels::intersect_tri8(std::span<const Ray>(&rays[i], 1), blocks, TriangleTest::watertight,
+                                        std::span<Hit>(&hits[i], 1), isa);
+        }
+        benchmark::DoNotOptimize(hits.data());
+        benchmark::ClobberMemory();
+    }
+    st.SetItemsProcessed(std::int64_t(st.iterations()) * std::int64_t(nrays * nblocks * 8));
+}
+
 void register_all() {
+    for (bool mem : {false, true})
+        for (bool tiled : {true, false})
+            for (Isa isa : kAllIsas)
+                if (isa != Isa::scalar)
+                    benchmark::RegisterBenchmark((std::string(tiled ? "brute8_tiled/" : "brute8_per_ray/") +
+                                                  std::string(name(isa)) + (mem ? "/mem" : "/l3")).c_str(),
+                                                 BM_Brute8, tiled, isa, mem);
     for (bool mem : {false, true}) {
         const std::string size = mem ? "/mem" : "/l1";
         benchmark::RegisterBenchmark(("box1/scalar" + size).c_str(), BM_Box1, mem);

@@ -59,7 +59,7 @@ void trace(const Accel& a, const auto& impl, std::span<const Ray> rays, std::spa
             for (std::size_t i = b; i < e; ++i)
                 hits[i] = Any ? brute_force_occluded(impl.mesh, rays[i], o.test)
                               : brute_force_intersect(impl.mesh, rays[i], o.test);
-        });
+        }, options_for_cost(impl.mesh.size()));
     } else if constexpr (std::is_same_v<T, Bvh2>) {
         Any ? occluded(impl, rays, hits, o) : intersect(impl, rays, hits, o);
     } else {

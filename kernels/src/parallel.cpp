@@ -37,6 +37,13 @@ void set_executor(Executor executor) {
     g_executor = std::move(e);
 }
 
+ParallelOptions options_for_cost(std::size_t cost_per_item) {
+    constexpr std::size_t kChunkCost = std::size_t(1) << 20;
+    ParallelOptions o;
+    o.grain = std::clamp<std::size_t>(kChunkCost / std::max<std::size_t>(1, cost_per_item), 1, 2048);
+    return o;
+}
+
 void parallel_for(std::size_t n, int threads, const std::function<void(std::size_t, std::size_t)>& body,
                   const ParallelOptions& opts) {
     const std::size_t grain = std::max<std::size_t>(1, opts.grain);

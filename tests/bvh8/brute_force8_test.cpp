@@ -3,9 +3,12 @@
 // triangle tests, 1 and 2 threads, on a closed sphere (rays through its
 // vertices and edges included), a random soup and a mesh whose size is not a
 // multiple of the block width; any hit agrees on hit/miss and returns a hit
-// the scalar test confirms.
+// the scalar test confirms. The ray count is not a multiple of the SIMD loops'
+// tile of 8 rays, the block count spans several block tiles, and invalid rays
+// sit inside tiles.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 
 #include "simdbvh/bvh8/brute_force8.h"
@@ -37,6 +40,8 @@ void check_mesh(const Mesh& mesh, const char* what) {
         const Vec3 mid{0.5f * (a.x + b.x), 0.5f * (a.y + b.y), 0.5f * (a.z + b.z)};
         for (const Vec3& p : {a, mid}) rays.push_back(Ray{{p.x + 3, p.y + 2, p.z + 1}, 0, {-3, -2, -1}});
     }
+    // Invalid rays (zero and NaN directions) scattered through the tiles of 8 rays the SIMD loops walk.
+    for (std::size_t i = 5; i < rays.size(); i += 37) rays[i].dir = (i % 2) ? Vec3{0, 0, 0} : Vec3{std::nanf(""), 1, 0};
     for (TriangleTest test : {TriangleTest::watertight, TriangleTest::moller}) {
         std::vector<Hit> want(rays.size());
         std::size_t hit_count = 0;

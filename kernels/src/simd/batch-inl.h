@@ -1,6 +1,7 @@
 #pragma once
 // The batched loops of kernels/batch.h, written once for any 8-wide Arch and
 // instantiated by src/avx2/kernels_avx2.cpp and src/avx512/kernels_avx512.cpp.
+#include <algorithm>
 #include <limits>
 
 #include "simd/box8-inl.h"
@@ -42,35 +43,85 @@ struct BatchLoops {
         return n;
     }
 
+    // Brute force over every block, cache-blocked: a tile of kRayTile rays
+    // walks the blocks kBlockTile at a time (about 20 KiB, in L1), so each
+    // block is loaded once per tile instead of once per ray. Each ray still
+    // sees the blocks in triangle order, so its answer is the untiled one.
+    static constexpr std::size_t kRayTile = 16;
+    static constexpr std::size_t kBlockTile = 64;
+
+    struct Tile {
+        PreparedRay r[kRayTile];
+        RayPack<Arch> p[kRayTile];
+        Hit best[kRayTile];
+        bool live[kRayTile];
+        std::size_t n = 0;
+    };
+
+    static SIMDBVH_FORCE_INLINE void load_tile(std::span<const Ray> rays, std::size_t i0, Tile& tile) {
+        tile.n = std::min(kRayTile, rays.size() - i0);
+        for (std::size_t k = 0; k < tile.n; ++k) {
+            tile.r[k] = prepare(rays[i0 + k]);
+            tile.best[k] = Hit{};
+            tile.live[k] = tile.r[k].valid;
+            if (tile.live[k]) {
+                tile.p[k] = pack_ray<Arch>(tile.r[k]);
+                tile.best[k].t = tile.r[k].tmax;
+            }
+        }
+    }
+
     template <TriangleTest kTest>
     static SIMDBVH_FORCE_INLINE void closest(std::span<const Ray> rays, std::span<const Tri8> blocks, Hit* hits) {
-        for (std::size_t i = 0; i < rays.size(); ++i) {
-            const PreparedRay r = prepare(rays[i]);
-            Hit best;
-            if (r.valid) {
-                const RayPack<Arch> p = pack_ray<Arch>(r);
-                best.t = r.tmax;
-                for (const Tri8& b : blocks) intersect_tri8<Arch, kTest>(p, b, best);
-                if (!best.hit()) best = Hit{};
+        Tile tile;
+        for (std::size_t i0 = 0; i0 < rays.size(); i0 += kRayTile) {
+            load_tile(rays, i0, tile);
+            for (std::size_t b0 = 0; b0 < blocks.size(); b0 += kBlockTile) {
+                const std::span<const Tri8> chunk = blocks.subspan(b0, std::min(kBlockTile, blocks.size() - b0));
+                for (std::size_t k = 0; k < tile.n; ++k) {
+                    if (!tile.live[k]) continue;
+                    const RayPack<Arch> p = tile.p[k];  // locals: kept in registers over the chunk
+                    Hit best = tile.best[k];
+                    for (const Tri8& b : chunk) intersect_tri8<Arch, kTest>(p, b, best);
+                    tile.best[k] = best;
+                }
             }
-            hits[i] = to_caller(r, best);
+            for (std::size_t k = 0; k < tile.n; ++k) {
+                Hit best = tile.best[k];
+                if (!tile.live[k] || !best.hit()) best = Hit{};
+                hits[i0 + k] = to_caller(tile.r[k], best);
+            }
         }
     }
 
     template <TriangleTest kTest>
     static SIMDBVH_FORCE_INLINE void any(std::span<const Ray> rays, std::span<const Tri8> blocks,
                                          std::uint8_t* occluded, Hit* first_hits) {
-        for (std::size_t i = 0; i < rays.size(); ++i) {
-            const PreparedRay r = prepare(rays[i]);
-            Hit h;
-            bool found = false;
-            if (r.valid) {
-                const RayPack<Arch> p = pack_ray<Arch>(r);
-                for (const Tri8& b : blocks)
-                    if ((found = occluded_tri8<Arch, kTest>(p, b, r.tmax, h))) break;
+        Tile tile;
+        for (std::size_t i0 = 0; i0 < rays.size(); i0 += kRayTile) {
+            load_tile(rays, i0, tile);
+            bool found[kRayTile] = {};
+            std::size_t open = 0;
+            for (std::size_t k = 0; k < tile.n; ++k) open += tile.live[k] ? 1 : 0;
+            for (std::size_t b0 = 0; b0 < blocks.size() && open != 0; b0 += kBlockTile) {
+                const std::span<const Tri8> chunk = blocks.subspan(b0, std::min(kBlockTile, blocks.size() - b0));
+                for (std::size_t k = 0; k < tile.n; ++k) {
+                    if (!tile.live[k]) continue;
+                    const RayPack<Arch> p = tile.p[k];
+                    const float tmax = tile.r[k].tmax;
+                    for (const Tri8& b : chunk)
+                        if (occluded_tri8<Arch, kTest>(p, b, tmax, tile.best[k])) {
+                            found[k] = true;
+                            tile.live[k] = false;
+                            --open;
+                            break;
+                        }
+                }
             }
-            occluded[i] = found ? 1 : 0;
-            if (first_hits) first_hits[i] = found ? to_caller(r, h) : Hit{};
+            for (std::size_t k = 0; k < tile.n; ++k) {
+                occluded[i0 + k] = found[k] ? 1 : 0;
+                if (first_hits) first_hits[i0 + k] = found[k] ? to_caller(tile.r[k], tile.best[k]) : Hit{};
+            }
         }
     }
 };
