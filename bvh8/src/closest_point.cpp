@@ -3,8 +3,11 @@
 // blocks. A block shared by sibling leaves is offered whole: a triangle that
 // is not the leaf's own is still one of the mesh's, and the winner is the
 // (distance2, id) minimum over every triangle offered, so it cannot change.
+// Boxes and triangles are pruned by float lower bounds (point_bounds-inl.h),
+// 4 lanes at a time.
 #include "simdbvh/bvh8/closest_point.h"
 
+#include "point_bounds-inl.h"
 #include "point_query-inl.h"
 #include "simdbvh/kernels/parallel.h"
 
@@ -16,12 +19,22 @@ struct Pending {
     double distance2;
 };
 
+// A leaf's blocks: every triangle's box bound first (8 lanes in float, see
+// point_bounds-inl.h), the exact (double) test only for those that may be
+// closer than the best so far.
 template <int N>
 void offer_leaf(detail::Best& best, const Vec3& p, const Tri8* blocks, ChildN<N> c, PointQueryStats* stats) {
+    double key[kBlockWidth];
     for (std::uint32_t b = 0; b < c.blocks(); ++b) {
         const Tri8& t = blocks[c.index + b];
-        for (int k = 0; k < kBlockWidth; ++k)
-            if (t.prim[k] != kInvalidPrim) detail::offer_triangle(best, p, t.v0(k), t.v1(k), t.v2(k), t.prim[k], stats);
+        detail::triangle_keys(t, p, key);
+        for (int k = 0; k < kBlockWidth; ++k) {
+            if (t.prim[k] == kInvalidPrim) continue;
+            if (stats) stats->triangle_tests++;
+            if (key[k] > best.distance2) continue;
+            if (stats) stats->exact_tests++;
+            best.offer(closest_point_on_triangle(p, t.v0(k), t.v1(k), t.v2(k)), t.prim[k]);
+        }
     }
 }
 
@@ -40,12 +53,12 @@ ClosestPoint query(const BvhN<N>& bvh, const Vec3& p, double max_d2, PointQueryS
         if (cur.is_inner()) {
             const NodeN<N>& n = nodes[cur.index];
             if (stats) stats->nodes_visited++;
-            double d2[N];
+            double d2[N];  // prune keys (point_bounds-inl.h): prune when d2 > best
+            detail::box_keys<N>(n.boxes, p, d2);
             int order[N], hits = 0;
             for (int c = 0; c < N; ++c) {
                 if (n.children[c].is_empty()) continue;
-                d2[c] = detail::box_distance2(p, n.boxes.get(c));
-                if (d2[c] * detail::kPruneSlack > best.distance2) continue;
+                if (d2[c] > best.distance2) continue;
                 int k = hits++;  // insertion sort, farthest first
                 while (k > 0 && d2[order[k - 1]] < d2[c]) {
                     order[k] = order[k - 1];
@@ -65,7 +78,7 @@ ClosestPoint query(const BvhN<N>& bvh, const Vec3& p, double max_d2, PointQueryS
         for (;;) {  // the nearest pending child that may still hold a closer triangle
             if (sp == 0) return best.result();
             const Pending& s = stack[--sp];
-            if (s.distance2 * detail::kPruneSlack <= best.distance2) {
+            if (s.distance2 <= best.distance2) {
                 cur = ChildN<N>{s.index, s.count};
                 break;
             }
