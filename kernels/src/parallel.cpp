@@ -37,10 +37,11 @@ void set_executor(Executor executor) {
     g_executor = std::move(e);
 }
 
-ParallelOptions options_for_cost(std::size_t cost_per_item) {
+ParallelOptions options_for_cost(std::size_t cost_per_item, std::size_t min_items) {
     constexpr std::size_t kChunkCost = std::size_t(1) << 20;
     ParallelOptions o;
-    o.grain = std::clamp<std::size_t>(kChunkCost / std::max<std::size_t>(1, cost_per_item), 1, 2048);
+    o.grain = std::clamp<std::size_t>(kChunkCost / std::max<std::size_t>(1, cost_per_item),
+                                      std::clamp<std::size_t>(min_items, 1, 2048), 2048);
     return o;
 }
 

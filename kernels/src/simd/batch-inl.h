@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "simd/box8-inl.h"
+#include "simdbvh/kernels/batch.h"
 #include "simd/dispatch.h"
 #include "simd/tri8-inl.h"
 
@@ -47,7 +48,7 @@ struct BatchLoops {
     // walks the blocks kBlockTile at a time (about 20 KiB, in L1), so each
     // block is loaded once per tile instead of once per ray. Each ray still
     // sees the blocks in triangle order, so its answer is the untiled one.
-    static constexpr std::size_t kRayTile = 16;
+    static constexpr std::size_t kRayTile = kernels::kBruteRayTile;
     static constexpr std::size_t kBlockTile = 64;
 
     struct Tile {

@@ -30,6 +30,10 @@ namespace simdbvh::kernels {
 void intersect_box8(std::span<const Ray> rays, const Box8& boxes, std::span<std::uint8_t> masks,
                     std::span<float> entries, Isa isa = active_isa());
 // Closest hit of each ray over all blocks (ties: lower prim id); Hit{} on a miss.
+// The SIMD loops walk the blocks in L1-sized tiles for kBruteRayTile rays at a
+// time (each block is read once per tile): callers that split rays over
+// threads keep at least this many rays per call.
+inline constexpr std::size_t kBruteRayTile = 16;
 void intersect_tri8(std::span<const Ray> rays, std::span<const Tri8> blocks, TriangleTest test,
                     std::span<Hit> hits, Isa isa = active_isa());
 // Any hit of each ray over the blocks in [tmin, tmax]: occluded[i] = 0/1.

@@ -27,9 +27,9 @@ struct ParallelOptions {
 
 // Options for items whose cost is known up front (a brute-force ray costs one
 // test per triangle): chunks of about 2^20 unit costs, at most 2048 items and
-// at least one, so that a few hundred expensive items still spread over every
-// thread instead of fitting in one default-sized chunk.
-ParallelOptions options_for_cost(std::size_t cost_per_item);
+// at least min_items, so that a few hundred expensive items still spread over
+// every thread instead of fitting in one default-sized chunk.
+ParallelOptions options_for_cost(std::size_t cost_per_item, std::size_t min_items = 1);
 
 // A host executor: must call run(c) exactly once for every chunk c in
 // [0, chunks), on any of its threads (the calling thread included), and
