@@ -14,15 +14,16 @@
 //
 // build_par is the parallel fraction of the build (Amdahl), fitted from the
 // sweep's one- and all-core builds of the larger fit scenes. The memory term
-// is not divided by the threads: streaming from memory does not scale with
-// cores that share the memory bus (on the reference machine two threads of the
-// SIMD brute force over the dragon took as long as one).
+// is kept whole (not divided by the threads), a conservative choice for cores
+// that share the memory bus.
 //
-// h is the cache cliff of the brute forces: every ray streams all n triangles,
-// at about 0.6 ns per triangle while they stay in the cache and several times
-// that from memory (AMD EPYC: 3.3 to 3.7 ns on the 871k-triangle dragon); a
-// cyclic stream just larger than an LRU cache misses on every line, so the
-// cliff is a step. The cache size is this machine's (topology(): L3, else L2,
+// h is the cache cliff of the brute forces: the triangles are streamed once
+// per ray (scalar brute force) or once per tile of 16 rays (brute8's tiled
+// loop), so past the cache each ray pays extra per triangle; a cyclic stream
+// just larger than an LRU cache misses on every line, so the cliff is a step.
+// (The old note here, "two threads of brute8 over the dragon took as long as
+// one", was a chunking defect, fixed: below 2,048 rays the trace was one chunk
+// on one thread.) The cache size is this machine's (topology(): L3, else L2,
 // else 8 MiB), so a model fitted on one machine moves its cliff to another's.
 //
 #include <array>
