@@ -4,6 +4,8 @@
 #include <cmath>
 #include <iostream>
 #include <new>
+#include <type_traits>
+#include <variant>
 
 #include "common.h"
 #include "point_queries.h"
@@ -11,6 +13,7 @@
 #include "outputs.h"
 #include "simdbvh/bvh2/closest_point.h"
 #include "simdbvh/bvh2/inside.h"
+#include "simdbvh/bvh8/closest_point.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/scene/output.h"
 #include "simdbvh/scene/points.h"
@@ -55,8 +58,13 @@ int cmd_gen_points(const std::vector<std::string>& args) {
 }
 
 int cmd_distance(const std::vector<std::string>& args) {
-    const Options o("distance", args, {"scene", "points", "out", "threads", "max-distance", "rule"},
+    const Options o("distance", args, {"scene", "points", "out", "threads", "max-distance", "rule", "tree"},
                     {"stats", "unsigned"});
+    // The closest point's tree: the BVH4 by default (the fastest on the dragon in
+    // bench/bvh8/closest_point_bench.cpp); every tree gives the same records.
+    const std::string tree = o.get("tree", "bvh4");
+    if (tree != "bvh2" && tree != "bvh4" && tree != "bvh8" && tree != "bvh16")
+        throw UsageError("unknown --tree '" + tree + "' (bvh2, bvh4, bvh8, bvh16)");
     const std::string scene_name = o.require("scene");
     const std::string points_file = o.require("points");
     const std::string out = o.require("out");
@@ -74,13 +82,20 @@ int cmd_distance(const std::vector<std::string>& args) {
     const bool is_signed = !o.has("unsigned");
     const Mesh mesh = load_scene_with_progress(scene_name);
     if (is_signed) report_closure(scene_name, mesh);
-    progress("building bvh2 ...");
+    progress("building " + tree + " ...");
     const auto t0 = std::chrono::steady_clock::now();
-    const Bvh2 bvh = Bvh2::build(mesh);
+    const Bvh2 bvh = Bvh2::build(mesh);  // the inside test's tree, and the wide trees' source
+    std::variant<std::monostate, Bvh4, Bvh8, Bvh16> wide;
+    if (tree == "bvh4") wide = Bvh4::build(bvh);
+    if (tree == "bvh8") wide = Bvh8::build(bvh);
+    if (tree == "bvh16") wide = Bvh16::build(bvh);
     const double build_s = seconds_since(t0);
     std::vector<ClosestPoint> results(points.size());
     const auto t1 = std::chrono::steady_clock::now();
-    closest_point(bvh, points, results, q);
+    std::visit([&](const auto& t) {
+        if constexpr (std::is_same_v<std::decay_t<decltype(t)>, std::monostate>) closest_point(bvh, points, results, q);
+        else closest_point(t, points, results, q);
+    }, wide);
     std::size_t inside = 0;
     if (is_signed) {  // the sign from the exact inside test
         std::vector<PointSide> sides(points.size());
@@ -104,7 +119,7 @@ int cmd_distance(const std::vector<std::string>& args) {
             sum += std::fabs(c.distance);
             worst = std::max(worst, double(std::fabs(c.distance)));
         }
-    std::cout << "method bvh2  threads " << q.threads << "  max-distance " << q.max_distance << "  "
+    std::cout << "method " << tree << "  threads " << q.threads << "  max-distance " << q.max_distance << "  "
               << (is_signed ? "signed" : "unsigned") << "\n"
               << "points " << points.size() << "  found " << found << "  inside " << inside << "  mean |distance| "
               << (found ? sum / double(found) : 0.0) << "  max " << worst << "\n"

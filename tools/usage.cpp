@@ -35,8 +35,9 @@ constexpr CommandText kCommands[] = {
     {"gen-points", R"(gen-points --scene S --count N [--seed K] --out POINTS.bin   uniform in the bounds + 10% per side
 )"},
     {"distance", R"(distance --scene S --points POINTS.bin --out DIST.bin [--threads N] [--max-distance R] [--stats]
-           [--unsigned] [--rule winding|parity]
-           closest point per point: 20-byte records (signed distance, triangle, x y z); negative inside
+           [--unsigned] [--rule winding|parity] [--tree bvh2|bvh4|bvh8|bvh16]
+           closest point per point: 20-byte records (signed distance, triangle, x y z); negative inside;
+           --tree: the closest point's tree (default bvh4; same records from each)
 )"},
     {"inside", R"(inside   --scene S --points POINTS.bin --out SIDES.bin [--threads N] [--rule winding|parity]
            exact inside/outside per point: one byte (0 outside, 1 inside, 2 on the surface)

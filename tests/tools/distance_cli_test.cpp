@@ -70,6 +70,16 @@ TEST_F(DistanceCli, RecordsMatchTheBruteForce) {
     ASSERT_EQ(u.status, 0) << u.output;
     const auto unsigned_recs = scene::read_distances(path("u.bin"));
     for (std::size_t i = 0; i < recs.size(); ++i) ASSERT_EQ(unsigned_recs[i].distance, std::fabs(recs[i].distance));
+    // Every --tree writes the same bytes as the default (bvh4, checked against brute force above).
+    EXPECT_NE(d.output.find("method bvh4"), std::string::npos) << d.output;
+    const std::string want_bytes = test::read_bytes(out);
+    for (const char* tree : {"bvh2", "bvh8", "bvh16"}) {
+        const std::string o = path(std::string(tree) + ".bin");
+        CliRun t = run_cli("distance --scene icosphere-3 --points " + pts + " --out " + o + " --tree " + tree);
+        ASSERT_EQ(t.status, 0) << t.output;
+        EXPECT_NE(t.output.find(std::string("method ") + tree), std::string::npos) << t.output;
+        EXPECT_EQ(test::read_bytes(o), want_bytes) << tree;
+    }
 }
 
 TEST_F(DistanceCli, InsideWritesOneBytePerPointAndWarnsOnOpenMeshes) {
@@ -142,7 +152,8 @@ TEST_F(DistanceCli, BadInputExitsTwoAndLeavesNothing) {
     EXPECT_EQ(test::read_bytes(keep), "precious");
     scene::write_file_atomic(pts, scene::encode_points(std::vector<Vec3>{{0, 0, 0}}));
     for (const std::string& bad : {std::string("--max-distance -1"), std::string("--max-distance abc"),
-                                   std::string("--threads 0"), std::string("--bogus 1")}) {
+                                   std::string("--threads 0"), std::string("--bogus 1"),
+                                   std::string("--tree bvh32")}) {
         d = run_cli("distance --scene icosphere-3 --points " + pts + " --out " + out + " " + bad);
         EXPECT_EQ(d.status, 2) << bad << ": " << d.output;
         EXPECT_FALSE(fs::exists(out)) << bad;
