@@ -4,72 +4,17 @@
 
 #include <cmath>
 
-#include "exact_predicates.h"
+#include "crossing-inl.h"
 #include "point_query-inl.h"
 #include "simdbvh/kernels/parallel.h"
 
 namespace simdbvh {
 namespace {
 
-// The crossing of the +z ray from p with triangle (a, b, c): 0 none, +1 or -1
-// (the sign of the triangle's normal z), or `kOnSurface` when p lies on it.
-constexpr int kOnSurface = 2;
-
-bool in_box(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p) {
-    for (int k = 0; k < 3; ++k)
-        if (p[k] < std::fmin(a[k], std::fmin(b[k], c[k])) || p[k] > std::fmax(a[k], std::fmax(b[k], c[k]))) return false;
-    return true;
-}
-
-int crossing(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p) {
-    // Cheap reject first (most triangles of a reached leaf): the perturbed line
-    // through (px, py) meets the triangle only if (px, py) is in the closure of
-    // its projection, so in its closed xy box; a triangle wholly below p
-    // (p.z above its top) is neither crossed by the +z ray nor touched by p.
-    if (p.x < std::fmin(a.x, std::fmin(b.x, c.x)) || p.x > std::fmax(a.x, std::fmax(b.x, c.x)) ||
-        p.y < std::fmin(a.y, std::fmin(b.y, c.y)) || p.y > std::fmax(a.y, std::fmax(b.y, c.y)) ||
-        p.z > std::fmax(a.z, std::fmax(b.z, c.z)))
-        return 0;
-    // On the triangle (faces parallel to z and silhouette edges included): the
-    // rarely taken exact test, for the triangles whose box holds p.
-    if (in_box(a, b, c, p) && exact::on_triangle(a, b, c, p)) return kOnSurface;
-    const int facing = exact::orient2d(a, b, c);  // sign of the normal's z
-    if (facing == 0) return 0;                    // parallel to the ray: never contains the perturbed line
-    if (exact::orient2d_perturbed(a, b, p) != facing || exact::orient2d_perturbed(b, c, p) != facing ||
-        exact::orient2d_perturbed(c, a, p) != facing)
-        return 0;
-    // The plane at (px, py) is above p when n . (p - a) and n_z have opposite signs.
-    const int side = exact::plane_side(a, b, c, p);
-    if (side == 0) return kOnSurface;  // (found above already)
-    return side != facing ? facing : 0;
-}
-
-struct Counter {
-    PointSide r;
-    bool surface = false;
-    void add(int c) {
-        if (c == kOnSurface) {
-            surface = true;
-        } else if (c != 0) {
-            r.winding += c;
-            r.crossings++;
-        }
-    }
-    PointSide result(const InsideOptions& o) {
-        if (surface) r.side = Side::surface;
-        else if (o.rule == InsideOptions::Rule::winding) r.side = r.winding != 0 ? Side::inside : Side::outside;
-        else r.side = (r.crossings & 1u) ? Side::inside : Side::outside;
-        return r;
-    }
-};
-
-bool usable(const Vec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
-
-// Closed boxes: the perturbed line through (px, py) meets a triangle only if
-// (px, py) is in the closure of its projection, so in its box.
-bool box_reaches(const Aabb& b, const Vec3& p) {
-    return b.lo.x <= p.x && p.x <= b.hi.x && b.lo.y <= p.y && p.y <= b.hi.y && p.z <= b.hi.z;
-}
+using detail::box_reaches;
+using detail::crossing;
+using detail::usable;
+using Counter = detail::CrossingCounter;
 
 PointSide classify(const Bvh2& bvh, const Vec3& p, const InsideOptions& o) {
     Counter cnt;

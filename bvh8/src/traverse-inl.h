@@ -25,6 +25,7 @@
 
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/kernels/error.h"
+#include "prefetch-inl.h"
 #include "traverse.h"
 #include "query/query.h"
 
@@ -72,26 +73,6 @@ struct StackEntry {
     std::uint32_t index, count;  // Child8
     float entry;
 };
-
-// Prefetch the lines of the next node or leaf a ray will visit (a NodeN:
-// N / 2 lines; a leaf: its first Tri8 block, 320 bytes at 64-byte alignment:
-// 5 lines) at the end of its step, so the miss overlaps the other rays' steps.
-template <int N>
-inline __attribute__((always_inline)) void prefetch_child(const NodeN<N>* nodes, const Tri8* blocks, ChildN<N> c) {
-    constexpr int kNodeLines = int(sizeof(NodeN<N>) / 64), kBlockLines = int((sizeof(Tri8) + 63) / 64);
-    constexpr int kBoth = kNodeLines < kBlockLines ? kNodeLines : kBlockLines;
-    const char* p = c.is_inner() ? reinterpret_cast<const char*>(nodes + c.index)
-                                 : reinterpret_cast<const char*>(blocks + c.index);
-    for (int l = 0; l < kBoth; ++l) __builtin_prefetch(p + 64 * l);
-    if constexpr (kBlockLines > kBoth) {
-        if (!c.is_inner())
-            for (int l = kBoth; l < kBlockLines; ++l) __builtin_prefetch(p + 64 * l);
-    }
-    if constexpr (kNodeLines > kBoth) {
-        if (c.is_inner())
-            for (int l = kBoth; l < kNodeLines; ++l) __builtin_prefetch(p + 64 * l);
-    }
-}
 
 // Hit leaf siblings sharing one Tri8 block (ChildN::sharing_slots) are merged
 // into the lowest hit slot at the nearest of their entry distances, so the

@@ -1,0 +1,86 @@
+#pragma once
+// Internal: the crossing of the +z ray from a point with one triangle, exactly
+// (exact_predicates.h, docs/exact_crossings.md), and the count of crossings
+// into a PointSide: shared by the BVH2's inside test (inside.cpp) and the
+// wide trees' (bvh8/src/inside.cpp), so both count with the same predicates.
+#include <cmath>
+
+#include "exact_predicates.h"
+#include "point_query-inl.h"  // detail::usable
+#include "simdbvh/bvh2/inside.h"
+#include "simdbvh/kernels/aabb.h"
+
+namespace simdbvh::detail {
+
+// crossing()'s answer when p lies on the triangle.
+inline constexpr int kOnSurface = 2;
+
+// p below (above) the minimum (maximum) of three finite floats, with
+// comparisons only (std::fmin and std::fmax are library calls here).
+inline bool below3(float p, float a, float b, float c) { return p < a && p < b && p < c; }
+inline bool above3(float p, float a, float b, float c) { return p > a && p > b && p > c; }
+
+inline bool in_box(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p) {
+    for (int k = 0; k < 3; ++k)
+        if (below3(p[k], a[k], b[k], c[k]) || above3(p[k], a[k], b[k], c[k])) return false;
+    return true;
+}
+
+// What crossing() decides first, cheaply: the perturbed line through
+// (px, py) meets the triangle only if (px, py) is in the closure of its
+// projection, so in its closed xy box; a triangle wholly below p (p.z above
+// its top) is neither crossed by the +z ray nor touched by p. The wide trees
+// make the same decision 4 lanes at a time (bvh8/src/inside.cpp).
+inline bool column_misses(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p) {
+    return below3(p.x, a.x, b.x, c.x) || above3(p.x, a.x, b.x, c.x) || below3(p.y, a.y, b.y, c.y) ||
+           above3(p.y, a.y, b.y, c.y) || above3(p.z, a.z, b.z, c.z);
+}
+
+// crossing() for a triangle that column_misses() did not reject.
+inline int crossing_exact(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p) {
+    // On the triangle (faces parallel to z and silhouette edges included): the
+    // rarely taken exact test, for the triangles whose box holds p.
+    if (in_box(a, b, c, p) && exact::on_triangle(a, b, c, p)) return kOnSurface;
+    const int facing = exact::orient2d(a, b, c);  // sign of the normal's z
+    if (facing == 0) return 0;                    // parallel to the ray: never contains the perturbed line
+    if (exact::orient2d_perturbed(a, b, p) != facing || exact::orient2d_perturbed(b, c, p) != facing ||
+        exact::orient2d_perturbed(c, a, p) != facing)
+        return 0;
+    // The plane at (px, py) is above p when n . (p - a) and n_z have opposite signs.
+    const int side = exact::plane_side(a, b, c, p);
+    if (side == 0) return kOnSurface;  // (found above already)
+    return side != facing ? facing : 0;
+}
+
+// The crossing of the +z ray from p with triangle (a, b, c): 0 none, +1 or -1
+// (the sign of the triangle's normal z), or `kOnSurface` when p lies on it.
+inline int crossing(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p) {
+    return column_misses(a, b, c, p) ? 0 : crossing_exact(a, b, c, p);
+}
+
+struct CrossingCounter {
+    PointSide r;
+    bool surface = false;
+    void add(int c) {
+        if (c == kOnSurface) {
+            surface = true;
+        } else if (c != 0) {
+            r.winding += c;
+            r.crossings++;
+        }
+    }
+    PointSide result(const InsideOptions& o) {
+        if (surface) r.side = Side::surface;
+        else if (o.rule == InsideOptions::Rule::winding) r.side = r.winding != 0 ? Side::inside : Side::outside;
+        else r.side = (r.crossings & 1u) ? Side::inside : Side::outside;
+        return r;
+    }
+};
+
+// Closed boxes: the perturbed line through (px, py) meets a triangle only if
+// (px, py) is in the closure of its projection, so in its box.
+inline bool box_reaches(const Aabb& b, const Vec3& p) {
+    return b.lo.x <= p.x && p.x <= b.hi.x && b.lo.y <= p.y && p.y <= b.hi.y && p.z <= b.hi.z;
+}
+
+}  // namespace simdbvh::detail

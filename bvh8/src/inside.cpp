@@ -1,0 +1,205 @@
+// Exact inside/outside over BvhN<N> (simdbvh/bvh8/inside.h): the BVH2's
+// crossing count (bvh2/src/crossing-inl.h) over wide nodes and Tri8 blocks.
+// The column tests run 4 lanes at a time with SSE (the x86-64 baseline: no
+// dispatch, no AVX); they are comparisons only, so they decide exactly what
+// box_reaches() and column_misses() decide in the BVH2's loop.
+#include "simdbvh/bvh8/inside.h"
+
+#include <emmintrin.h>
+
+#include "crossing-inl.h"
+#include "prefetch-inl.h"
+#include "point_query-inl.h"
+#include "simdbvh/kernels/parallel.h"
+
+namespace simdbvh {
+namespace {
+
+struct Column {
+    __m128 x, y, z;
+    Column() = default;
+    explicit Column(const Vec3& p) : x(_mm_set1_ps(p.x)), y(_mm_set1_ps(p.y)), z(_mm_set1_ps(p.z)) {}
+    // Lanes whose closed xy box holds (px, py) and whose top is at or above pz.
+    int reaches(__m128 lx, __m128 hx, __m128 ly, __m128 hy, __m128 hz) const {
+        const __m128 in_x = _mm_and_ps(_mm_cmple_ps(lx, x), _mm_cmple_ps(x, hx));
+        const __m128 in_y = _mm_and_ps(_mm_cmple_ps(ly, y), _mm_cmple_ps(y, hy));
+        return _mm_movemask_ps(_mm_and_ps(_mm_and_ps(in_x, in_y), _mm_cmple_ps(z, hz)));
+    }
+};
+
+// Child boxes the column reaches (empty slots: lo +inf, hi -inf, never).
+template <int N>
+std::uint32_t reached_children(const BoxN<N>& b, const Column& c) {
+    std::uint32_t m = 0;
+    for (int i = 0; i < N; i += 4)
+        m |= std::uint32_t(c.reaches(_mm_load_ps(b.lo_x + i), _mm_load_ps(b.hi_x + i), _mm_load_ps(b.lo_y + i),
+                                     _mm_load_ps(b.hi_y + i), _mm_load_ps(b.hi_z + i)))
+             << i;
+    return m;
+}
+
+// Triangles of a block whose column test passes (column_misses() false; the
+// vertices are finite, so min/max agree with fmin/fmax).
+std::uint32_t reached_triangles(const Tri8& t, const Column& c) {
+    std::uint32_t m = 0;
+    for (int i = 0; i < kBlockWidth; i += 4) {
+        auto axis = [&](const float* a, const float* b, const float* d, __m128& lo, __m128& hi) {
+            const __m128 va = _mm_load_ps(a + i), vb = _mm_load_ps(b + i), vd = _mm_load_ps(d + i);
+            lo = _mm_min_ps(_mm_min_ps(va, vb), vd);
+            hi = _mm_max_ps(_mm_max_ps(va, vb), vd);
+        };
+        __m128 lx, hx, ly, hy, lz, hz;
+        axis(t.v0x, t.v1x, t.v2x, lx, hx);
+        axis(t.v0y, t.v1y, t.v2y, ly, hy);
+        axis(t.v0z, t.v1z, t.v2z, lz, hz);
+        m |= std::uint32_t(c.reaches(lx, hx, ly, hy, hz)) << i;
+    }
+    return m;
+}
+
+std::uint32_t used_lanes(const Tri8& t) {
+    std::uint32_t m = 0;
+    for (int k = 0; k < kBlockWidth; ++k)
+        if (t.prim[k] != kInvalidPrim) m |= 1u << k;
+    return m;
+}
+
+template <int N>
+void count_leaf(detail::CrossingCounter& cnt, const Tri8* blocks, ChildN<N> leaf, const Column& col, const Vec3& p) {
+    for (std::uint32_t b = 0; b < leaf.blocks(); ++b) {
+        const Tri8& t = blocks[leaf.index + b];
+        // A single-block leaf counts its own lanes only (its block may be shared).
+        const std::uint32_t own = leaf.own_lanes() != 0 ? leaf.own_lanes() : used_lanes(t);
+        for (std::uint32_t m = reached_triangles(t, col) & own; m != 0; m &= m - 1) {
+            const int k = __builtin_ctz(m);
+            cnt.add(detail::crossing_exact(t.v0(k), t.v1(k), t.v2(k), p));
+        }
+    }
+}
+
+// Uninitialized stack entries (ChildN's member initializers would zero-fill
+// several KiB per point: a fifth of the query's time in a profile).
+struct Entry {
+    std::uint32_t index, count;
+};
+
+// One point's walk: visits every node and leaf whose box the +z column
+// reaches, in any order (a count does not depend on it).
+template <int N>
+struct Walk {
+    detail::CrossingCounter cnt;
+    Column col;
+    Vec3 p;
+    ChildN<N> cur;
+    std::uint32_t point;
+    int sp;
+    Entry stack[1 + (N - 1) * kMaxDepth];
+
+    // False (and nothing to walk) when the column misses the tree.
+    bool start(const BvhN<N>& bvh, const Vec3& q, std::uint32_t i) {
+        cnt = {};
+        p = q;
+        point = i;
+        if (!detail::usable(q) || bvh.nodes().empty() || !detail::box_reaches(bvh.bounds(), q)) return false;
+        col = Column(q);
+        cur = ChildN<N>::inner(0);
+        sp = 0;
+        return true;
+    }
+    // Visits cur, then moves cur to the next node or leaf; true when done.
+    bool step(const NodeN<N>* nodes, const Tri8* blocks) {
+        if (cur.is_inner()) {
+            const NodeN<N>& n = nodes[cur.index];
+            std::uint32_t m = reached_children<N>(n.boxes, col);
+            if (m != 0) {
+                cur = n.children[__builtin_ctz(m)];
+                for (m &= m - 1; m != 0; m &= m - 1) {
+                    const ChildN<N>& c = n.children[__builtin_ctz(m)];
+                    stack[sp++] = {c.index, c.count};
+                }
+                return false;
+            }
+        } else {
+            count_leaf<N>(cnt, blocks, cur, col, p);
+        }
+        if (sp == 0) return true;
+        --sp;
+        cur = ChildN<N>{stack[sp].index, stack[sp].count};
+        return false;
+    }
+};
+
+// Points walked in flight per loop: each step ends by prefetching the walk's
+// next node or leaf, and the other walks' steps run while it arrives (uniform
+// points visit about 3.5 BVH8 nodes each on the dragon, nearly every one a
+// miss: without this the query waited on memory).
+inline constexpr int kInFlight = 8;
+
+// Classifies points[order[b..e)] into out.
+template <int N>
+void classify_span(const BvhN<N>& bvh, std::span<const Vec3> points, const std::uint32_t* order, std::size_t b,
+                   std::size_t e, std::span<PointSide> out, const InsideOptions& o) {
+    const NodeN<N>* nodes = bvh.nodes().data();
+    const Tri8* blocks = bvh.blocks().data();
+    Walk<N> walks[kInFlight];
+    int live[kInFlight], nlive = 0;
+    std::size_t next = b;
+    auto refill = [&](int slot) {
+        while (next < e) {
+            const std::uint32_t i = order[next++];
+            if (walks[slot].start(bvh, points[i], i)) return true;
+            out[i] = walks[slot].cnt.result(o);
+        }
+        return false;
+    };
+    for (int w = 0; w < kInFlight; ++w)
+        if (refill(w)) live[nlive++] = w;
+    while (nlive > 0) {
+        for (int k = 0; k < nlive;) {
+            Walk<N>& w = walks[live[k]];
+            if (!w.step(nodes, blocks)) {
+                bvh8::detail::prefetch_child(nodes, blocks, w.cur);
+            } else {
+                out[w.point] = w.cnt.result(o);
+                if (!refill(live[k])) {
+                    live[k] = live[--nlive];
+                    continue;
+                }
+            }
+            ++k;
+        }
+    }
+}
+
+}  // namespace
+
+template <int N>
+PointSide classify_point(const BvhN<N>& bvh, const Vec3& p, const InsideOptions& opts) {
+    PointSide r;
+    const std::uint32_t zero = 0;
+    classify_span(bvh, std::span<const Vec3>(&p, 1), &zero, 0, 1, std::span<PointSide>(&r, 1), opts);
+    return r;
+}
+
+template <int N>
+void classify_points(const BvhN<N>& bvh, std::span<const Vec3> points, std::span<PointSide> out,
+                     const InsideOptions& opts) {
+    if (out.size() < points.size()) throw Error("output span is smaller than points span");
+    // Morton order: neighbouring points walk the same nodes while they are in
+    // cache. The order changes the speed only.
+    const std::vector<std::uint32_t> order = detail::morton_order(points);
+    parallel_for(points.size(), opts.threads, [&](std::size_t b, std::size_t e) {
+        classify_span(bvh, points, order.data(), b, e, out, opts);
+    }, ParallelOptions{.grain = 1024});
+}
+
+#define SIMDBVH_INSTANTIATE(N)                                                                              \
+    template PointSide classify_point<N>(const BvhN<N>&, const Vec3&, const InsideOptions&);                \
+    template void classify_points<N>(const BvhN<N>&, std::span<const Vec3>, std::span<PointSide>,           \
+                                     const InsideOptions&);
+SIMDBVH_INSTANTIATE(4)
+SIMDBVH_INSTANTIATE(8)
+SIMDBVH_INSTANTIATE(16)
+#undef SIMDBVH_INSTANTIATE
+
+}  // namespace simdbvh
