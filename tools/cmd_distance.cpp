@@ -4,8 +4,6 @@
 #include <cmath>
 #include <iostream>
 #include <new>
-#include <type_traits>
-#include <variant>
 
 #include "common.h"
 #include "point_queries.h"
@@ -14,6 +12,7 @@
 #include "simdbvh/bvh2/closest_point.h"
 #include "simdbvh/bvh2/inside.h"
 #include "simdbvh/bvh8/closest_point.h"
+#include "simdbvh/bvh8/inside.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/scene/output.h"
 #include "simdbvh/scene/points.h"
@@ -60,11 +59,10 @@ int cmd_gen_points(const std::vector<std::string>& args) {
 int cmd_distance(const std::vector<std::string>& args) {
     const Options o("distance", args, {"scene", "points", "out", "threads", "max-distance", "rule", "tree"},
                     {"stats", "unsigned"});
-    // The closest point's tree: the BVH4 by default (the fastest on the dragon in
-    // bench/bvh8/closest_point_bench.cpp); every tree gives the same records.
-    const std::string tree = o.get("tree", "bvh4");
-    if (tree != "bvh2" && tree != "bvh4" && tree != "bvh8" && tree != "bvh16")
-        throw UsageError("unknown --tree '" + tree + "' (bvh2, bvh4, bvh8, bvh16)");
+    // The tree of the closest point and the sign: the BVH4 by default (the
+    // fastest closest point on the dragon in bench/bvh8/closest_point_bench.cpp,
+    // within 15% of the fastest inside test); every tree gives the same records.
+    const std::string tree = parse_tree(o, "bvh4");
     const std::string scene_name = o.require("scene");
     const std::string points_file = o.require("points");
     const std::string out = o.require("out");
@@ -84,22 +82,15 @@ int cmd_distance(const std::vector<std::string>& args) {
     if (is_signed) report_closure(scene_name, mesh);
     progress("building " + tree + " ...");
     const auto t0 = std::chrono::steady_clock::now();
-    const Bvh2 bvh = Bvh2::build(mesh);  // the inside test's tree, and the wide trees' source
-    std::variant<std::monostate, Bvh4, Bvh8, Bvh16> wide;
-    if (tree == "bvh4") wide = Bvh4::build(bvh);
-    if (tree == "bvh8") wide = Bvh8::build(bvh);
-    if (tree == "bvh16") wide = Bvh16::build(bvh);
+    const PointTree pt = PointTree::build(mesh, tree);
     const double build_s = seconds_since(t0);
     std::vector<ClosestPoint> results(points.size());
     const auto t1 = std::chrono::steady_clock::now();
-    std::visit([&](const auto& t) {
-        if constexpr (std::is_same_v<std::decay_t<decltype(t)>, std::monostate>) closest_point(bvh, points, results, q);
-        else closest_point(t, points, results, q);
-    }, wide);
+    pt.visit([&](const auto& t) { closest_point(t, points, results, q); });
     std::size_t inside = 0;
     if (is_signed) {  // the sign from the exact inside test
         std::vector<PointSide> sides(points.size());
-        classify_points(bvh, points, sides, io);
+        pt.visit([&](const auto& t) { classify_points(t, points, sides, io); });
         for (std::size_t i = 0; i < points.size(); ++i) {
             if (!results[i].found()) continue;
             if (sides[i].side == Side::surface) results[i].distance = 0.0f;

@@ -27,4 +27,19 @@ InsideOptions::Rule parse_rule(const Options& o) {
     throw UsageError("unknown --rule '" + r + "' (winding, parity)");
 }
 
+std::string parse_tree(const Options& o, const std::string& fallback) {
+    const std::string tree = o.get("tree", fallback);
+    if (tree != "bvh2" && tree != "bvh4" && tree != "bvh8" && tree != "bvh16")
+        throw UsageError("unknown --tree '" + tree + "' (bvh2, bvh4, bvh8, bvh16)");
+    return tree;
+}
+
+PointTree PointTree::build(const Mesh& mesh, const std::string& tree) {
+    PointTree t{Bvh2::build(mesh), {}};
+    if (tree == "bvh4") t.wide = Bvh4::build(t.bvh2);
+    if (tree == "bvh8") t.wide = Bvh8::build(t.bvh2);
+    if (tree == "bvh16") t.wide = Bvh16::build(t.bvh2);
+    return t;
+}
+
 }  // namespace simdbvh::cli

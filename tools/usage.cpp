@@ -37,10 +37,12 @@ constexpr CommandText kCommands[] = {
     {"distance", R"(distance --scene S --points POINTS.bin --out DIST.bin [--threads N] [--max-distance R] [--stats]
            [--unsigned] [--rule winding|parity] [--tree bvh2|bvh4|bvh8|bvh16]
            closest point per point: 20-byte records (signed distance, triangle, x y z); negative inside;
-           --tree: the closest point's tree (default bvh4; same records from each)
+           --tree: the tree of the closest point and the sign (default bvh4; same records from each)
 )"},
     {"inside", R"(inside   --scene S --points POINTS.bin --out SIDES.bin [--threads N] [--rule winding|parity]
-           exact inside/outside per point: one byte (0 outside, 1 inside, 2 on the surface)
+           [--tree bvh2|bvh4|bvh8|bvh16]
+           exact inside/outside per point: one byte (0 outside, 1 inside, 2 on the surface);
+           --tree: the tree the +z rays walk (default bvh8; same bytes from each)
 )"},
     {"classify", R"(classify --scene S --rays RAYS.bin --hits HITS.bin [--threads N] [--json FILE]
            any method's closest hits (16-byte hit records, e.g. another library's answers) classified per ray

@@ -17,6 +17,8 @@
 #include "simdbvh/bvh2/crossings.h"
 #include "simdbvh/bvh2/inside.h"
 #include "simdbvh/bvh8/bvh8.h"
+#include "simdbvh/bvh8/closest_point.h"
+#include "simdbvh/bvh8/inside.h"
 #include "simdbvh/kernels/isa.h"
 #include "simdbvh/kernels/parallel.h"
 #include "simdbvh/scene/scenes.h"
@@ -160,7 +162,7 @@ public:
             if (method_ == "brute") {
                 for (std::size_t i = 0; i < n; ++i) res[i] = brute_force_closest_point(mesh_, vec3s(p)[i], o);
             } else {
-                closest_point(bvh2_, std::span<const Vec3>(vec3s(p), n), res, o);
+                with_tree([&](const auto& t) { closest_point(t, std::span<const Vec3>(vec3s(p), n), res, o); });
             }
         }
         auto dist = empty_array<float>(n), u = empty_array<float>(n), v = empty_array<float>(n);
@@ -176,6 +178,16 @@ public:
         return py::dict("distance"_a = dist, "prim"_a = prim, "points"_a = pts, "u"_a = u, "v"_a = v);
     }
 
+    // The point queries' tree: the mesh's wide tree when it has one (the same
+    // answers as the BVH2, faster: bench/bvh8), else the BVH2.
+    template <class F>
+    void with_tree(F&& f) const {
+        if (bvh4_) f(*bvh4_);
+        else if (bvh8_) f(*bvh8_);
+        else if (bvh16_) f(*bvh16_);
+        else f(bvh2_);
+    }
+
     std::vector<PointSide> side_list(const py::handle& points, const std::string& rule, int threads) const {
         const F32 p = as_points(points, "points");
         const auto n = std::size_t(p.shape(0));
@@ -187,7 +199,7 @@ public:
         if (method_ == "brute") {
             for (std::size_t i = 0; i < n; ++i) res[i] = brute_force_classify_point(mesh_, vec3s(p)[i], o);
         } else {
-            classify_points(bvh2_, std::span<const Vec3>(vec3s(p), n), res, o);
+            with_tree([&](const auto& t) { classify_points(t, std::span<const Vec3>(vec3s(p), n), res, o); });
         }
         return res;
     }
@@ -366,7 +378,7 @@ PYBIND11_MODULE(_simdbvh, m) {
         .def(py::init<Mesh, const std::string&, const std::optional<std::string>&>(), py::arg("mesh"),
              py::arg("method") = "bvh8", py::arg("isa") = py::none(),
              "method: 'bvh8' (default), 'bvh4' or 'bvh16' (SIMD wide trees), 'bvh2' or 'brute'; isa: 'scalar', 'avx2', 'avx512' or None (chosen by speed: the faster SIMD path measured once per process on the first batch of 8192 rays or more, or SIMDBVH_ISA when set). "
-             "Point queries, crossing counts and all hits use the BVH2 (or brute force).")
+             "Point queries (contains, sides, closest_point, signed_distance) walk the wide tree when there is one, else the BVH2 (the same answers); crossing counts and all hits use the BVH2 (or brute force).")
         .def_property_readonly("method", &Bvh::method)
         .def_property_readonly("isa", &Bvh::isa)
         .def("intersect", [](const Bvh& b, const py::handle& o, const py::handle& d, const py::handle& tmin,

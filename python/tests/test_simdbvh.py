@@ -160,6 +160,27 @@ def test_inside_distance_and_signed_distance(cube):
     np.testing.assert_array_equal(s == 1, inside)
 
 
+def test_point_queries_identical_on_every_tree():
+    """contains, sides, closest_point and signed_distance walk the mesh's wide tree
+    when it has one: the same arrays as the BVH2 and brute force, on 1 and 2 threads."""
+    mesh = sphere_mesh()
+    rng = np.random.default_rng(7)
+    p = np.concatenate([rng.uniform(-1.3, 1.3, (3000, 3)), mesh.vertices[::5]])
+    ref = simdbvh.BVH(mesh, method="brute")
+    want_sides = ref.sides(p)
+    want_near = ref.closest_point(p)
+    want_sd = ref.signed_distance(p)
+    assert (want_sides == 1).sum() > 500 and (want_sides == 2).sum() == len(mesh.vertices[::5])
+    for method in ("bvh2", "bvh4", "bvh8", "bvh16"):
+        bvh = simdbvh.BVH(mesh, method=method)
+        for threads in (1, 2):
+            np.testing.assert_array_equal(bvh.sides(p, threads=threads), want_sides, err_msg=method)
+            np.testing.assert_array_equal(bvh.signed_distance(p, threads=threads), want_sd, err_msg=method)
+            near = bvh.closest_point(p, threads=threads)
+            for k in ("distance", "prim", "points", "u", "v"):
+                np.testing.assert_array_equal(near[k], want_near[k], err_msg=f"{method} {k}")
+
+
 def test_crossings_and_all_hits(cube):
     bvh = simdbvh.BVH(cube)
     # Rays 0 and 1 pass exactly through the diagonals splitting the bottom and top

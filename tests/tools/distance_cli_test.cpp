@@ -5,6 +5,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -117,6 +118,27 @@ TEST_F(DistanceCli, InsideWritesOneBytePerPointAndWarnsOnOpenMeshes) {
     }
     test::write_text(path("bad.sides"), std::string("\x00\x07", 2));
     EXPECT_THROW(scene::read_sides(path("bad.sides")), Error);
+}
+
+TEST_F(DistanceCli, InsideEveryTreeWritesTheBruteForceBytes) {
+    const std::string pts = path("p.bin");
+    ASSERT_EQ(run_cli("gen-points --scene icosphere-3 --count 3000 --seed 5 --out " + pts).status, 0);
+    const Mesh mesh = scene::load_scene("icosphere-3");
+    const auto points = scene::read_points(pts);
+    std::string want;
+    for (const Vec3& p : points) want.push_back(char(brute_force_classify_point(mesh, p).side));
+    EXPECT_GT(std::count(want.begin(), want.end(), '\x01'), 300);
+    for (const char* tree : {"", "bvh2", "bvh4", "bvh8", "bvh16"}) {
+        const std::string out = path(std::string("s") + tree + ".bin");
+        const std::string opt = *tree ? std::string(" --tree ") + tree : std::string();
+        CliRun r = run_cli("inside --scene icosphere-3 --points " + pts + " --out " + out + " --threads 2" + opt);
+        ASSERT_EQ(r.status, 0) << r.output;
+        EXPECT_NE(r.output.find(std::string("method ") + (*tree ? tree : "bvh8")), std::string::npos) << r.output;
+        EXPECT_EQ(test::read_bytes(out), want) << (*tree ? tree : "default");
+    }
+    CliRun bad = run_cli("inside --scene icosphere-3 --points " + pts + " --out " + path("x.bin") + " --tree bvh32");
+    EXPECT_EQ(bad.status, 2) << bad.output;
+    EXPECT_FALSE(fs::exists(path("x.bin")));
 }
 
 TEST_F(DistanceCli, MaxDistanceAndNonFinitePoints) {
