@@ -134,6 +134,7 @@ struct Walk {
 // points visit about 3.5 BVH8 nodes each on the dragon, nearly every one a
 // miss: without this the query waited on memory).
 inline constexpr int kInFlight = 8;
+inline constexpr std::size_t kPointAhead = 8;
 
 // Classifies points[order[b..e)] into out.
 template <int N>
@@ -146,6 +147,12 @@ void classify_span(const BvhN<N>& bvh, std::span<const Vec3> points, const std::
     std::size_t next = b;
     auto refill = [&](int slot) {
         while (next < e) {
+            // Morton order reads the points out of order: fetch one a few
+            // walks ahead (this load was a third of the query's time).
+            if (next + kPointAhead < e) {
+                __builtin_prefetch(&points[order[next + kPointAhead]]);
+                __builtin_prefetch(&out[order[next + kPointAhead]], 1);
+            }
             const std::uint32_t i = order[next++];
             if (walks[slot].start(bvh, points[i], i)) return true;
             out[i] = walks[slot].cnt.result(o);
