@@ -47,16 +47,8 @@ int sign_of(double v) { return (v > 0.0) - (v < 0.0); }
 
 }  // namespace
 
-int orient2d(const Vec3& a, const Vec3& b, const Vec3& p, int i, int j) {
-    const double ax = a[i], ay = a[j], bx = b[i], by = b[j], px = p[i], py = p[j];
-    // Filter: differences of floats rounded once in double, two products, one
-    // difference; the error is below 8 u (|t1| + |t2|), u = 2^-53.
-    const double t1 = (bx - ax) * (py - ay);
-    const double t2 = (by - ay) * (px - ax);
-    const double d = t1 - t2;
-    const double bound = 0x1p-50 * (std::fabs(t1) + std::fabs(t2));
-    if (d > bound || -d > bound) return sign_of(d);
-    // Exact: bx py - bx ay - ax py - by px + by ax + ay px (ax ay cancels), each a
+int orient2d_expansion(double ax, double ay, double bx, double by, double px, double py) {
+    // bx py - bx ay - ax py - by px + by ax + ay px (ax ay cancels), each a
     // product of two floats, exact in double.
     Expansion e;
     const double terms[6] = {bx * py, -(bx * ay), -(ax * py), -(by * px), by * ax, ay * px};
@@ -64,7 +56,10 @@ int orient2d(const Vec3& a, const Vec3& b, const Vec3& p, int i, int j) {
     return e.sign();
 }
 
-int orient2d(const Vec3& a, const Vec3& b, const Vec3& p) { return orient2d(a, b, p, 0, 1); }
+int orient2d(const Vec3& a, const Vec3& b, const Vec3& p, int i, int j) {
+    const int s = orient2d_filtered(a[i], a[j], b[i], b[j], p[i], p[j]);
+    return s != kUndecided ? s : orient2d_expansion(a[i], a[j], b[i], b[j], p[i], p[j]);
+}
 
 bool on_triangle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p) {
     if (plane_side(a, b, c, p) != 0) return false;
@@ -76,15 +71,6 @@ bool on_triangle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p) {
         return e0 != -s && e1 != -s && e2 != -s;
     }
     return false;  // zero area
-}
-
-int orient2d_perturbed(const Vec3& a, const Vec3& b, const Vec3& p) {
-    const int s = orient2d(a, b, p);
-    if (s != 0) return s;
-    // orient2d(a, b, p + (e, e^2)) = orient2d(a, b, p) - (by - ay) e + (bx - ax) e^2.
-    if (a.y != b.y) return a.y > b.y ? 1 : -1;
-    if (a.x != b.x) return b.x > a.x ? 1 : -1;
-    return 0;
 }
 
 int plane_side(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p) {
