@@ -10,6 +10,7 @@
 
 #include "common.h"
 #include "simdbvh/bvh2/inside.h"
+#include "simdbvh/bvh8/inside.h"
 #include "simdbvh/compare/cgal.h"
 #include "simdbvh/compare/embree.h"
 #include "simdbvh/scene/points.h"
@@ -117,7 +118,7 @@ double seconds_of(const std::function<void()>& f) {
 
 void run_mesh(const std::string& mesh_name, const Mesh& mesh, const std::vector<PointSet>& sets, bool embree,
               std::vector<InsideRow>& rows) {
-    const Bvh2 bvh = Bvh2::build(mesh);
+    const Bvh8 bvh = Bvh8::build(mesh);  // the CLI's default tree for inside (every tree gives the same sides)
     std::unique_ptr<compare::EmbreeScene> emb[2];
     if (embree)
         for (int robust = 0; robust < 2; ++robust) {
