@@ -26,6 +26,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from fractions import Fraction
 
 import numpy as np
 import open3d as o3d
@@ -145,6 +146,46 @@ def screen_o3d(ply, pts_file, tmp, env):
         return [int(line) for line in f if line.strip()]
 
 
+def exact_parity(verts, tris, p, axis, sign):
+    """Crossings of the ray p + s * sign * e_axis (s > 0) with the triangles, in
+    exact rational arithmetic (every float is a fraction): (count, degenerate),
+    where degenerate counts a ray through an edge, a vertex or the point itself on
+    a triangle. An independent referee for points where the libraries disagree."""
+    u, v = (axis + 1) % 3, (axis + 2) % 3
+    a, b, c = (verts[tris[:, k]].astype(np.float64) for k in range(3))
+    lo, hi = np.minimum(np.minimum(a, b), c), np.maximum(np.maximum(a, b), c)
+    cand = (lo[:, u] <= p[u]) & (hi[:, u] >= p[u]) & (lo[:, v] <= p[v]) & (hi[:, v] >= p[v])
+    cand &= (hi[:, axis] >= p[axis]) if sign > 0 else (lo[:, axis] <= p[axis])
+    P = [Fraction(float(x)) for x in p]
+    count = degenerate = 0
+    for i in np.nonzero(cand)[0]:
+        A, B, C = ([Fraction(float(x)) for x in t[i]] for t in (a, b, c))
+
+        def edge(q, r):
+            return (r[u] - q[u]) * (P[v] - q[v]) - (r[v] - q[v]) * (P[u] - q[u])
+        w = (edge(A, B), edge(B, C), edge(C, A))
+        if all(x > 0 for x in w) or all(x < 0 for x in w):
+            z = (w[1] * A[axis] + w[2] * B[axis] + w[0] * C[axis]) / sum(w)
+            if z == P[axis]:
+                degenerate += 1
+            elif (z > P[axis]) == (sign > 0):
+                count += 1
+        elif all(x >= 0 for x in w) or all(x <= 0 for x in w):
+            degenerate += 1
+    return count, degenerate
+
+
+def referee_inside(verts, tris, pts, idx, limit=50):
+    """For up to `limit` points: 1 inside, 0 outside by exact parity along +z, -z, +x
+    and -y when all four agree and none is degenerate, else None."""
+    out = {}
+    for k in idx[:limit]:
+        res = [exact_parity(verts, tris, pts[k], ax, sg) for ax, sg in ((2, 1), (2, -1), (0, 1), (1, -1))]
+        odd = {n % 2 for n, _ in res}
+        out[int(k)] = odd.pop() if len(odd) == 1 and all(d == 0 for _, d in res) else None
+    return out
+
+
 def run_o3d(query, threads, reps, ply, pts_file, tmp, env):
     out = os.path.join(tmp, "o3d.npz")
     if os.path.exists(out):
@@ -156,6 +197,11 @@ def run_o3d(query, threads, reps, ply, pts_file, tmp, env):
         return None, f"crashed (exit {r.returncode}): {last[:160]}"
     data = np.load(out)
     return float(data["ms"]), {k: data[k] for k in data.files if k != "ms"}
+
+
+QUERIES = {"inside": (["inside", "--rule", "parity"], "s.bin"),
+           "signed distance": (["distance", "--rule", "parity"], "d.bin"),
+           "closest point": (["distance", "--unsigned"], "u.bin")}
 
 
 def main():
@@ -170,6 +216,8 @@ def main():
     ap.add_argument("--threads", type=int, nargs="+", default=[1, os.cpu_count() or 1])
     ap.add_argument("--cli", default=os.path.join(ROOT, "build", "release", "simdbvh"))
     ap.add_argument("--json", default=os.path.join(ROOT, "out", "points_compare.json"))
+    ap.add_argument("--queries", nargs="+", default=list(QUERIES), choices=list(QUERIES),
+                    help="which queries to run (default: all three)")
     ap.add_argument("--no-screen", action="store_true",
                     help="keep the points on which Open3D aborts (its closest-point rows then fail)")
     a = ap.parse_args()
@@ -183,7 +231,8 @@ def main():
         pts = np.fromfile(pts_file, dtype="<f4").reshape(-1, 3)
         generated = len(pts)
         env = preload_env(tmp)  # Debian's Open3D misses every ray without it (docs/open3d.md)
-        excluded = [] if a.no_screen else screen_o3d(ply, pts_file, tmp, env)
+        screen = not a.no_screen and set(a.queries) & {"signed distance", "closest point"}
+        excluded = screen_o3d(ply, pts_file, tmp, env) if screen else []
         if excluded:  # both libraries get the same, screened points
             pts = np.delete(pts, excluded, axis=0)
             pts.astype("<f4").tofile(pts_file)
@@ -191,9 +240,9 @@ def main():
         rows = []
         ours = {}
         for t in a.threads:
-            for query, args, out in (("inside", ["inside", "--rule", "parity"], "s.bin"),
-                                     ("signed distance", ["distance", "--rule", "parity"], "d.bin"),
-                                     ("closest point", ["distance", "--unsigned"], "u.bin")):
+            for query, (args, out) in QUERIES.items():
+                if query not in a.queries:
+                    continue
                 path = os.path.join(tmp, out)
                 cmd = args[:1] + ["--scene", a.scene, "--points", pts_file, "--out", path,
                                   "--threads", str(t)] + args[1:]
@@ -202,16 +251,17 @@ def main():
                 rows.append({"method": "simdbvh " + ("bvh8" if query == "inside" else "bvh4"), "query": query, "threads": t, "ms": ms,
                              "points_per_s": len(pts) / ms * 1e3})
                 ours[query] = path
-        sides = np.fromfile(ours["inside"], dtype=np.uint8)
-        rec = np.fromfile(ours["signed distance"], dtype=np.dtype([("d", "<f4"), ("prim", "<u4"), ("p", "<f4", 3)]))
-        urec = np.fromfile(ours["closest point"], dtype=rec.dtype)
+        rec_t = np.dtype([("d", "<f4"), ("prim", "<u4"), ("p", "<f4", 3)])
+        sides = np.fromfile(ours["inside"], dtype=np.uint8) if "inside" in ours else None
+        rec = np.fromfile(ours["signed distance"], dtype=rec_t) if "signed distance" in ours else None
+        urec = np.fromfile(ours["closest point"], dtype=rec_t) if "closest point" in ours else None
 
         mesh = o3d.io.read_triangle_mesh(ply)
         verts = np.asarray(mesh.vertices, dtype=np.float32)
         tris = np.asarray(mesh.triangles, dtype=np.uint32)
         o3d_results, failures = {}, {}
         for t in a.threads:
-            for query in ("inside", "signed distance", "closest point"):
+            for query in a.queries:
                 ms, res = run_o3d(query, t, a.reps, ply, pts_file, tmp, env)
                 if ms is None:
                     failures[query] = res
@@ -221,11 +271,12 @@ def main():
                              "points_per_s": len(pts) / ms * 1e3})
                 o3d_results[query] = res
 
-        off = sides != 2  # points exactly on the surface are not inside/outside questions
+        # points exactly on the surface are not inside/outside questions
+        off = sides != 2 if sides is not None else rec["d"] != 0 if rec is not None else np.ones(len(pts), bool)
         summary = {"scene": a.scene, "points": int(len(pts)), "triangles": int(len(tris)),
                    "generated_points": generated, "excluded_open3d_aborts": excluded,
                    "open3d_version": o3d.__version__, "surface_points": int(np.sum(~off)),
-                   "simdbvh_inside": int(np.sum(sides == 1)), "open3d_failures": failures, "rows": rows}
+                   "simdbvh_inside": None if sides is None else int(np.sum(sides == 1)), "open3d_failures": failures, "rows": rows}
         lines = []
         if "inside" in o3d_results:
             occ = o3d_results["inside"]["occupancy"].astype(np.uint8)
@@ -233,6 +284,17 @@ def main():
             summary["open3d_inside"] = int(np.sum(occ == 1))
             lines.append(f"inside/outside: Open3D differs on {summary['open3d_wrong_inside']} of {len(pts)} points "
                          f"(Open3D says {summary['open3d_inside']} inside, simdbvh {summary['simdbvh_inside']})")
+            differ = np.nonzero((occ != sides) & off)[0]
+            if len(differ):
+                verdict = referee_inside(verts, tris, pts, differ)
+                summary["referee"] = {str(k): v for k, v in verdict.items()}
+                right = {"simdbvh": int(sum(v == sides[k] for k, v in verdict.items())),
+                         "Open3D": int(sum(v == occ[k] for k, v in verdict.items())),
+                         "undecided": int(sum(v is None for v in verdict.values()))}
+                summary["referee_right"] = right
+                lines.append(f"  exact parity (rational arithmetic, rays along +z, -z, +x, -y) on {len(verdict)} of "
+                             f"them: simdbvh right on {right['simdbvh']}, Open3D on {right['Open3D']}, "
+                             f"undecided {right['undecided']}")
         if "signed distance" in o3d_results:
             sd = o3d_results["signed distance"]["sd"]
             summary["open3d_wrong_sign"] = int(np.sum((np.sign(sd) != np.sign(rec["d"])) & off & (rec["d"] != 0)))
@@ -244,15 +306,17 @@ def main():
             other = cp["primitive_ids"].astype(np.uint32) != urec["prim"]
             # A tie: another triangle at the same distance within float rounding (the
             # closest feature is a shared vertex or edge; simdbvh gives it to the lower id).
-            tol = 4 * np.finfo(np.float32).eps * np.maximum(o3d_d, 1e-30)
+            # Open3D computes in float: its distance carries rounding on the scale of the
+            # coordinates, so a tie is the same distance to within 4 ulps of them.
+            tol = 4 * np.finfo(np.float32).eps * np.maximum(np.abs(pts).max(axis=1), o3d_d)
             summary["max_distance_difference"] = float(diff.max())
             summary["open3d_other_closest_triangle"] = int(np.sum(other))
             summary["open3d_other_triangle_farther"] = int(np.sum(other & (diff > tol)))
             lines.append(f"closest point: max distance difference {diff.max():.3g}; Open3D names another triangle "
                          f"on {summary['open3d_other_closest_triangle']} points, "
                          f"{summary['open3d_other_closest_triangle'] - summary['open3d_other_triangle_farther']} "
-                         f"of them at the same distance (a shared vertex or edge: a tie, which simdbvh gives to the "
-                         f"lower id), {summary['open3d_other_triangle_farther']} farther than 4 float ulps")
+                         f"of them at the same distance to within float rounding (mostly a shared vertex or edge: a tie, "
+                         f"which simdbvh gives to the lower id), {summary['open3d_other_triangle_farther']} farther")
         for q, why in failures.items():
             lines.append(f"Open3D {q}: {why}")
         os.makedirs(os.path.dirname(a.json), exist_ok=True)
@@ -268,7 +332,7 @@ def main():
             print(line)
         print("\n| query | threads | simdbvh points/s | Open3D points/s | ratio |\n|---|---:|---:|---:|---:|")
         for t in a.threads:
-            for query in ("inside", "signed distance", "closest point"):
+            for query in a.queries:
                 s_row = next(r for r in rows if r["method"].startswith("simdbvh") and r["query"] == query and r["threads"] == t)
                 o_row = next(r for r in rows if r["method"].startswith("open3d") and r["query"] == query and r["threads"] == t)
                 o_rate = o_row.get("points_per_s")
