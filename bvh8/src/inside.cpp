@@ -194,7 +194,7 @@ void classify_points(const BvhN<N>& bvh, std::span<const Vec3> points, std::span
     if (out.size() < points.size()) throw Error("output span is smaller than points span");
     // Morton order: neighbouring points walk the same nodes while they are in
     // cache. The order changes the speed only.
-    const std::vector<std::uint32_t> order = detail::morton_order(points);
+    const std::vector<std::uint32_t> order = detail::morton_order(points, opts.threads);
     parallel_for(points.size(), opts.threads, [&](std::size_t b, std::size_t e) {
         classify_span(bvh, points, order.data(), b, e, out, opts);
     }, ParallelOptions{.grain = 1024});

@@ -56,5 +56,23 @@ TEST(MortonOrder, ManyPointsArePermutedAndSortedByCode) {
     for (std::size_t i = 2000; i < pts.size(); i += 1000) EXPECT_LT(pos[i], pos[i + 1]) << "tie " << i;
 }
 
+TEST(MortonOrder, ThreadsGiveTheOneThreadOrder) {
+    // Enough points for 2 and 3 chunks (one per 2^16 points at least), with
+    // ties across chunk boundaries and non-finite points spread through.
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    std::vector<Vec3> pts(200003);
+    for (Vec3& p : pts) p = {u(rng), u(rng), u(rng)};
+    for (std::size_t i = 0; i + 70001 < pts.size(); i += 997) pts[i + 70001] = pts[i];  // ties far apart
+    for (std::size_t i = 5; i < pts.size(); i += 40009) pts[i].y = std::numeric_limits<float>::quiet_NaN();
+    pts[123456] = {std::numeric_limits<float>::infinity(), 0, 0};
+    const std::vector<std::uint32_t> one = detail::morton_order(pts, 1);
+    EXPECT_EQ(detail::morton_order(pts, 2), one);
+    EXPECT_EQ(detail::morton_order(pts, 3), one);
+    // Non-finite points last, in input order.
+    const std::vector<std::uint32_t> tail(one.end() - 6, one.end());
+    EXPECT_EQ(tail, (std::vector<std::uint32_t>{5, 40014, 80023, 120032, 123456, 160041}));
+}
+
 }  // namespace
 }  // namespace simdbvh
