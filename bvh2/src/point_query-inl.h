@@ -118,9 +118,10 @@ inline std::vector<std::uint32_t> morton_order(std::span<const Vec3> points, int
         const auto [b, e] = chunk_range(c);
         for (std::size_t i = b; i < e; ++i) {
             const Vec3& p = points[i];
-            const std::uint64_t code = usable(p) ? (spread(cell(p.x, lo.x, ext.x)) << 2 |
-                                                    spread(cell(p.y, lo.y, ext.y)) << 1 | spread(cell(p.z, lo.z, ext.z)))
-                                                 : (1u << 30);
+            const std::uint64_t code =
+                usable(p) ? (spread(cell(p.x, lo.x, ext.x)) << 2 | spread(cell(p.y, lo.y, ext.y)) << 1 |
+                             spread(cell(p.z, lo.z, ext.z)))
+                          : (1u << 30);
             keys[i] = code << 32 | i;
         }
     });

@@ -9,6 +9,7 @@
 
 #include "crossing-inl.h"
 #include "prefetch-inl.h"
+#include "tri8_lanes-inl.h"
 #include "point_query-inl.h"
 #include "simdbvh/kernels/parallel.h"
 
@@ -43,24 +44,9 @@ std::uint32_t reached_children(const BoxN<N>& b, const Column& c) {
 std::uint32_t reached_triangles(const Tri8& t, const Column& c) {
     std::uint32_t m = 0;
     for (int i = 0; i < kBlockWidth; i += 4) {
-        auto axis = [&](const float* a, const float* b, const float* d, __m128& lo, __m128& hi) {
-            const __m128 va = _mm_load_ps(a + i), vb = _mm_load_ps(b + i), vd = _mm_load_ps(d + i);
-            lo = _mm_min_ps(_mm_min_ps(va, vb), vd);
-            hi = _mm_max_ps(_mm_max_ps(va, vb), vd);
-        };
-        __m128 lx, hx, ly, hy, lz, hz;
-        axis(t.v0x, t.v1x, t.v2x, lx, hx);
-        axis(t.v0y, t.v1y, t.v2y, ly, hy);
-        axis(t.v0z, t.v1z, t.v2z, lz, hz);
-        m |= std::uint32_t(c.reaches(lx, hx, ly, hy, hz)) << i;
+        const detail::TriangleBoxes4 x = detail::triangle_boxes4(t, i);
+        m |= std::uint32_t(c.reaches(x.lx, x.hx, x.ly, x.hy, x.hz)) << i;
     }
-    return m;
-}
-
-std::uint32_t used_lanes(const Tri8& t) {
-    std::uint32_t m = 0;
-    for (int k = 0; k < kBlockWidth; ++k)
-        if (t.prim[k] != kInvalidPrim) m |= 1u << k;
     return m;
 }
 
@@ -69,7 +55,7 @@ void count_leaf(detail::CrossingCounter& cnt, const Tri8* blocks, ChildN<N> leaf
     for (std::uint32_t b = 0; b < leaf.blocks(); ++b) {
         const Tri8& t = blocks[leaf.index + b];
         // A single-block leaf counts its own lanes only (its block may be shared).
-        const std::uint32_t own = leaf.own_lanes() != 0 ? leaf.own_lanes() : used_lanes(t);
+        const std::uint32_t own = leaf.own_lanes() != 0 ? leaf.own_lanes() : detail::used_lanes(t);
         for (std::uint32_t m = reached_triangles(t, col) & own; m != 0; m &= m - 1) {
             const int k = __builtin_ctz(m);
             cnt.add(detail::crossing_exact(t.v0(k), t.v1(k), t.v2(k), p));

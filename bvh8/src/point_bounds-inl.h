@@ -22,6 +22,7 @@
 
 #include "point_query-inl.h"
 #include "simdbvh/kernels/soa.h"
+#include "tri8_lanes-inl.h"
 
 namespace simdbvh::detail {
 
@@ -65,16 +66,8 @@ inline void triangle_keys(const Tri8& t, const Vec3& p, double key[kBlockWidth])
     const __m128 px = _mm_set1_ps(p.x), py = _mm_set1_ps(p.y), pz = _mm_set1_ps(p.z);
     alignas(16) float f[kBlockWidth];
     for (int i = 0; i < kBlockWidth; i += 4) {
-        auto axis = [&](const float* a, const float* b, const float* c, __m128& lo, __m128& hi) {
-            const __m128 va = _mm_load_ps(a + i), vb = _mm_load_ps(b + i), vc = _mm_load_ps(c + i);
-            lo = _mm_min_ps(_mm_min_ps(va, vb), vc);
-            hi = _mm_max_ps(_mm_max_ps(va, vb), vc);
-        };
-        __m128 lx, hx, ly, hy, lz, hz;
-        axis(t.v0x, t.v1x, t.v2x, lx, hx);
-        axis(t.v0y, t.v1y, t.v2y, ly, hy);
-        axis(t.v0z, t.v1z, t.v2z, lz, hz);
-        _mm_store_ps(f + i, gap2_4(lx, hx, ly, hy, lz, hz, px, py, pz));
+        const TriangleBoxes4 x = triangle_boxes4(t, i);
+        _mm_store_ps(f + i, gap2_4(x.lx, x.hx, x.ly, x.hy, x.lz, x.hz, px, py, pz));
     }
     for (int i = 0; i < kBlockWidth; ++i)
         key[i] = prune_key(f[i], [&] {

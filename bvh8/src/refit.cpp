@@ -8,6 +8,7 @@
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/kernels/parallel.h"
+#include "tri8_lanes-inl.h"
 
 namespace simdbvh {
 
@@ -29,20 +30,14 @@ void grow_lanes(Aabb& b, const Tri8& t, std::uint32_t lanes) {
     }
 }
 
-std::uint32_t used_lanes(const Tri8& t) {
-    std::uint32_t m = 0;
-    for (int k = 0; k < kBlockWidth; ++k)
-        if (t.prim[k] != kInvalidPrim) m |= 1u << k;
-    return m;
-}
-
 template <int N>
 Aabb leaf_box(const ChildN<N>& c, const Tri8Blocks& blocks) {
     Aabb b;
     if (c.own_lanes() != 0) {
         grow_lanes(b, blocks[c.index], c.own_lanes());
     } else {
-        for (std::uint32_t k = 0; k < c.blocks(); ++k) grow_lanes(b, blocks[c.index + k], used_lanes(blocks[c.index + k]));
+        for (std::uint32_t k = 0; k < c.blocks(); ++k)
+            grow_lanes(b, blocks[c.index + k], detail::used_lanes(blocks[c.index + k]));
     }
     return b;
 }
