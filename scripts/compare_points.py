@@ -146,14 +146,13 @@ def screen_o3d(ply, pts_file, tmp, env):
         return [int(line) for line in f if line.strip()]
 
 
-def exact_parity(verts, tris, p, axis, sign):
-    """Crossings of the ray p + s * sign * e_axis (s > 0) with the triangles, in
-    exact rational arithmetic (every float is a fraction): (count, degenerate),
-    where degenerate counts a ray through an edge, a vertex or the point itself on
-    a triangle. An independent referee for points where the libraries disagree."""
+def exact_parity(a, b, c, lo, hi, p, axis, sign):
+    """Crossings of the ray p + s * sign * e_axis (s > 0) with the triangles (vertex
+    arrays a, b, c and their boxes lo, hi), in exact rational arithmetic (every
+    float is a fraction): (count, degenerate), where degenerate counts a ray
+    through an edge, a vertex or the point itself on a triangle. An independent
+    referee for points where the libraries disagree."""
     u, v = (axis + 1) % 3, (axis + 2) % 3
-    a, b, c = (verts[tris[:, k]].astype(np.float64) for k in range(3))
-    lo, hi = np.minimum(np.minimum(a, b), c), np.maximum(np.maximum(a, b), c)
     cand = (lo[:, u] <= p[u]) & (hi[:, u] >= p[u]) & (lo[:, v] <= p[v]) & (hi[:, v] >= p[v])
     cand &= (hi[:, axis] >= p[axis]) if sign > 0 else (lo[:, axis] <= p[axis])
     P = [Fraction(float(x)) for x in p]
@@ -178,9 +177,11 @@ def exact_parity(verts, tris, p, axis, sign):
 def referee_inside(verts, tris, pts, idx, limit=50):
     """For up to `limit` points: 1 inside, 0 outside by exact parity along +z, -z, +x
     and -y when all four agree and none is degenerate, else None."""
+    a, b, c = (verts[tris[:, k]].astype(np.float64) for k in range(3))
+    lo, hi = np.minimum(np.minimum(a, b), c), np.maximum(np.maximum(a, b), c)
     out = {}
     for k in idx[:limit]:
-        res = [exact_parity(verts, tris, pts[k], ax, sg) for ax, sg in ((2, 1), (2, -1), (0, 1), (1, -1))]
+        res = [exact_parity(a, b, c, lo, hi, pts[k], ax, sg) for ax, sg in ((2, 1), (2, -1), (0, 1), (1, -1))]
         odd = {n % 2 for n, _ in res}
         out[int(k)] = odd.pop() if len(odd) == 1 and all(d == 0 for _, d in res) else None
     return out
@@ -199,9 +200,11 @@ def run_o3d(query, threads, reps, ply, pts_file, tmp, env):
     return float(data["ms"]), {k: data[k] for k in data.files if k != "ms"}
 
 
-QUERIES = {"inside": (["inside", "--rule", "parity"], "s.bin"),
-           "signed distance": (["distance", "--rule", "parity"], "d.bin"),
-           "closest point": (["distance", "--unsigned"], "u.bin")}
+# query: (simdbvh command and options, tree, output file); the tree is each
+# command's default, named so that the rows say what ran.
+QUERIES = {"inside": (["inside", "--rule", "parity"], "bvh8", "s.bin"),
+           "signed distance": (["distance", "--rule", "parity"], "bvh4", "d.bin"),
+           "closest point": (["distance", "--unsigned"], "bvh4", "u.bin")}
 
 
 def main():
@@ -240,15 +243,15 @@ def main():
         rows = []
         ours = {}
         for t in a.threads:
-            for query, (args, out) in QUERIES.items():
+            for query, (args, tree, out) in QUERIES.items():
                 if query not in a.queries:
                     continue
                 path = os.path.join(tmp, out)
                 cmd = args[:1] + ["--scene", a.scene, "--points", pts_file, "--out", path,
-                                  "--threads", str(t)] + args[1:]
+                                  "--threads", str(t), "--tree", tree] + args[1:]
                 run_cli(a.cli, cmd)  # warm-up (page cache, first touch)
                 ms = statistics.median(cli_query_ms(run_cli(a.cli, cmd)) for _ in range(a.reps))
-                rows.append({"method": "simdbvh " + ("bvh8" if query == "inside" else "bvh4"), "query": query, "threads": t, "ms": ms,
+                rows.append({"method": "simdbvh " + tree, "query": query, "threads": t, "ms": ms,
                              "points_per_s": len(pts) / ms * 1e3})
                 ours[query] = path
         rec_t = np.dtype([("d", "<f4"), ("prim", "<u4"), ("p", "<f4", 3)])
@@ -325,7 +328,7 @@ def main():
 
         print(f"scene {a.scene}: {len(tris)} triangles, {len(pts)} points uniform in the bounds (+10%), "
               f"Open3D {o3d.__version__}; simdbvh agrees with CGAL (tests/compare)")
-        if not a.no_screen:
+        if screen:
             print(f"left out: {len(excluded)} of {generated} points on which Open3D's closest point or signed "
                   f"distance aborts the process (indices in the JSON)")
         for line in lines:
