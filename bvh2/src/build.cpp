@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -37,18 +38,20 @@ void check_options(const BuildOptions& opts) {
     if (opts.max_leaf_size < 1) throw Error("max_leaf_size must be at least 1");
 }
 
-// Builds over ctx.refs (filled by the caller) with the chosen split rule.
-Bvh2Topology build_refs(detail::BuildContext& ctx) {
+// Builds over ctx.refs (filled by the caller) with the chosen split rule; the
+// root's bounds when the caller has them.
+Bvh2Topology build_refs(detail::BuildContext& ctx, const detail::Bounds* root = nullptr) {
     const BuildOptions& opts = ctx.opts;
+    auto top_down = [&](detail::SplitFn split, std::uint32_t leaf_size) {
+        return root ? detail::build_top_down(ctx, split, leaf_size, *root)
+                    : detail::build_top_down(ctx, split, leaf_size);
+    };
     switch (opts.builder) {
-    case Builder::sah_binned:
-        return detail::build_top_down(ctx, detail::split_binned_sah, std::uint32_t(opts.max_leaf_size));
-    case Builder::sah_sweep:
-        return detail::build_top_down(ctx, detail::split_sweep_sah, std::uint32_t(opts.max_leaf_size));
-    case Builder::midpoint: return detail::build_top_down(ctx, detail::split_midpoint, 4);
-    case Builder::median: return detail::build_top_down(ctx, detail::split_median, 1);
-    case Builder::variance:
-        return detail::build_top_down(ctx, detail::split_variance, std::uint32_t(opts.max_leaf_size));
+    case Builder::sah_binned: return top_down(detail::split_binned_sah, std::uint32_t(opts.max_leaf_size));
+    case Builder::sah_sweep: return top_down(detail::split_sweep_sah, std::uint32_t(opts.max_leaf_size));
+    case Builder::midpoint: return top_down(detail::split_midpoint, 4);
+    case Builder::median: return top_down(detail::split_median, 1);
+    case Builder::variance: return top_down(detail::split_variance, std::uint32_t(opts.max_leaf_size));
     }
     throw Error("unknown builder");
 }
@@ -77,27 +80,45 @@ Bvh2Topology build_topology(std::span<const Aabb> boxes, std::span<const Vec3> c
 
 // The same references as boxes and centroids from the mesh would give (box of
 // the three vertices, centroid = box centre), written directly: no
-// intermediate arrays, one pass, on the build threads.
+// intermediate arrays, one pass, on the build threads. The pass also bounds
+// fixed blocks of references, merged in block order: the root's bounds, bit
+// for bit those of one pass over all of them, for any thread count.
 Bvh2Topology build_topology(const Mesh& mesh, const BuildOptions& opts) {
     check_options(opts);
     const std::size_t n = mesh.triangles.size();
+    constexpr std::size_t kBlock = 64 * 1024;
+    const std::size_t nblocks = (n + kBlock - 1) / kBlock;
     detail::BuildContext ctx;
     ctx.opts = opts;
     ctx.refs.resize(n);
+    std::vector<detail::Bounds> block_bounds(nblocks);
     std::atomic<bool> any_empty{false};
-    parallel_for(n, opts.threads, [&](std::size_t b, std::size_t e) {
+    ParallelOptions po = build_parallel();
+    po.grain = 1;
+    parallel_for(nblocks, opts.threads, [&](std::size_t b0, std::size_t e0) {
         bool empty = false;
-        for (std::size_t i = b; i < e; ++i) {
-            Aabb box;
-            for (int k = 0; k < 3; ++k) box.grow(mesh.vertex(i, k));
-            empty |= box.is_empty();
-            ctx.refs[i] = {box.lo, std::uint32_t(i), box.hi, 0.0f, box.center(), 0.0f};
+        for (std::size_t blk = b0; blk < e0; ++blk) {
+            detail::Bounds bb;
+            for (std::size_t i = blk * kBlock, e = std::min(n, i + kBlock); i < e; ++i) {
+                Aabb box;
+                for (int k = 0; k < 3; ++k) box.grow(mesh.vertex(i, k));
+                empty |= box.is_empty();
+                const Vec3 c = box.center();
+                ctx.refs[i] = {box.lo, std::uint32_t(i), box.hi, 0.0f, c, 0.0f};
+                bb.box.grow(box);
+                bb.cbox.grow(c);
+            }
+            block_bounds[blk] = bb;
         }
         if (empty) any_empty = true;
-    }, build_parallel());
-    if (any_empty)  // primitives with an empty box are left out (they can never be hit)
+    }, po);
+    if (any_empty) {  // primitives with an empty box are left out (they can never be hit)
         std::erase_if(ctx.refs, [](const detail::PrimRef& r) { return r.box().is_empty(); });
-    return build_refs(ctx);
+        return build_refs(ctx);
+    }
+    detail::Bounds root;
+    for (const detail::Bounds& bb : block_bounds) detail::grow(root, bb);
+    return build_refs(ctx, &root);
 }
 
 double sah_cost(std::span<const Node2> nodes, std::size_t prims, float ct, float ci) {

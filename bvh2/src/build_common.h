@@ -5,7 +5,9 @@
 #include <atomic>
 #include <cstdint>
 #include <span>
+#include <memory>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "simdbvh/bvh2/build.h"
@@ -23,8 +25,29 @@ struct alignas(16) PrimRef {  // 48 bytes; lo and hi load as 16-byte vectors
 };
 static_assert(sizeof(PrimRef) == 48);
 
+// resize() leaves new PrimRefs unwritten (no zero fill): every writer sets
+// each reference it allocates, on the build threads, so the pages are first
+// touched there rather than by a serial memset.
+template <class T>
+struct NoFillAllocator : std::allocator<T> {
+    template <class U>
+    struct rebind {
+        using other = NoFillAllocator<U>;
+    };
+    NoFillAllocator() = default;
+    template <class U>
+    NoFillAllocator(const NoFillAllocator<U>&) noexcept {}
+    template <class U>
+    void construct(U*) noexcept {}  // PrimRef: trivially copyable, written before it is read
+    template <class U, class... Args>
+    void construct(U* p, Args&&... args) {
+        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
+};
+static_assert(std::is_trivially_copyable_v<PrimRef> && std::is_trivially_destructible_v<PrimRef>);
+
 struct BuildContext {
-    std::vector<PrimRef> refs;  // partitioned in place
+    std::vector<PrimRef, NoFillAllocator<PrimRef>> refs;  // partitioned in place
     BuildOptions opts;
     std::atomic<int> spare_threads{0};
     bool float_costs = true;  // SAH costs in float (see sah_area); set by build_top_down
@@ -46,6 +69,13 @@ struct Bounds {  // a range's box and centroid box
     Aabb box, cbox;
 };
 Bounds range_bounds(const BuildContext& ctx, std::uint32_t begin, std::uint32_t end);
+// Grows `into` by `b` exactly as range_bounds grows by each reference in
+// turn: merging the bounds of consecutive ranges in order gives the bounds of
+// their union bit for bit (on ties between -0 and +0 the earlier one stays).
+inline void grow(Bounds& into, const Bounds& b) {
+    into.box.grow(b.box);
+    into.cbox.grow(b.cbox);
+}
 
 struct SplitResult {
     bool found = false;      // split found: refs[begin, mid) left, [mid, end) right
@@ -70,5 +100,8 @@ SplitResult split_variance(BuildContext&, std::uint32_t, std::uint32_t, const Aa
 // the depth cap. When the rule finds no split, ranges larger than `leaf_size`
 // are split at the object median (all centroids equal never recurses forever).
 Bvh2Topology build_top_down(BuildContext& ctx, SplitFn split, std::uint32_t leaf_size);
+// The same, with the root's bounds (range_bounds over every reference)
+// already known.
+Bvh2Topology build_top_down(BuildContext& ctx, SplitFn split, std::uint32_t leaf_size, const Bounds& root);
 
 }  // namespace simdbvh::detail

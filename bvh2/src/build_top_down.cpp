@@ -105,6 +105,10 @@ bool costs_fit_float(const Aabb& root, std::size_t prims, const BuildOptions& op
 }
 
 Bvh2Topology build_top_down(BuildContext& ctx, SplitFn split, std::uint32_t leaf_size) {
+    return build_top_down(ctx, split, leaf_size, range_bounds(ctx, 0, std::uint32_t(ctx.refs.size())));
+}
+
+Bvh2Topology build_top_down(BuildContext& ctx, SplitFn split, std::uint32_t leaf_size, const Bounds& root) {
     Bvh2Topology topo;
     if (ctx.refs.empty()) return topo;
     ctx.spare_threads = std::max(0, ctx.opts.threads - 1);
@@ -112,11 +116,15 @@ Bvh2Topology build_top_down(BuildContext& ctx, SplitFn split, std::uint32_t leaf
     topo.nodes.resize(1);
     Builder b{ctx, split, std::max<std::uint32_t>(1, leaf_size)};
     const auto n = std::uint32_t(ctx.refs.size());
-    const Bounds root = range_bounds(ctx, 0, n);
     ctx.float_costs = costs_fit_float(root.box, n, ctx.opts);
     b.build(topo.nodes, 0, 0, n, 0, root);
     topo.prim_ids.resize(ctx.refs.size());
-    for (std::size_t i = 0; i < ctx.refs.size(); ++i) topo.prim_ids[i] = ctx.refs[i].id;
+    ParallelOptions po;
+    po.grain = 64 * 1024;
+    po.pin = false;
+    parallel_for(ctx.refs.size(), ctx.opts.threads, [&](std::size_t b0, std::size_t e0) {
+        for (std::size_t i = b0; i < e0; ++i) topo.prim_ids[i] = ctx.refs[i].id;
+    }, po);
     return topo;
 }
 

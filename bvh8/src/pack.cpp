@@ -72,14 +72,20 @@ template <int N, class SetTri>
 void pack_with(const WideTopology<N>& topo, std::vector<NodeN<N>>& nodes, Tri8Blocks& blocks, WideStats& stats,
                int threads, SetTri set_tri) {
     using Child = ChildN<N>;
-    // Sequential pass: each node's packing and its first block (a prefix sum),
-    // the checks and the counts. The nodes are then independent.
+    ParallelOptions po;
+    po.grain = 256;
+    po.pin = false;
+    // Each node's packing (independent), then a sequential pass: its first
+    // block (a prefix sum), the checks and the counts. The nodes are then
+    // independent.
     std::vector<NodePacking<N>> packing(topo.nodes.size());
+    parallel_for(topo.nodes.size(), threads, [&](std::size_t b, std::size_t e) {
+        for (std::size_t i = b; i < e; ++i) packing[i] = pack_node(topo.nodes[i]);
+    }, po);
     std::vector<std::uint32_t> first_block(topo.nodes.size() + 1);
     std::size_t blocks_needed = 0, used_slots = 0, leaves = 0, shared = 0;
     for (std::size_t i = 0; i < topo.nodes.size(); ++i) {
         const WideNode<N>& w = topo.nodes[i];
-        packing[i] = pack_node(w);
         first_block[i] = std::uint32_t(blocks_needed);
         blocks_needed += std::size_t(packing[i].bins);
         for (int b = 0; b < packing[i].bins; ++b) shared += __builtin_popcount(packing[i].bin_slots[b]) > 1;
@@ -135,9 +141,6 @@ void pack_with(const WideTopology<N>& topo, std::vector<NodeN<N>>& nodes, Tri8Bl
             next += count;
         }
     };
-    ParallelOptions po;
-    po.grain = 256;
-    po.pin = false;
     parallel_for(topo.nodes.size(), threads, [&](std::size_t b, std::size_t e) {
         for (std::size_t i = b; i < e; ++i) pack_one(i);
     }, po);
