@@ -294,7 +294,9 @@ Bins3& fill_bins(BuildContext& ctx, std::uint32_t begin, std::uint32_t end, cons
     struct Helpers {
         std::atomic<int>& spare;
         int taken = 0;
-        ~Helpers() { spare.fetch_add(taken); }
+        ~Helpers() {
+            if (taken) spare.fetch_add(taken);  // no atomic write per node: the count's cache line stays shared
+        }
     } helpers{ctx.spare_threads};
     if (n >= kParallelBinMin) {
         const int want = std::min(ctx.opts.threads, 8) - 1;
