@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "simdbvh/bvh2/build.h"
+#include "simdbvh/kernels/large_alloc.h"
 
 namespace simdbvh::detail {
 
@@ -37,6 +38,9 @@ struct NoFillAllocator : std::allocator<T> {
     NoFillAllocator() = default;
     template <class U>
     NoFillAllocator(const NoFillAllocator<U>&) noexcept {}
+    // Large arrays on huge pages (large_alloc.h).
+    T* allocate(std::size_t n) { return static_cast<T*>(large_alloc(n * sizeof(T), alignof(T))); }
+    void deallocate(T* p, std::size_t n) noexcept { large_free(p, n * sizeof(T), alignof(T)); }
     template <class U>
     void construct(U*) noexcept {}  // PrimRef: trivially copyable, written before it is read
     template <class U, class... Args>

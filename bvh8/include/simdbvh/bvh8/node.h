@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "simdbvh/kernels/large_alloc.h"
 #include "simdbvh/kernels/soa.h"
 
 namespace simdbvh {
@@ -81,9 +82,9 @@ struct AlignedAllocator {
     AlignedAllocator() = default;
     template <class U>
     AlignedAllocator(const AlignedAllocator<U, kAlign>&) noexcept {}
-    T* allocate(std::size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), std::align_val_t(kAlign))); }
-    // Unsized aligned delete: clang without -fsized-deallocation has no sized form.
-    void deallocate(T* p, std::size_t) noexcept { ::operator delete(p, std::align_val_t(kAlign)); }
+    // Large arrays on huge pages (large_alloc.h).
+    T* allocate(std::size_t n) { return static_cast<T*>(large_alloc(n * sizeof(T), kAlign)); }
+    void deallocate(T* p, std::size_t n) noexcept { large_free(p, n * sizeof(T), kAlign); }
     // resize() default-initializes (no zero fill): every writer of Tri8 blocks
     // clears or sets each block it allocates (pack, BruteForce8), so a zero
     // fill would be a wasted pass over the memory.
