@@ -2,6 +2,7 @@
 // triangle in exactly one leaf, leaf boxes bound their triangles, depth cap.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 
 #include "simdbvh/bvh2/bvh2.h"
@@ -112,6 +113,44 @@ TEST(Structure, LeavesRespectMaxLeafSize) {
         const Bvh2 bvh = Bvh2::build(m, o);
         for (const Node2& n : bvh.nodes())
             if (n.is_leaf()) ASSERT_LE(n.count, std::uint32_t(leaf));
+    }
+}
+
+
+// The root's box comes from per-block bounds merged in block order: the same
+// bits as one pass over every vertex (Mesh::bounds), -0 against +0 included,
+// for any thread count, over several 64K-reference blocks.
+TEST(Structure, RootBoxIsTheMeshBoundsBitForBit) {
+    Mesh m;
+    const std::uint32_t n = 200000;
+    std::uint32_t seed = 12345;
+    auto next = [&] { seed = seed * 1664525u + 1013904223u; return float(seed >> 8) / float(1 << 24); };
+    for (std::uint32_t i = 0; i < n; ++i) {
+        const Vec3 c{next(), next(), next()};
+        const std::uint32_t v = std::uint32_t(m.positions.size());
+        m.positions.push_back(c);
+        m.positions.push_back({c.x + 0.01f, c.y, c.z});
+        m.positions.push_back({c.x, c.y + 0.01f, c.z + 0.01f});
+        m.triangles.push_back({v, v + 1, v + 2});
+    }
+    // Extremes shared by +0 and -0, first met as +0 in one block and as -0
+    // in another (x, y: lower bounds; z: +0 first, then -0 at the upper end
+    // after scaling every z below 0).
+    for (Vec3& p : m.positions) p.z -= 2.0f;
+    m.positions[3 * 70000].x = 0.0f;
+    m.positions[3 * 150000 + 1].x = -0.0f;
+    m.positions[3 * 5].y = -0.0f;
+    m.positions[3 * 190000].y = 0.0f;
+    m.positions[3 * 100000 + 2].z = 0.0f;
+    m.positions[3 * 130000].z = -0.0f;
+    const Aabb want = m.bounds();
+    ASSERT_EQ(std::signbit(want.lo.x), false);
+    ASSERT_EQ(std::signbit(want.lo.y), true);
+    for (int threads : {1, 2, 3}) {
+        BuildOptions o;
+        o.threads = threads;
+        const Aabb got = Bvh2::build(m, o).bounds();
+        EXPECT_EQ(std::memcmp(&got, &want, sizeof(Aabb)), 0) << "threads " << threads;
     }
 }
 
