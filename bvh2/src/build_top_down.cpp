@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "build_common.h"
+#include "simdbvh/kernels/large_alloc.h"
 #include "simdbvh/kernels/parallel.h"
 
 namespace simdbvh::detail {
@@ -57,6 +58,7 @@ struct Builder {
             // a small side of an uneven split picks up work in the larger side.
             std::vector<Node2> right_nodes;
             right_nodes.reserve(2 * std::size_t(end - mid));  // address space only: no copies while it grows
+            advise_huge_pages(right_nodes.data(), right_nodes.capacity() * sizeof(Node2));
             right_nodes.resize(1);
             run_tasks(2, [&](std::size_t k) {
                 if (k == 0) return build(nodes, left, begin, mid, depth + 1, r.left);
@@ -113,6 +115,7 @@ Bvh2Topology build_top_down(BuildContext& ctx, SplitFn split, std::uint32_t leaf
     if (ctx.refs.empty()) return topo;
     ctx.spare_threads = std::max(0, ctx.opts.threads - 1);
     topo.nodes.reserve(2 * ctx.refs.size());
+    advise_huge_pages(topo.nodes.data(), topo.nodes.capacity() * sizeof(Node2));
     topo.nodes.resize(1);
     Builder b{ctx, split, std::max<std::uint32_t>(1, leaf_size)};
     const auto n = std::uint32_t(ctx.refs.size());

@@ -27,6 +27,7 @@
 
 #include "collapse.h"
 #include "simdbvh/kernels/error.h"
+#include "simdbvh/kernels/large_alloc.h"
 #include "simdbvh/kernels/parallel.h"
 
 namespace simdbvh::bvh8 {
@@ -206,21 +207,31 @@ struct Collapser {
         return c;
     }
 
+    // Sized (value-initialized) on huge pages when large (large_alloc.h).
+    template <class V>
+    static void sized(V& v, std::size_t n) {
+        v.reserve(n);
+        advise_huge_pages(v.data(), n * sizeof(typename V::value_type));
+        v.resize(n);
+    }
+
     void build() {
-        prim_count.resize(n2.size());
+        sized(prim_count, n2.size());
         count_prims(0);
         float_areas = std::isfinite(n2[0].box.half_area_float());
         if (opts.collapse == Collapse::sah) {
-            from.resize(n2.size());
-            distn.resize(n2.size());
-            leaf1.assign(n2.size(), 0);
+            sized(from, n2.size());
+            sized(distn, n2.size());
+            sized(leaf1, n2.size());
             int spawn = 0;  // levels with tasks: about 2 tasks per thread
             while (spawn < 6 && (1 << spawn) < 2 * opts.threads) ++spawn;
             std::uint32_t leaves = 0;
             solve_sah(0, opts.threads > 1 ? spawn : 0, leaves);
         }
         topo.nodes.reserve(n2.size() / 4 + 1);
+        advise_huge_pages(topo.nodes.data(), topo.nodes.capacity() * sizeof(WideNode<N>));
         topo.prims.reserve(prims);
+        advise_huge_pages(topo.prims.data(), topo.prims.capacity() * sizeof(std::uint32_t));
         topo.nodes.emplace_back();
         topo.nodes[0].box = n2[0].box;
         // The root is always a wide node; over a single leaf when that is cheaper (or the BVH2 is one leaf).

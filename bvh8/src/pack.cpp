@@ -13,6 +13,7 @@
 
 #include "collapse.h"
 #include "simdbvh/kernels/error.h"
+#include "simdbvh/kernels/large_alloc.h"
 #include "simdbvh/kernels/parallel.h"
 
 namespace simdbvh::bvh8 {
@@ -104,6 +105,9 @@ void pack_with(const WideTopology<N>& topo, std::vector<NodeN<N>>& nodes, Tri8Bl
             throw Error("BVH" + std::to_string(N) + ": more than 2^32 Tri8 blocks");
     }
     first_block.back() = std::uint32_t(blocks_needed);
+    nodes.clear();
+    nodes.reserve(topo.nodes.size());
+    advise_huge_pages(nodes.data(), topo.nodes.size() * sizeof(NodeN<N>));
     nodes.assign(topo.nodes.size(), NodeN<N>{});
     blocks.clear();
     blocks.resize(blocks_needed);

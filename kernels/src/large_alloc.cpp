@@ -3,6 +3,7 @@
 #include <sys/mman.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <new>
 
 namespace simdbvh {
@@ -20,6 +21,14 @@ void* large_alloc(std::size_t bytes, std::size_t align) {
     if (a == kHugePage)  // advice only: failure (no THP support) changes nothing
         madvise(p, bytes / kHugePage * kHugePage, MADV_HUGEPAGE);
     return p;
+}
+
+void advise_huge_pages(const void* p, std::size_t bytes) noexcept {
+    if (bytes < kLargeBytes) return;
+    const auto a = reinterpret_cast<std::uintptr_t>(p);
+    const std::uintptr_t lo = (a + kHugePage - 1) / kHugePage * kHugePage;
+    const std::uintptr_t hi = (a + bytes) / kHugePage * kHugePage;
+    if (hi > lo) madvise(reinterpret_cast<void*>(lo), hi - lo, MADV_HUGEPAGE);
 }
 
 void large_free(void* p, std::size_t bytes, std::size_t align) noexcept {

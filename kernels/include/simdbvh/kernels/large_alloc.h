@@ -14,4 +14,8 @@ inline constexpr std::size_t kLargeBytes = std::size_t(4) << 20;
 void* large_alloc(std::size_t bytes, std::size_t align);
 void large_free(void* p, std::size_t bytes, std::size_t align) noexcept;
 
+// The same advice for memory allocated elsewhere (a std::vector's reserve()
+// before its first write): the whole 2 MiB pages inside [p, p + bytes).
+void advise_huge_pages(const void* p, std::size_t bytes) noexcept;
+
 }  // namespace simdbvh
