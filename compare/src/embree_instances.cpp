@@ -4,6 +4,7 @@
 
 #include <embree3/rtcore.h>
 
+#include <atomic>
 #include <chrono>
 #include <string>
 #include <vector>
@@ -18,10 +19,74 @@ struct EmbreeInstanceScene::Impl {
     RTCScene top = nullptr;
     std::vector<RTCScene> children;
     std::vector<std::uint32_t> geometry_of;  // per instance
+    std::vector<std::uint32_t> prim_divisor;  // per geometry: 6 for box sets (six quads per box), else 1
+    std::vector<Plane> planes;
+    std::uint32_t num_instances = 0;
+    std::atomic<std::int64_t> mem{0};
     double build_ms = 0;
     void check(const char* what) const {
         const RTCError e = rtcGetDeviceError(device);
         if (e != RTC_ERROR_NONE) throw Error(std::string("Embree: ") + what + " failed (error " + std::to_string(int(e)) + ")");
+    }
+    static bool on_memory(void* user, ssize_t bytes, bool /*post*/) {
+        static_cast<Impl*>(user)->mem.fetch_add(bytes, std::memory_order_relaxed);
+        return true;
+    }
+    template <typename T>
+    T* buffer(RTCGeometry g, RTCBufferType type, RTCFormat format, std::size_t count) {
+        auto* p = static_cast<T*>(rtcSetNewGeometryBuffer(g, type, 0, format, sizeof(T), count));
+        check("rtcSetNewGeometryBuffer");
+        if (!p) throw Error("Embree: rtcSetNewGeometryBuffer returned null");
+        return p;
+    }
+    RTCGeometry mesh_geometry(const Mesh& m) {
+        RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        struct V { float x, y, z; };
+        struct I { std::uint32_t a, b, c; };
+        V* v = buffer<V>(g, RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT3, m.positions.size());
+        I* idx = buffer<I>(g, RTC_BUFFER_TYPE_INDEX, RTC_FORMAT_UINT3, m.triangles.size());
+        for (std::size_t i = 0; i < m.positions.size(); ++i) v[i] = {m.positions[i].x, m.positions[i].y, m.positions[i].z};
+        for (std::size_t i = 0; i < m.triangles.size(); ++i) idx[i] = {m.triangles[i][0], m.triangles[i][1], m.triangles[i][2]};
+        return g;
+    }
+    RTCGeometry sphere_geometry(const SphereSet& set) {
+        RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+        struct V { float x, y, z, r; };
+        V* v = buffer<V>(g, RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT4, set.spheres.size());
+        for (std::size_t i = 0; i < set.spheres.size(); ++i) {
+            const Sphere& s = set.spheres[i];
+            v[i] = {s.center.x, s.center.y, s.center.z, s.radius};
+        }
+        return g;
+    }
+    // Six quads per box, each a face of the box (8 shared corners per box).
+    RTCGeometry box_geometry(const BoxSet& set) {
+        RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_QUAD);
+        struct V { float x, y, z; };
+        struct Q { std::uint32_t a, b, c, d; };
+        V* v = buffer<V>(g, RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT3, 8 * set.boxes.size());
+        Q* q = buffer<Q>(g, RTC_BUFFER_TYPE_INDEX, RTC_FORMAT_UINT4, 6 * set.boxes.size());
+        static constexpr Q kFaces[6] = {{0, 2, 6, 4}, {1, 5, 7, 3}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 6, 7, 5}};
+        for (std::size_t i = 0; i < set.boxes.size(); ++i) {
+            const Aabb& b = set.boxes[i];
+            for (std::uint32_t c = 0; c < 8; ++c)  // corner c: bit 0 x, bit 1 y, bit 2 z
+                v[8 * i + c] = {(c & 1) ? b.hi.x : b.lo.x, (c & 2) ? b.hi.y : b.lo.y, (c & 4) ? b.hi.z : b.lo.z};
+            const auto base = std::uint32_t(8 * i);
+            for (int f = 0; f < 6; ++f)
+                q[6 * i + f] = {base + kFaces[f].a, base + kFaces[f].b, base + kFaces[f].c, base + kFaces[f].d};
+        }
+        return g;
+    }
+    // The nearest plane hit strictly before `best` (planes lose ties to instances and to lower planes).
+    void planes_after(const Ray& r, SceneHit& best) const {
+        if (planes.empty()) return;
+        const PreparedRay pr = prepare(r);
+        if (!pr.valid) return;
+        for (std::uint32_t k = 0; k < planes.size(); ++k) {
+            float t = 0;
+            const float tmax = best.hit() ? best.t : r.tmax;
+            if (hit_plane(pr, planes[k], tmax, &t) && (!best.hit() || t < best.t)) best = SceneHit{t, 0.0f, 0.0f, k, kNoGeometry, num_instances + k};
+        }
     }
     ~Impl() {
         if (top) rtcReleaseScene(top);
@@ -33,31 +98,26 @@ struct EmbreeInstanceScene::Impl {
 
 EmbreeInstanceScene::EmbreeInstanceScene(const SceneDesc& scene) : impl_(std::make_unique<Impl>()) {
     validate(scene);
-    if (!scene.planes.empty()) throw Error("Embree instancing comparison: meshes only (no planes)");
     Impl& s = *impl_;
     s.device = rtcNewDevice("");
     if (!s.device) throw Error("Embree: rtcNewDevice failed");
+    rtcSetDeviceMemoryMonitorFunction(s.device, &Impl::on_memory, &s);
+    s.planes = scene.planes;
+    s.num_instances = std::uint32_t(scene.instances.size());
     const auto t0 = std::chrono::steady_clock::now();
-    for (const Geometry& g : scene.geometries) {
-        const Mesh* m = std::get_if<Mesh>(&g);
-        if (!m) throw Error("Embree instancing comparison: meshes only (no sphere or box sets)");
+    for (const Geometry& geometry : scene.geometries) {
         RTCScene child = rtcNewScene(s.device);
         s.children.push_back(child);
-        RTCGeometry geom = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_TRIANGLE);
-        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                              3 * sizeof(float), m->positions.size()));
-        auto* idx = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(
-            geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t), m->triangles.size()));
-        s.check("rtcSetNewGeometryBuffer");
-        for (std::size_t i = 0; i < m->positions.size(); ++i)
-            for (int k = 0; k < 3; ++k) v[3 * i + k] = m->positions[i][k];
-        for (std::size_t i = 0; i < m->triangles.size(); ++i)
-            for (int k = 0; k < 3; ++k) idx[3 * i + k] = m->triangles[i][k];
-        rtcCommitGeometry(geom);
-        rtcAttachGeometryByID(child, geom, 0);
-        rtcReleaseGeometry(geom);
+        RTCGeometry g = nullptr;
+        if (const auto* m = std::get_if<Mesh>(&geometry)) g = s.mesh_geometry(*m);
+        else if (const auto* sp = std::get_if<SphereSet>(&geometry)) g = s.sphere_geometry(*sp);
+        else g = s.box_geometry(std::get<BoxSet>(geometry));
+        s.prim_divisor.push_back(std::holds_alternative<BoxSet>(geometry) ? 6 : 1);
+        rtcCommitGeometry(g);
+        rtcAttachGeometryByID(child, g, 0);
+        rtcReleaseGeometry(g);
         rtcCommitScene(child);
-        s.check("rtcCommitScene (mesh)");
+        s.check("rtcCommitScene (geometry)");
     }
     s.top = rtcNewScene(s.device);
     for (std::size_t i = 0; i < scene.instances.size(); ++i) {
@@ -82,8 +142,14 @@ EmbreeInstanceScene::~EmbreeInstanceScene() = default;
 
 double EmbreeInstanceScene::build_ms() const { return impl_->build_ms; }
 
+std::size_t EmbreeInstanceScene::bytes() const {
+    const std::int64_t m = impl_->mem.load();
+    return m > 0 ? std::size_t(m) : 0;
+}
+
 void EmbreeInstanceScene::intersect(std::span<const Ray> rays, std::span<SceneHit> hits) const {
     if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
+    const Impl& s = *impl_;
     for (std::size_t i = 0; i < rays.size(); ++i) {
         const Ray& r = rays[i];
         hits[i] = SceneHit{};
@@ -91,10 +157,29 @@ void EmbreeInstanceScene::intersect(std::span<const Ray> rays, std::span<SceneHi
         alignas(16) RTCRayHit rh = embree_ray_hit(r);
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
-        rtcIntersect1(impl_->top, &ctx, &rh);
-        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
-        const std::uint32_t inst = rh.hit.instID[0];
-        hits[i] = SceneHit{rh.ray.tfar, rh.hit.u, rh.hit.v, rh.hit.primID, impl_->geometry_of[inst], inst};
+        rtcIntersect1(s.top, &ctx, &rh);
+        if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
+            const std::uint32_t inst = rh.hit.instID[0], geom = s.geometry_of[inst];
+            hits[i] = SceneHit{rh.ray.tfar, rh.hit.u, rh.hit.v, rh.hit.primID / s.prim_divisor[geom], geom, inst};
+        }
+        s.planes_after(r, hits[i]);
+    }
+}
+
+void EmbreeInstanceScene::occluded(std::span<const Ray> rays, std::span<SceneHit> hits) const {
+    if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
+    const Impl& s = *impl_;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        const Ray& r = rays[i];
+        hits[i] = SceneHit{};
+        if (check_embree_ray(r) != EmbreeRayCheck::ok) continue;
+        s.planes_after(r, hits[i]);
+        if (hits[i].hit()) continue;
+        alignas(16) RTCRay ray = embree_ray_hit(r).ray;
+        RTCIntersectContext ctx;
+        rtcInitIntersectContext(&ctx);
+        rtcOccluded1(s.top, &ctx, &ray);
+        if (ray.tfar < 0.0f) hits[i] = SceneHit{0.0f, 0.0f, 0.0f, 0, kNoGeometry, kInvalidPrim};
     }
 }
 
