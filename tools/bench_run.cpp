@@ -19,11 +19,6 @@ namespace {
 using scene::RayKind;
 constexpr RayKind kKinds[] = {RayKind::primary, RayKind::incoherent, RayKind::diffuse};
 
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.empty() ? 0.0 : v[v.size() / 2];
-}
-
 // The rays of one scene and the brute-force reference on the first `sample` of each kind.
 struct BenchRays {
     std::vector<std::vector<Ray>> rays;

@@ -4,7 +4,10 @@
 // sample; the wide-vs-binary comparison (width 2, 4, 8, 16 per ISA) on that
 // scene and the width scenes; a table, a JSON file and a Markdown report with
 // charts and pictures.
-// Config (here) -> run (bench_run.cpp) -> report (bench_report.cpp).
+// On a scene description (room, instances-N, spheres-N, FILE.json): the scene
+// bench instead (scene_desc_bench_run.h).
+// Config (here) -> run (bench_run.cpp, scene_desc_bench_run.cpp) -> report
+// (bench_report.cpp, scene_desc_bench_report.cpp).
 #include <algorithm>
 #include <sstream>
 
@@ -13,6 +16,9 @@
 #include "options.h"
 #include "outputs.h"
 #include "report.h"
+#include "scene_cmds.h"
+#include "scene_desc_bench_report.h"
+#include "simdbvh/scene/scene_desc.h"
 #include "simdbvh/kernels/parallel.h"
 #include "simdbvh/kernels/topology.h"
 
@@ -25,7 +31,7 @@ namespace {
 std::vector<std::string> width_scenes(const Options& o, const BenchConfig& c) {
     std::vector<std::string> out;
     if (!o.has("width-scenes")) {
-        if (!c.quick && c.scene != "terrain") out.push_back("terrain");
+        if (!c.quick && c.scene != "terrain" && !is_scene_desc(c.scene)) out.push_back("terrain");
         return out;
     }
     std::stringstream ss(o.get("width-scenes"));
@@ -72,6 +78,13 @@ BenchConfig parse_bench(const std::vector<std::string>& args) {
 int cmd_bench(const std::vector<std::string>& args) {
     if (std::find(args.begin(), args.end(), "--sweep") != args.end()) return cmd_bench_sweep(args);
     const BenchConfig c = parse_bench(args);
+    if (is_scene_desc(c.scene)) {  // room, instances-N, spheres-N, FILE.json: the scene bench
+        progress("scene: " + c.scene + " (scene description)", true);
+        progress("machine: " + c.machine, true);
+        const SceneDesc desc = scene::load_scene_desc(c.scene);
+        report_scene_desc_bench(c, run_scene_desc_bench(c, desc));
+        return 0;
+    }
     set_thread_pinning(true);  // the all-core rows: one worker per core (the library's default is unpinned)
     progress("scene: " + c.scene + (c.scene_why.empty() ? "" : " (" + c.scene_why + ")"), true);
     progress("machine: " + c.machine, true);

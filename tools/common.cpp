@@ -1,5 +1,7 @@
 #include "common.h"
 
+#include <algorithm>
+
 #include <unistd.h>
 
 #include <iostream>
@@ -14,6 +16,11 @@ void progress(const std::string& msg, bool force) {
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? 0.0 : v[v.size() / 2];
 }
 
 Mesh load_scene_with_progress(const std::string& name) {

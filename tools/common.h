@@ -2,6 +2,7 @@
 // Shared CLI plumbing: progress on stderr, timing, scene loading.
 #include <chrono>
 #include <string>
+#include <vector>
 
 #include "simdbvh/mesh.h"
 
@@ -11,6 +12,8 @@ namespace simdbvh::cli {
 // always with force, used by the bench).
 void progress(const std::string& msg, bool force = false);
 double seconds_since(std::chrono::steady_clock::time_point t0);
+// The median of timings (the upper middle one for an even count); 0 for none.
+double median(std::vector<double> v);
 Mesh load_scene_with_progress(const std::string& name_or_path);
 // The default scene: the dragon when cached, else the large procedural terrain.
 std::string default_scene(std::string* why = nullptr);

@@ -140,15 +140,10 @@ Mesh scene_bounds_proxy(const std::string& name) {
     return m;
 }
 
-int render_scene(const std::string& name, const MethodSpec& spec, InstanceBounds bounds, int w, int h,
-                 const std::string& out) {
-    const int width = scene_width(spec);
-    const SceneDesc desc = scene::load_scene_desc(name);
+scene::Camera scene_camera(const SceneDesc& desc, int w, int h) {
     Aabb box = world_bounds(desc);
     if (box.is_empty()) box = Aabb{{-1, -1, -1}, {1, 1, 1}};  // planes only
     scene::Camera cam = scene::default_camera(box, w, h);
-    // Planes bound the view (a room's walls): the eye moves toward the centre until it is in front of every
-    // plane whose front side holds the centre.
     const Vec3 c = box.center();
     float keep = 1.0f;  // eye = c + keep * (eye - c)
     for (const Plane& p : desc.planes) {
@@ -156,6 +151,14 @@ int render_scene(const std::string& name, const MethodSpec& spec, InstanceBounds
         if (dc > 0 && de <= 0) keep = std::min(keep, 0.9f * dc / (dc - de));
     }
     cam.eye = c + (cam.eye - c) * keep;
+    return cam;
+}
+
+int render_scene(const std::string& name, const MethodSpec& spec, InstanceBounds bounds, int w, int h,
+                 const std::string& out) {
+    const int width = scene_width(spec);
+    const SceneDesc desc = scene::load_scene_desc(name);
+    const scene::Camera cam = scene_camera(desc, w, h);
     const auto rays = scene::primary_rays(cam);
     std::vector<SceneHit> hits(rays.size());
     double build_ms = 0;

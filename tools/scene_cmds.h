@@ -4,6 +4,7 @@
 #include <string>
 
 #include "methods.h"
+#include "simdbvh/scene/rays.h"
 #include "simdbvh/scene_accel/scene.h"
 
 namespace simdbvh::cli {
@@ -21,6 +22,11 @@ int trace_scene(const Options& o, const std::string& name, const std::string& ra
 // gen-rays on a scene: a mesh standing in for the scene's bounded extent
 // (world_bounds), enough for primary and incoherent rays (diffuse needs a mesh).
 Mesh scene_bounds_proxy(const std::string& name);
+
+// The camera of render_scene and of the scene bench's primary rays: scene::default_camera over the bounded
+// part, with the eye moved toward the centre until it is in front of every plane whose front side holds the
+// centre (a room's walls).
+scene::Camera scene_camera(const SceneDesc& desc, int width, int height);
 
 // Eye-light picture (|cos| of ray and normal), tinted per instance; planes grey.
 int render_scene(const std::string& name, const MethodSpec& spec, InstanceBounds bounds, int width, int height,

@@ -1,13 +1,18 @@
 // simdbvh info/trace on scene descriptions: a JSON scene traced by the CLI
 // gives the API's brute-force scene hits; a bad scene file exits 2 with the
-// file and the JSON path in the message and writes nothing.
+// file and the JSON path in the message and writes nothing; bench --scene
+// writes a report whose JSON (parsed here with nlohmann-json) holds ours bit
+// for bit against the brute force, the tessellation and precision studies and
+// the planes comparison.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <random>
+#include <set>
 #include <string>
 
 #include "simdbvh/scene/rays.h"
@@ -101,6 +106,69 @@ TEST_F(SceneCli, GenRaysAimsAtTheSceneBounds) {
     const CliRun d = run_cli("gen-rays --scene " + scene + " --kind diffuse --count 10 --out " + path("d.bin"));
     EXPECT_EQ(d.status, 2) << d.output;
     EXPECT_FALSE(fs::exists(path("d.bin")));
+}
+
+TEST_F(SceneCli, BenchOnASceneWritesTheSceneReport) {
+    const std::string scene = write("scene.json", kScene), dir = path("report");
+    const CliRun b = run_cli("bench --scene " + scene + " --quick --rays 4096 --reps 1 --build-reps 1 --sample 64 --report " +
+                             dir);
+    ASSERT_EQ(b.status, 0) << b.output;
+    std::ifstream f(dir + "/bench.json");
+    const nlohmann::json j = nlohmann::json::parse(f);
+    EXPECT_EQ(j["instances"], 4);
+    EXPECT_EQ(j["planes"], 1);
+    std::set<std::string> methods;
+    for (const auto& s : j["speed"]) {
+        methods.insert(s["method"].get<std::string>());
+        EXPECT_GT(s["mrays_per_s"].get<double>(), 0.0) << s.dump();
+    }
+    EXPECT_EQ(methods, (std::set<std::string>{"BVH8 scene (child-corners)", "BVH8 scene (corners)", "Embree instanced"}));
+    EXPECT_EQ(j["speed"].size(), 3u * 4u);  // primary/incoherent x closest/any
+    int brute_rows = 0;
+    for (const auto& a : j["agreement"]) {
+        const std::string m = a["method"];
+        if (m == "brute force" || m == "BVH8 scene (corners)") {  // our paths: the same bits on every ray
+            brute_rows += m == "brute force";
+            EXPECT_EQ(a["same_bits"], a["count"]) << a.dump();
+            EXPECT_GT(a["count"].get<int>(), 0);
+        }
+        if (m == "Embree instanced") {
+            EXPECT_GE(a["same"].get<double>(), 0.99 * a["count"].get<double>()) << a.dump();
+        }
+    }
+    EXPECT_EQ(brute_rows, 2);
+    // Tessellation: two analytic rows, then icosphere levels 0..5 with 20 * 4^level triangles per sphere (the
+    // scene's 2 spheres), each level's median hit-point error below the previous one's (the chords shrink 4x).
+    const auto& t = j["tessellation"];
+    ASSERT_EQ(t.size(), 8u);
+    EXPECT_EQ(j["tessellation_spheres"], 2);
+    for (int level = 0; level < 6; ++level) {
+        const auto& row = t[std::size_t(level) + 2];
+        EXPECT_EQ(row["triangles"].get<std::size_t>(), 2u * 20u << (2 * level));
+        if (level > 0) {
+            EXPECT_LT(row["median_err"].get<double>(), 0.5 * t[std::size_t(level) + 1]["median_err"].get<double>());
+        }
+    }
+    EXPECT_LT(t[0]["median_err"].get<double>(), 1e-6);  // analytic: float rounding of t only
+    // Precision: the robust test never misses; the naive float quadratic does once the sphere is far away.
+    double naive_misses = 0;
+    for (const auto& p : j["sphere_precision"]) {
+        EXPECT_EQ(p["miss_robust"].get<double>(), 0.0) << p.dump();
+        naive_misses += p["miss_naive"].get<double>();
+    }
+    EXPECT_GT(naive_misses, 0.5);
+    // Planes: the one axis-aligned plane put in our tree as a flat box gives the same t on (nearly) every ray
+    // (the slab test's t is the plane test's; Embree's float quads differ in the last bits, so not checked).
+    EXPECT_EQ(j["planes_in_tree"], 1);
+    int ours = 0;
+    for (const auto& p : j["plane_rows"])
+        if (p["method"].get<std::string>().starts_with("BVH8")) {
+            ++ours;
+            EXPECT_GE(p["same_t"].get<double>(), 0.99 * p["count"].get<double>()) << p.dump();
+        }
+    EXPECT_EQ(ours, 4);
+    EXPECT_TRUE(fs::exists(dir + "/report.md"));
+    EXPECT_TRUE(fs::exists(dir + "/scene_render.png"));
 }
 
 TEST_F(SceneCli, BadJsonExits2NamingThePathAndWritesNothing) {
