@@ -4,6 +4,7 @@
 // charts and a render, and the README's block for this scene (--readme).
 #include "scene_desc_bench_report.h"
 
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
@@ -130,6 +131,32 @@ Table precision_table(const SceneDescBenchResults& r) {
     return t;
 }
 
+// Where each method first misses and its median error at 10^3 and 10^6 radii.
+std::string summary(const std::vector<SpherePrecisionRow>& rows) {
+    auto first_miss = [&](auto miss) {
+        for (const auto& p : rows)
+            if (miss(p) > 0) return fmt("%.3g", p.ratio) + " radii";
+        return std::string("never");
+    };
+    auto err_at = [&](double ratio, auto err) {
+        const SpherePrecisionRow* best = &rows.front();
+        for (const auto& p : rows)
+            if (std::fabs(std::log(p.ratio / ratio)) < std::fabs(std::log(best->ratio / ratio))) best = &p;
+        return fmt("%.2e", err(*best));
+    };
+    std::ostringstream s;
+    s << "First false miss: naive float quadratic " << first_miss([](const auto& p) { return p.miss_naive; })
+      << ", robust " << first_miss([](const auto& p) { return p.miss_robust; }) << ", Embree "
+      << first_miss([](const auto& p) { return p.miss_embree; }) << ". Median relative error at 10^3 / 10^6 radii: naive "
+      << err_at(1e3, [](const auto& p) { return p.median_err_naive; }) << " / "
+      << err_at(1e6, [](const auto& p) { return p.median_err_naive; }) << ", robust "
+      << err_at(1e3, [](const auto& p) { return p.median_err_robust; }) << " / "
+      << err_at(1e6, [](const auto& p) { return p.median_err_robust; }) << ", Embree "
+      << err_at(1e3, [](const auto& p) { return p.median_err_embree; }) << " / "
+      << err_at(1e6, [](const auto& p) { return p.median_err_embree; }) << ".";
+    return s.str();
+}
+
 const char* kNote =
     "One thread; the same rays for every method: primary = one ray per pixel of the render's camera (inside a room's "
     "walls), incoherent = origins uniform in the scene's bounds and directions uniform on the sphere. Mrays/s: "
@@ -162,8 +189,9 @@ std::string body(const SceneDescBenchResults& r, const std::string& img, bool ch
         if (charts) md << "![tessellation](" << img << "scene_tessellation.png)\n\n";
     }
     if (!r.sphere_precision.empty()) {
-        md << h("Sphere precision: distance against radius") << precision_table(r).markdown()
-           << "\nEach row: rays from a random origin aimed at random points of the disc of radius 0.9 r around the "
+        md << h("Sphere precision: distance against radius");
+        if (!readme) md << precision_table(r).markdown() << "\n";  // the README keeps the chart and the summary
+        md << summary(r.sphere_precision) << "\n\nEach row: rays from a random origin aimed at random points of the disc of radius 0.9 r around the "
               "centre (every one should hit); error | |p - c| - r | / r at the hit point; misses are false misses.\n\n";
         if (charts) md << "![sphere precision](" << img << "sphere_precision.png)\n\n";
     }

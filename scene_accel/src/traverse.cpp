@@ -24,7 +24,8 @@ using scene_accel::SlackBox2Test;
 template <class Query, int N>
 struct Bottom {
     scene_accel::WideFn<N> wide;  // the per-ISA wide traversal (closest or any)
-    Hit trace(const BottomLevel<N>& b, const Ray& obj) const {
+    // Flattened: the binary loop, its box tests and leaf loop become one function.
+    [[gnu::flatten]] Hit trace(const BottomLevel<N>& b, const Ray& obj) const {
         Hit h;
         if (const BvhN<N>* bvh = std::get_if<BvhN<N>>(&b.tree)) {
             wide(*bvh, std::span<const Ray>(&obj, 1), std::span<Hit>(&h, 1), TraceOptions{});
