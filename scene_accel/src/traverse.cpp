@@ -8,6 +8,7 @@
 #include <vector>
 #include <type_traits>
 
+#include "simdbvh/kernels/batch.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/kernels/parallel.h"
 #include "scene_trace-inl.h"
@@ -119,16 +120,59 @@ struct CollectLeaf {
 // cull_bound culling as the loop). Every candidate that can hold the closest
 // hit is tested with a tmax at least its t (tests are inclusive) and merged by
 // closer(), so the hits are those of trace() and of the brute force.
+// Scenes of at most this many instances skip the top-level tree when they
+// collect candidates: every instance box is tested against the chunk's rays by
+// the batched SIMD box kernel, 8 boxes a call (kernels/batch.h).
+inline constexpr std::size_t kFlatTopMax = 64;
+
+// The flat form of the collection: the instance boxes grown by the largest
+// slack of the chunk's live rays, so each ray's candidates are a superset of
+// those the tree gives it (a larger box, the same conservative slab test).
+// Extra candidates only add exact bottom-level tests whose hits are real, and
+// hits are merged by closer(), so the results are the tree's and the brute
+// force's bit for bit.
+template <int N>
+void collect_flat(const SceneBvhN<N>& s, std::span<const Ray> world, const std::vector<std::uint8_t>& live,
+                  float slack, Isa isa, std::vector<std::pair<float, std::uint32_t>>& cand,
+                  std::vector<std::uint32_t>& first) {
+    const std::size_t n = world.size(), ni = s.instances().size(), groups = (ni + 7) / 8;
+    const SlackBox2Test grow{slack};
+    std::vector<std::uint8_t> masks(groups * n);
+    std::vector<float> entries(groups * n * 8);
+    for (std::size_t g = 0; g < groups; ++g) {
+        Box8 box;
+        box.clear();
+        for (std::size_t j = 0; j < 8 && 8 * g + j < ni; ++j) {
+            const std::uint32_t leaf = s.leaf_of()[8 * g + j];
+            if (leaf != kInvalidPrim) box.set(int(j), grow.grow(s.top().nodes[leaf].box));
+        }
+        kernels::intersect_box8(world, box, std::span(masks).subspan(g * n, n), std::span(entries).subspan(g * n * 8, n * 8),
+                                isa);
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        first[i] = std::uint32_t(cand.size());
+        if (!live[i]) continue;
+        for (std::size_t g = 0; g < groups; ++g)
+            for (std::uint32_t m = masks[g * n + i]; m != 0; m &= m - 1) {
+                const int j = __builtin_ctz(m);
+                cand.push_back({entries[(g * n + i) * 8 + std::size_t(j)], std::uint32_t(8 * g + std::size_t(j))});
+            }
+        std::sort(cand.begin() + first[i], cand.end());
+    }
+}
+
 template <class Query, int N>
 void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<SceneHit> hits,
-                 scene_accel::WideFn<N> wide) {
+                 scene_accel::WideFn<N> wide, Isa isa) {
     constexpr bool kAny = Query::kAnyHit;
     const std::size_t n = rays.size();
     const std::uint32_t ni = std::uint32_t(s.instances().size());
+    const bool flat = ni <= kFlatTopMax;
     std::vector<Ray> world(rays.begin(), rays.end());
     std::vector<std::pair<float, std::uint32_t>> cand;  // (entry, instance)
     std::vector<std::uint32_t> first(n + 1, 0);
-    std::vector<std::uint8_t> done(n, 0);
+    std::vector<std::uint8_t> done(n, 0), live(n, 0);
+    float max_slack = 0.0f;
     for (std::size_t i = 0; i < n; ++i) {
         first[i] = std::uint32_t(cand.size());
         const PreparedRay pr = prepare(rays[i]);
@@ -148,10 +192,16 @@ void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Sce
         if (s.top().nodes.empty()) continue;
         const float o = std::max({std::fabs(rays[i].org.x), std::fabs(rays[i].org.y), std::fabs(rays[i].org.z)});
         const SlackBox2Test test{s.slack_scale() * (o + s.scene_magnitude())};
+        if (flat) {
+            live[i] = 1;
+            max_slack = std::max(max_slack, test.slack);
+            continue;
+        }
         const CollectLeaf<N> leaf{&s, test, &cand};
         bvh2::traverse_binary<SlackBox2Test, query::ClosestHit, false>(s.top().nodes, leaf, world[i], nullptr, test);
         std::sort(cand.begin() + first[i], cand.end());
     }
+    if (flat) collect_flat(s, world, live, max_slack, isa, cand, first);
     first[n] = std::uint32_t(cand.size());
     const Bottom<Query, N> bottom{wide};
     std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;  // (instance, ray)
@@ -211,7 +261,7 @@ void trace_span(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Scen
     parallel_for(chunks, std::max(1, threads), [&](std::size_t cb, std::size_t ce) {
         for (std::size_t c = cb; c < ce; ++c) {
             const std::size_t b = c * kChunk, e = std::min(rays.size(), b + kChunk);
-            trace_chunk<Query>(s, rays.subspan(b, e - b), hits.subspan(b, e - b), wide);
+            trace_chunk<Query>(s, rays.subspan(b, e - b), hits.subspan(b, e - b), wide, isa);
         }
     });
 }

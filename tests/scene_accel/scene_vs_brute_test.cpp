@@ -224,6 +224,32 @@ TEST(SceneBuiltins, InstancesOfAnIcosphere) {
     const SceneDesc d = scene::instances_scene(scene::icosphere(3), 40);
     check_builtin(d, rays_in({-20, -20, -20}, {20, 20, 20}, {-4, -4, -4}, {4, 4, 4}, 600), 100);
 }
+// More instances than the flat candidate collection takes (kFlatTopMax = 64 in traverse.cpp): the batches
+// collect candidates through the top-level tree. Closest hits bit for bit, any hits the same hit/miss, at every
+// width and ISA; and the same for 40 instances (the flat collection) above.
+template <int N>
+void check_any_and_closest(const SceneDesc& d, const std::vector<Ray>& rays) {
+    std::vector<SceneHit> want(rays.size()), got(rays.size()), want_any(rays.size());
+    brute_force_intersect(d, rays, want);
+    brute_force_occluded(d, rays, want_any);
+    const SceneBvhN<N> s = SceneBvhN<N>::build(d);
+    for (Isa isa : supported_isas()) {
+        intersect(s, std::span<const Ray>(rays), std::span<SceneHit>(got), isa);
+        for (std::size_t i = 0; i < rays.size(); ++i) ASSERT_EQ(got[i], want[i]) << N << " " << name(isa) << " ray " << i;
+        occluded(s, std::span<const Ray>(rays), std::span<SceneHit>(got), isa);
+        for (std::size_t i = 0; i < rays.size(); ++i)
+            ASSERT_EQ(got[i].hit(), want_any[i].hit()) << N << " " << name(isa) << " any, ray " << i;
+    }
+}
+TEST(SceneBuiltins, ManyInstancesThroughTheTopLevelTree) {
+    for (std::size_t count : {40u, 100u}) {
+        const SceneDesc d = scene::instances_scene(scene::icosphere(2), count);
+        const auto rays = rays_in({-20, -20, -20}, {20, 20, 20}, {-4, -4, -4}, {4, 4, 4}, 400);
+        check_any_and_closest<4>(d, rays);
+        check_any_and_closest<8>(d, rays);
+        check_any_and_closest<16>(d, rays);
+    }
+}
 TEST(SceneBuiltins, Spheres) {
     check_builtin(scene::spheres_scene(300), rays_in({-1, -1, -1}, {2, 2, 2}, {0, 0, 0}, {1, 1, 1}, 1000), 300);
 }
