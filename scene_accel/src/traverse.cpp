@@ -161,6 +161,24 @@ void collect_flat(const SceneBvhN<N>& s, std::span<const Ray> world, const std::
     }
 }
 
+// Sorts a round's (instance, ray) pairs, made in ray order, by instance: a
+// stable counting sort when the instances are few against the pairs (the
+// order std::sort gives, rays ascending within an instance), else std::sort.
+inline void group_by_instance(std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs, std::uint32_t ni,
+                              std::vector<std::uint32_t>& count,
+                              std::vector<std::pair<std::uint32_t, std::uint32_t>>& sorted) {
+    if (std::size_t(ni) > 4 * pairs.size()) {
+        std::sort(pairs.begin(), pairs.end());
+        return;
+    }
+    count.assign(std::size_t(ni) + 1, 0);
+    for (const auto& p : pairs) ++count[p.first + 1];
+    for (std::uint32_t i = 0; i < ni; ++i) count[i + 1] += count[i];
+    sorted.resize(pairs.size());
+    for (const auto& p : pairs) sorted[count[p.first]++] = p;
+    pairs.swap(sorted);
+}
+
 template <class Query, int N>
 void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<SceneHit> hits,
                  scene_accel::WideFn<N> wide, Isa isa) {
@@ -204,7 +222,8 @@ void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Sce
     if (flat) collect_flat(s, world, live, max_slack, isa, cand, first);
     first[n] = std::uint32_t(cand.size());
     const Bottom<Query, N> bottom{wide};
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;  // (instance, ray)
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs, sorted;  // (instance, ray)
+    std::vector<std::uint32_t> count;
     std::vector<Ray> obj;
     std::vector<Hit> got;
     for (std::uint32_t k = 0;; ++k) {
@@ -219,7 +238,7 @@ void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Sce
                 pairs.push_back({inst, std::uint32_t(i)});
             }
         if (pairs.empty()) break;
-        std::sort(pairs.begin(), pairs.end());
+        group_by_instance(pairs, ni, count, sorted);
         for (std::size_t b = 0; b < pairs.size();) {
             std::size_t e = b;
             while (e < pairs.size() && pairs[e].first == pairs[b].first) ++e;
