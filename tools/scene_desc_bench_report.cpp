@@ -21,6 +21,13 @@ namespace {
 
 std::string mb(std::size_t bytes) { return fmt("%.2f", double(bytes) / 1e6); }
 
+Json tally_json(const compare::SceneTally& t) {
+    Json j = Json::object();
+    for (int i = 0; i < 6; ++i) j[std::string(compare::name(compare::SceneLabel(i)))] = t.count[i];
+    j["marginal"] = t.marginal;
+    return j;
+}
+
 Json results_json(const BenchConfig& c, const SceneDescBenchResults& r) {
     const SceneStats& st = r.stats;
     Json j{{"scene", r.scene},
@@ -53,7 +60,8 @@ Json results_json(const BenchConfig& c, const SceneDescBenchResults& r) {
     for (const auto& a : r.agreement)
         j["agreement"].push_back({{"method", a.method}, {"rays", a.rays}, {"count", a.count}, {"same", a.same},
                                   {"same_bits", a.same_bits}, {"other_object", a.other_object},
-                                  {"only_ours", a.only_ours}, {"only_theirs", a.only_theirs}});
+                                  {"only_ours", a.only_ours}, {"only_theirs", a.only_theirs}, {"differ", a.differ},
+                                  {"refereed", a.refereed}, {"ours", tally_json(a.ours)}, {"theirs", tally_json(a.theirs)}});
     for (const auto& t : r.tessellation)
         j["tessellation"].push_back({{"method", t.method}, {"level", t.level}, {"triangles", t.triangles},
                                      {"bytes", t.bytes}, {"mrays_primary", t.mrays_primary},
@@ -102,6 +110,26 @@ Table agreement_table(const SceneDescBenchResults& r) {
     for (const auto& a : r.agreement)
         t.row({a.method, a.rays, std::to_string(a.count), std::to_string(a.same), std::to_string(a.same_bits),
                std::to_string(a.other_object), std::to_string(a.only_ours), std::to_string(a.only_theirs)});
+    return t;
+}
+
+std::string labels(const compare::SceneTally& t) {
+    std::string s;
+    for (int i = 2; i < 6; ++i)
+        if (t.count[i]) s += (s.empty() ? "" : ", ") + std::string(compare::name(compare::SceneLabel(i))) + " " + std::to_string(t.count[i]);
+    if (s.empty()) return "none";
+    return s + (t.marginal ? " (" + std::to_string(t.marginal) + " marginal)" : "");
+}
+
+// The differing rays, both answers classified against the double reference.
+Table referee_table(const SceneDescBenchResults& r) {
+    Table t({"ours against", "rays", "differ", "refereed", "ours: agree / tie", "ours wrong", "it: agree / tie", "it wrong"});
+    for (const auto& a : r.agreement) {
+        if (a.method == "brute force") continue;
+        t.row({a.method, a.rays, std::to_string(a.differ), std::to_string(a.refereed),
+               std::to_string(a.ours.count[0]) + " / " + std::to_string(a.ours.count[1]), labels(a.ours),
+               std::to_string(a.theirs.count[0]) + " / " + std::to_string(a.theirs.count[1]), labels(a.theirs)});
+    }
     return t;
 }
 
@@ -179,8 +207,12 @@ std::string body(const SceneDescBenchResults& r, const std::string& img, bool ch
        << h("Speed (Mrays/s, " + std::to_string(r.rays) + " rays per kind)") << speed_table(r).markdown() << "\n"
        << h("Builds and memory") << build_table(r).markdown() << "\n"
        << h("Agreement of closest hits") << agreement_table(r).markdown()
-       << "\nOurs against brute force must be the same bits on every ray; Embree's differences are not refereed here "
-          "(its float transforms and tests differ from ours in the last bits).\n\n";
+       << "\nOurs against brute force must be the same bits on every ray. Every ray where another method differs from "
+          "ours (hit/miss, object, or t beyond the reference tolerance) is refereed by the double-precision scene "
+          "reference (compare/scene_reference.h: every instance and primitive in double, the inverse transforms in "
+          "double), both answers classified (tie: another object within tolerance of the reference's t; marginal: "
+          "within float rounding of the reference):\n\n"
+       << referee_table(r).markdown() << "\n";
     if (!r.tessellation.empty()) {
         md << h("Analytic against tessellated spheres (" + std::to_string(r.tessellation_spheres) + " spheres)")
            << tessellation_table(r).markdown()
@@ -211,7 +243,8 @@ std::string slug(const std::string& scene) { return fs::path(scene).stem().strin
 
 void report_scene_desc_bench(const BenchConfig& c, const SceneDescBenchResults& r) {
     std::cout << "\nscene " << r.scene << "; " << c.machine << "\n\nMrays/s, one thread:\n" << speed_table(r).text()
-              << "\nbuilds:\n" << build_table(r).text() << "\nagreement:\n" << agreement_table(r).text();
+              << "\nbuilds:\n" << build_table(r).text() << "\nagreement:\n" << agreement_table(r).text()
+              << "\nrefereed in double:\n" << referee_table(r).text();
     if (!r.tessellation.empty()) std::cout << "\ntessellation:\n" << tessellation_table(r).text();
     if (!r.sphere_precision.empty()) std::cout << "\nsphere precision:\n" << precision_table(r).text();
     if (!r.planes.empty()) std::cout << "\nplanes:\n" << planes_table(r).text();

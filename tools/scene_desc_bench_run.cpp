@@ -17,6 +17,7 @@
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/compare/embree.h"
 #include "simdbvh/compare/embree_instances.h"
+#include "simdbvh/compare/reference.h"
 #include "simdbvh/scene/scenes.h"
 
 namespace simdbvh::cli {
@@ -130,19 +131,39 @@ Method embree_method(std::string name, const compare::EmbreeInstanceScene& e, st
                   [&buf](std::size_t i) { return buf[i]; }};
 }
 
-void agreement(const std::string& method, const std::string& kind, std::size_t n, const Method& ref,
-               const std::function<SceneHit(std::size_t)>& got, std::vector<SceneAgreementRow>& out) {
-    SceneAgreementRow a{method, kind, n};
-    for (std::size_t i = 0; i < n; ++i) {
+// Closest hits of `got` against ours (`ref`); the rays where they differ go to the double reference.
+void agreement(const std::string& method, const std::string& kind, std::span<const Ray> rays, const Method& ref,
+               const std::function<SceneHit(std::size_t)>& got, const compare::SceneReferencer* referee,
+               std::vector<SceneAgreementRow>& out) {
+    SceneAgreementRow a;
+    a.method = method;
+    a.rays = kind;
+    a.count = rays.size();
+    for (std::size_t i = 0; i < rays.size(); ++i) {
         const SceneHit r = ref.hit(i), g = got(i);
-        if (r.hit() && !g.hit()) ++a.only_ours;
-        else if (!r.hit() && g.hit()) ++a.only_theirs;
-        else if (!r.hit() || (r.inst == g.inst && r.geom == g.geom && r.prim == g.prim)) {
+        bool differ = false;
+        if (r.hit() && !g.hit()) {
+            ++a.only_ours;
+            differ = true;
+        } else if (!r.hit() && g.hit()) {
+            ++a.only_theirs;
+            differ = true;
+        } else if (!r.hit() || (r.inst == g.inst && r.geom == g.geom && r.prim == g.prim)) {
             ++a.same;
             a.same_bits += r == g;
+            differ = r.hit() && std::fabs(double(r.t) - double(g.t)) >
+                                    compare::tolerance(rays[i], r.t) * (referee ? referee->cond(r.inst) : 1.0);
         } else {
             ++a.other_object;
+            differ = true;
         }
+        if (!differ) continue;
+        ++a.differ;
+        if (!referee || a.refereed >= kMaxRefereed) continue;
+        ++a.refereed;
+        const compare::SceneReference x = referee->closest(rays[i]);
+        a.ours.add(referee->classify(rays[i], x, r));
+        a.theirs.add(referee->classify(rays[i], x, g));
     }
     out.push_back(a);
 }
@@ -375,17 +396,19 @@ SceneDescBenchResults run_scene_desc_bench(const BenchConfig& c, const SceneDesc
         }
 
     // Agreement of the closest hits with ours (child corners): the brute force on a sample (it costs every
-    // instanced primitive per ray), the others on every ray.
+    // instanced primitive per ray), the others on every ray, their differences refereed in double.
+    const compare::SceneReferencer referee(desc);
     for (int k = 0; k < 2; ++k) {
         for (Method& m : methods) m.trace(rays[k], false);
         for (std::size_t i = 1; i < methods.size(); ++i)
-            agreement(methods[i].name, kinds[k], rays[k].size(), methods[0], methods[i].hit, res.agreement);
+            agreement(methods[i].name, kinds[k], rays[k], methods[0], methods[i].hit, &referee, res.agreement);
         const double budget = 2e9 / double(std::max<std::size_t>(1, flat_tris + desc.planes.size()));
         const std::size_t n = std::min<std::size_t>({c.sample, rays[k].size(), std::max<std::size_t>(16, std::size_t(budget))});
         progress(std::string("brute force on ") + std::to_string(n) + " " + kinds[k] + " rays", true);
         std::vector<SceneHit> brute(n);
         brute_force_intersect(desc, std::span<const Ray>(rays[k]).first(n), brute);
-        agreement("brute force", kinds[k], n, methods[0], [&](std::size_t i) { return brute[i]; }, res.agreement);
+        agreement("brute force", kinds[k], std::span<const Ray>(rays[k]).first(n), methods[0],
+                  [&](std::size_t i) { return brute[i]; }, nullptr, res.agreement);
     }
 
     for (const Geometry& g : desc.geometries)

@@ -12,6 +12,7 @@
 
 #include "bench_run.h"
 #include "sphere_precision.h"
+#include "simdbvh/compare/scene_reference.h"
 #include "simdbvh/scene_accel/scene.h"
 
 namespace simdbvh::cli {
@@ -40,7 +41,13 @@ struct SceneAgreementRow {
     std::size_t other_object = 0;  // both hit, different objects
     std::size_t only_ours = 0;     // we hit, it missed
     std::size_t only_theirs = 0;   // it hit, we missed
+    // Rays where the two differ (hit/miss, object, or t beyond the reference tolerance), refereed by the double
+    // scene reference (compare/scene_reference.h), at most kMaxRefereed of them: both answers classified.
+    std::size_t differ = 0, refereed = 0;
+    compare::SceneTally ours, theirs;
 };
+
+inline constexpr std::size_t kMaxRefereed = 2000;
 
 // Analytic spheres against the same spheres tessellated (level 0..5: 20 * 4^level triangles each).
 struct TessellationRow {

@@ -134,6 +134,15 @@ TEST_F(SceneCli, BenchOnASceneWritesTheSceneReport) {
         }
         if (m == "Embree instanced") {
             EXPECT_GE(a["same"].get<double>(), 0.99 * a["count"].get<double>()) << a.dump();
+            // Every ray where Embree differs from us is refereed in double: ours is never wrong there, beyond
+            // float rounding (marginal).
+            EXPECT_EQ(a["refereed"], a["differ"]) << a.dump();
+            const auto& o = a["ours"];
+            EXPECT_EQ(o["false_miss"].get<int>() + o["false_hit"].get<int>() + o["farther_hit"].get<int>() +
+                          o["t_error"].get<int>(),
+                      o["marginal"].get<int>())
+                << a.dump();
+            EXPECT_EQ(o["agree"].get<int>() + o["tie"].get<int>() + o["marginal"].get<int>(), a["differ"].get<int>());
         }
     }
     EXPECT_EQ(brute_rows, 2);

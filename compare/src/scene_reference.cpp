@@ -1,0 +1,326 @@
+// The double-precision scene reference and its classification (scene_reference.h).
+#include "simdbvh/compare/scene_reference.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "simdbvh/compare/reference.h"
+#include "simdbvh/kernels/error.h"
+
+namespace simdbvh::compare {
+
+namespace {
+
+constexpr double kNearSlack = 0x1p-16;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+struct RayD {
+    double o[3], d[3], tmin, tmax;
+};
+
+RayD world_ray(const Ray& r) {
+    return {{r.org.x, r.org.y, r.org.z}, {r.dir.x, r.dir.y, r.dir.z}, r.tmin, r.tmax};
+}
+
+RayD object_ray(const SceneReferencer::InstanceD& in, const RayD& w) {
+    RayD r{{0, 0, 0}, {0, 0, 0}, w.tmin, w.tmax};
+    for (int i = 0; i < 3; ++i) {
+        r.o[i] = in.inv[i][3];
+        for (int k = 0; k < 3; ++k) {
+            r.o[i] += in.inv[i][k] * w.o[k];
+            r.d[i] += in.inv[i][k] * w.d[k];
+        }
+    }
+    return r;
+}
+
+double dot3(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+// Moller-Trumbore in double on float vertices; slack s on the barycentrics for near and robust.
+ObjectRef triangle(const RayD& r, const Vec3& a, const Vec3& b, const Vec3& c, double s, double tau) {
+    ObjectRef out;
+    const double e1[3] = {double(b.x) - a.x, double(b.y) - a.y, double(b.z) - a.z};
+    const double e2[3] = {double(c.x) - a.x, double(c.y) - a.y, double(c.z) - a.z};
+    const double p[3] = {r.d[1] * e2[2] - r.d[2] * e2[1], r.d[2] * e2[0] - r.d[0] * e2[2], r.d[0] * e2[1] - r.d[1] * e2[0]};
+    const double det = dot3(e1, p);
+    if (det == 0.0 || !std::isfinite(det)) return out;
+    const double tv[3] = {r.o[0] - a.x, r.o[1] - a.y, r.o[2] - a.z};
+    const double u = dot3(tv, p) / det;
+    const double q[3] = {tv[1] * e1[2] - tv[2] * e1[1], tv[2] * e1[0] - tv[0] * e1[2], tv[0] * e1[1] - tv[1] * e1[0]};
+    const double v = dot3(r.d, q) / det;
+    const double t = dot3(e2, q) / det;
+    const double w = 1.0 - u - v;
+    out.t = t;
+    const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    const double cosine = std::fabs(det) / std::sqrt(dot3(n, n) * dot3(r.d, r.d));  // |det| = |d||n||cos|
+    out.t_sensitivity = 1.0 / std::max(cosine, 1e-9);
+    const bool in_t = t >= r.tmin && t <= r.tmax;
+    out.strict = u >= 0 && v >= 0 && w >= 0 && in_t;
+    out.near = u >= -s && v >= -s && w >= -s && t >= r.tmin - tau && t <= r.tmax + tau;
+    out.robust = out.strict && u > s && v > s && w > s && t >= r.tmin + tau && t <= r.tmax - tau;
+    return out;
+}
+
+// The stable quadratic in long double: the nearer root in the interval, else the farther.
+ObjectRef sphere(const RayD& r, const Sphere& sp, double s, double tau) {
+    ObjectRef out;
+    using L = long double;
+    const L f[3] = {L(r.o[0]) - sp.center.x, L(r.o[1]) - sp.center.y, L(r.o[2]) - sp.center.z};
+    const L d[3] = {r.d[0], r.d[1], r.d[2]};
+    const L a = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    if (!(a > 0)) return out;
+    const L b = f[0] * d[0] + f[1] * d[1] + f[2] * d[2];
+    const L rr = L(sp.radius) * sp.radius;
+    L g2 = 0;  // |f - (b/a) d|^2: the closest approach, without cancellation
+    for (int k = 0; k < 3; ++k) {
+        const L g = f[k] - (b / a) * d[k];
+        g2 += g * g;
+    }
+    const L disc = rr - g2;
+    const bool near_disc = disc >= -L(s) * rr;
+    if (!near_disc) return out;
+    const L root = std::sqrt(std::max<L>(disc, 0) * a);
+    const L qv = -(b + (b >= 0 ? root : -root));
+    const L c = f[0] * f[0] + f[1] * f[1] + f[2] * f[2] - rr;
+    L t0 = qv / a, t1 = qv != 0 ? c / qv : t0;
+    if (t0 > t1) std::swap(t0, t1);
+    const double lo = r.tmin, hi = r.tmax;
+    const double t = double(t0) >= lo - tau ? double(t0) : double(t1);
+    out.t = t;
+    out.near = t >= lo - tau && t <= hi + tau;
+    out.strict = disc >= 0 && t >= lo && t <= hi;
+    out.robust = out.strict && disc > L(s) * rr && t >= lo + tau && t <= hi - tau;
+    return out;
+}
+
+// Slabs in double, the box grown by s * extent for the near test.
+ObjectRef box(const RayD& r, const Aabb& bx, double s, double tau) {
+    ObjectRef out;
+    auto slabs = [&](double grow, double* tn, double* tf) {
+        *tn = -kInf;
+        *tf = kInf;
+        for (int k = 0; k < 3; ++k) {
+            const double e = grow * (double(bx.hi[k]) - bx.lo[k]);
+            const double lo = double(bx.lo[k]) - e, hi = double(bx.hi[k]) + e;
+            if (r.d[k] == 0.0) {
+                if (r.o[k] < lo || r.o[k] > hi) return false;
+                continue;
+            }
+            double a = (lo - r.o[k]) / r.d[k], b = (hi - r.o[k]) / r.d[k];
+            if (a > b) std::swap(a, b);
+            *tn = std::max(*tn, a);
+            *tf = std::min(*tf, b);
+        }
+        return *tn <= *tf;
+    };
+    double tn, tf;
+    if (slabs(s, &tn, &tf)) {
+        const double t = tn >= r.tmin - tau ? tn : tf;
+        out.near = t >= r.tmin - tau && t <= r.tmax + tau;
+        out.t = t;
+    }
+    if (slabs(0.0, &tn, &tf)) {
+        const double t = tn >= r.tmin ? tn : tf;
+        out.t = t;
+        out.strict = t >= r.tmin && t <= r.tmax;
+        double tn2, tf2;
+        out.robust = out.strict && slabs(-s, &tn2, &tf2) && t >= r.tmin + tau && t <= r.tmax - tau;
+    }
+    out.near = out.near || out.strict;
+    return out;
+}
+
+ObjectRef plane(const RayD& r, const Plane& p) {
+    ObjectRef out;
+    const double n[3] = {p.normal.x, p.normal.y, p.normal.z};
+    const double dn = dot3(r.d, n);
+    if (dn == 0.0) return out;
+    const double pm[3] = {p.point.x - r.o[0], p.point.y - r.o[1], p.point.z - r.o[2]};
+    out.t = dot3(pm, n) / dn;
+    out.strict = out.near = out.robust = out.t >= r.tmin && out.t <= r.tmax;
+    return out;
+}
+
+bool enters(const RayD& r, const Aabb& b, double s) {
+    double tn = -kInf, tf = kInf;
+    for (int k = 0; k < 3; ++k) {
+        const double e = s * (double(b.hi[k]) - b.lo[k]) + 1e-30;
+        const double lo = double(b.lo[k]) - e, hi = double(b.hi[k]) + e;
+        if (r.d[k] == 0.0) {
+            if (r.o[k] < lo || r.o[k] > hi) return false;
+            continue;
+        }
+        double a = (lo - r.o[k]) / r.d[k], c = (hi - r.o[k]) / r.d[k];
+        if (a > c) std::swap(a, c);
+        tn = std::max(tn, a);
+        tf = std::min(tf, c);
+    }
+    // The interval with a loose margin: this only skips instances the ray cannot come near.
+    return tn <= tf && tf >= r.tmin - 1e-3 * (1.0 + std::fabs(tf)) && tn <= r.tmax + 1e-3 * (1.0 + std::fabs(tn));
+}
+
+std::size_t prim_count(const Geometry& g) {
+    if (const auto* m = std::get_if<Mesh>(&g)) return m->triangles.size();
+    if (const auto* s = std::get_if<SphereSet>(&g)) return s->spheres.size();
+    return std::get<BoxSet>(g).boxes.size();
+}
+
+}  // namespace
+
+std::string_view name(SceneLabel l) {
+    switch (l) {
+    case SceneLabel::agree: return "agree";
+    case SceneLabel::tie: return "tie";
+    case SceneLabel::false_miss: return "false_miss";
+    case SceneLabel::false_hit: return "false_hit";
+    case SceneLabel::farther_hit: return "farther_hit";
+    case SceneLabel::t_error: return "t_error";
+    }
+    return "?";
+}
+
+std::string to_string(const SceneTally& t) {
+    std::ostringstream s;
+    for (int i = 0; i < 6; ++i) s << (i ? " " : "") << name(SceneLabel(i)) << "=" << t.count[i];
+    s << " (marginal=" << t.marginal << ")";
+    return s.str();
+}
+
+SceneReferencer::SceneReferencer(const SceneDesc& scene) : scene_(&scene) {
+    validate(scene);
+    for (const Geometry& g : scene.geometries) {
+        Aabb b;
+        if (const auto* m = std::get_if<Mesh>(&g)) {
+            b = m->bounds();
+        } else if (const auto* s = std::get_if<SphereSet>(&g)) {
+            for (const Sphere& sp : s->spheres) b.grow(sphere_bounds(sp));
+        } else {
+            for (const Aabb& x : std::get<BoxSet>(g).boxes) b.grow(x);
+        }
+        bounds_.push_back(b);
+    }
+    for (const Instance& in : scene.instances) {
+        const auto& m = in.transform.m;
+        double a[3][3];
+        for (int i = 0; i < 3; ++i)
+            for (int k = 0; k < 3; ++k) a[i][k] = m[i][k];
+        const double det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) -
+                           a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+                           a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+        InstanceD d;
+        double inv[3][3];
+        for (int i = 0; i < 3; ++i)
+            for (int k = 0; k < 3; ++k) {
+                const int i1 = (k + 1) % 3, i2 = (k + 2) % 3, k1 = (i + 1) % 3, k2 = (i + 2) % 3;
+                inv[i][k] = (a[i1][k1] * a[i2][k2] - a[i1][k2] * a[i2][k1]) / det;  // cofactor transpose
+            }
+        double na = 0, ni = 0;
+        for (int i = 0; i < 3; ++i) {
+            na = std::max(na, std::fabs(a[i][0]) + std::fabs(a[i][1]) + std::fabs(a[i][2]));
+            ni = std::max(ni, std::fabs(inv[i][0]) + std::fabs(inv[i][1]) + std::fabs(inv[i][2]));
+            for (int k = 0; k < 3; ++k) d.inv[i][k] = inv[i][k];
+            d.inv[i][3] = -(inv[i][0] * m[0][3] + inv[i][1] * m[1][3] + inv[i][2] * m[2][3]);
+        }
+        d.cond = std::max(1.0, na * ni);
+        inst_.push_back(d);
+    }
+}
+
+double SceneReferencer::cond(std::uint32_t inst) const { return inst < inst_.size() ? inst_[inst].cond : 1.0; }
+
+ObjectRef SceneReferencer::object(const Ray& ray, std::uint32_t inst, std::uint32_t prim) const {
+    const RayD w = world_ray(ray);
+    const double tau0 = tolerance(ray, 0.0);
+    if (inst >= inst_.size()) {
+        const std::size_t k = inst - inst_.size();
+        if (k >= scene_->planes.size() || prim != k) return {};
+        return plane(w, scene_->planes[k]);
+    }
+    const InstanceD& in = inst_[inst];
+    const RayD r = object_ray(in, w);
+    const double s = kNearSlack * in.cond;
+    // tau at the object's own t: a first pass finds t, the second uses tolerance(ray, t) * cond.
+    const Geometry& g = scene_->geometries[scene_->instances[inst].geometry];
+    if (prim >= prim_count(g)) return {};
+    auto tau_at = [&](double t) { return (tolerance(ray, std::isfinite(t) ? t : 0.0) + tau0) * in.cond; };
+    ObjectRef o;
+    if (const auto* m = std::get_if<Mesh>(&g)) {
+        const Triangle& tr = m->triangles[prim];
+        o = triangle(r, m->positions[tr[0]], m->positions[tr[1]], m->positions[tr[2]], s, 0.0);
+        o = triangle(r, m->positions[tr[0]], m->positions[tr[1]], m->positions[tr[2]], s, tau_at(o.t));
+    } else if (const auto* sp = std::get_if<SphereSet>(&g)) {
+        o = sphere(r, sp->spheres[prim], s, 0.0);
+        o = sphere(r, sp->spheres[prim], s, tau_at(o.t));
+    } else {
+        const Aabb& bx = std::get<BoxSet>(g).boxes[prim];
+        o = box(r, bx, s, 0.0);
+        o = box(r, bx, s, tau_at(o.t));
+    }
+    return o;
+}
+
+SceneReference SceneReferencer::closest(const Ray& ray) const {
+    SceneReference out;
+    out.valid = prepare(ray).valid;
+    if (!out.valid) return out;
+    const RayD w = world_ray(ray);
+    auto consider = [&](std::uint32_t inst, std::uint32_t prim, const ObjectRef& o) {
+        if (!o.strict) return;
+        if (o.t < out.t || (o.t == out.t && (inst < out.inst || (inst == out.inst && prim < out.prim)))) {
+            out.t = o.t;
+            out.inst = inst;
+            out.prim = prim;
+            out.robust = o.robust;
+            out.t_sensitivity = o.t_sensitivity;
+        }
+    };
+    for (std::uint32_t i = 0; i < inst_.size(); ++i) {
+        const InstanceD& in = inst_[i];
+        const RayD r = object_ray(in, w);
+        const std::uint32_t geom = scene_->instances[i].geometry;
+        if (!enters(r, bounds_[geom], kNearSlack * in.cond)) continue;
+        const std::size_t n = prim_count(scene_->geometries[geom]);
+        for (std::uint32_t p = 0; p < n; ++p) consider(i, p, object(ray, i, p));
+    }
+    for (std::uint32_t k = 0; k < scene_->planes.size(); ++k)
+        consider(std::uint32_t(inst_.size()) + k, k, plane(w, scene_->planes[k]));
+    if (out.hit()) out.tau = tolerance(ray, out.t) * cond(out.inst);
+    return out;
+}
+
+SceneReferencer::Verdict SceneReferencer::classify(const Ray& ray, const SceneReference& ref, const SceneHit& h) const {
+    Verdict v;
+    if (!ref.valid || !ref.hit()) {
+        if (!h.hit()) return v;
+        v.label = SceneLabel::false_hit;
+        v.marginal = ref.valid && object(ray, h.inst, h.prim).near;
+        return v;
+    }
+    if (!h.hit()) {
+        v.label = SceneLabel::false_miss;
+        v.marginal = !ref.robust;
+        return v;
+    }
+    const double tau = std::max(ref.tau, tolerance(ray, ref.t) * cond(h.inst));
+    if (h.inst == ref.inst && h.prim == ref.prim) {
+        if (std::fabs(double(h.t) - ref.t) > tau * ref.t_sensitivity) v.label = SceneLabel::t_error;
+        return v;
+    }
+    const ObjectRef o = object(ray, h.inst, h.prim);
+    const double tau_o = tau * std::max(ref.t_sensitivity, o.t_sensitivity);
+    if (!o.near || o.t < ref.t - tau_o) {
+        v.label = SceneLabel::false_hit;
+        v.marginal = o.near;
+        return v;
+    }
+    if (o.t > ref.t + tau_o) {
+        v.label = SceneLabel::farther_hit;
+        v.marginal = !ref.robust || !o.strict;
+        return v;
+    }
+    v.label = std::fabs(double(h.t) - o.t) > tau * o.t_sensitivity ? SceneLabel::t_error : SceneLabel::tie;
+    return v;
+}
+
+}  // namespace simdbvh::compare
