@@ -12,7 +12,8 @@ namespace simdbvh::compare {
 
 namespace {
 
-constexpr double kNearSlack = 0x1p-16;
+constexpr double kNearSlack = 0x1p-16;  // relative, for skipping instances the ray cannot come near
+constexpr double kNearDelta = 16 * 0x1p-24;  // absolute near distance per unit of |o| + |t d|, times cond
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 struct RayD {
@@ -37,8 +38,9 @@ RayD object_ray(const SceneReferencer::InstanceD& in, const RayD& w) {
 
 double dot3(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
-// Moller-Trumbore in double on float vertices; slack s on the barycentrics for near and robust.
-ObjectRef triangle(const RayD& r, const Vec3& a, const Vec3& b, const Vec3& c, double s, double tau) {
+// Moller-Trumbore in double on float vertices. Near and robust: the hit point within `delta` (object space) of
+// the triangle, or that far inside it: each barycentric against delta over the height to its edge.
+ObjectRef triangle(const RayD& r, const Vec3& a, const Vec3& b, const Vec3& c, double delta, double tau) {
     ObjectRef out;
     const double e1[3] = {double(b.x) - a.x, double(b.y) - a.y, double(b.z) - a.z};
     const double e2[3] = {double(c.x) - a.x, double(c.y) - a.y, double(c.z) - a.z};
@@ -55,15 +57,20 @@ ObjectRef triangle(const RayD& r, const Vec3& a, const Vec3& b, const Vec3& c, d
     const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
     const double cosine = std::fabs(det) / std::sqrt(dot3(n, n) * dot3(r.d, r.d));  // |det| = |d||n||cos|
     out.t_sensitivity = 1.0 / std::max(cosine, 1e-9);
+    const double area2 = std::sqrt(dot3(n, n));  // twice the area; height to edge i = area2 / |edge i|
+    auto len = [](const double* e) { return std::sqrt(dot3(e, e)); };
+    const double e3[3] = {e2[0] - e1[0], e2[1] - e1[1], e2[2] - e1[2]};  // v1 -> v2, opposite v0 (w)
+    const double su = delta * len(e2) / area2, sv = delta * len(e1) / area2, sw = delta * len(e3) / area2;
     const bool in_t = t >= r.tmin && t <= r.tmax;
     out.strict = u >= 0 && v >= 0 && w >= 0 && in_t;
-    out.near = u >= -s && v >= -s && w >= -s && t >= r.tmin - tau && t <= r.tmax + tau;
-    out.robust = out.strict && u > s && v > s && w > s && t >= r.tmin + tau && t <= r.tmax - tau;
+    out.near = u >= -su && v >= -sv && w >= -sw && t >= r.tmin - tau && t <= r.tmax + tau;
+    out.robust = out.strict && u > su && v > sv && w > sw && t >= r.tmin + tau && t <= r.tmax - tau;
     return out;
 }
 
-// The stable quadratic in long double: the nearer root in the interval, else the farther.
-ObjectRef sphere(const RayD& r, const Sphere& sp, double s, double tau) {
+// The stable quadratic in long double: the nearer root in the interval, else the farther. Near: the closest
+// approach within r + delta; robust: within r - delta.
+ObjectRef sphere(const RayD& r, const Sphere& sp, double delta, double tau) {
     ObjectRef out;
     using L = long double;
     const L f[3] = {L(r.o[0]) - sp.center.x, L(r.o[1]) - sp.center.y, L(r.o[2]) - sp.center.z};
@@ -78,7 +85,8 @@ ObjectRef sphere(const RayD& r, const Sphere& sp, double s, double tau) {
         g2 += g * g;
     }
     const L disc = rr - g2;
-    const bool near_disc = disc >= -L(s) * rr;
+    const L dl = delta;
+    const bool near_disc = disc >= -(2 * L(sp.radius) * dl + dl * dl);
     if (!near_disc) return out;
     const L root = std::sqrt(std::max<L>(disc, 0) * a);
     const L qv = -(b + (b >= 0 ? root : -root));
@@ -90,18 +98,18 @@ ObjectRef sphere(const RayD& r, const Sphere& sp, double s, double tau) {
     out.t = t;
     out.near = t >= lo - tau && t <= hi + tau;
     out.strict = disc >= 0 && t >= lo && t <= hi;
-    out.robust = out.strict && disc > L(s) * rr && t >= lo + tau && t <= hi - tau;
+    out.robust = out.strict && disc > 2 * L(sp.radius) * dl && t >= lo + tau && t <= hi - tau;
     return out;
 }
 
-// Slabs in double, the box grown by s * extent for the near test.
-ObjectRef box(const RayD& r, const Aabb& bx, double s, double tau) {
+// Slabs in double; near: the box grown by delta, robust: a hit of the box shrunk by delta.
+ObjectRef box(const RayD& r, const Aabb& bx, double delta, double tau) {
     ObjectRef out;
     auto slabs = [&](double grow, double* tn, double* tf) {
         *tn = -kInf;
         *tf = kInf;
         for (int k = 0; k < 3; ++k) {
-            const double e = grow * (double(bx.hi[k]) - bx.lo[k]);
+            const double e = grow;
             const double lo = double(bx.lo[k]) - e, hi = double(bx.hi[k]) + e;
             if (r.d[k] == 0.0) {
                 if (r.o[k] < lo || r.o[k] > hi) return false;
@@ -115,7 +123,7 @@ ObjectRef box(const RayD& r, const Aabb& bx, double s, double tau) {
         return *tn <= *tf;
     };
     double tn, tf;
-    if (slabs(s, &tn, &tf)) {
+    if (slabs(delta, &tn, &tf)) {
         const double t = tn >= r.tmin - tau ? tn : tf;
         out.near = t >= r.tmin - tau && t <= r.tmax + tau;
         out.t = t;
@@ -125,7 +133,7 @@ ObjectRef box(const RayD& r, const Aabb& bx, double s, double tau) {
         out.t = t;
         out.strict = t >= r.tmin && t <= r.tmax;
         double tn2, tf2;
-        out.robust = out.strict && slabs(-s, &tn2, &tf2) && t >= r.tmin + tau && t <= r.tmax - tau;
+        out.robust = out.strict && slabs(-delta, &tn2, &tf2) && t >= r.tmin + tau && t <= r.tmax - tau;
     }
     out.near = out.near || out.strict;
     return out;
@@ -145,7 +153,8 @@ ObjectRef plane(const RayD& r, const Plane& p) {
 bool enters(const RayD& r, const Aabb& b, double s) {
     double tn = -kInf, tf = kInf;
     for (int k = 0; k < 3; ++k) {
-        const double e = s * (double(b.hi[k]) - b.lo[k]) + 1e-30;
+        const double mag = std::max({std::fabs(double(b.lo[k])), std::fabs(double(b.hi[k])), std::fabs(r.o[k])});
+        const double e = s * (double(b.hi[k]) - b.lo[k] + mag) + 1e-30;
         const double lo = double(b.lo[k]) - e, hi = double(b.hi[k]) + e;
         if (r.d[k] == 0.0) {
             if (r.o[k] < lo || r.o[k] > hi) return false;
@@ -239,23 +248,26 @@ ObjectRef SceneReferencer::object(const Ray& ray, std::uint32_t inst, std::uint3
     }
     const InstanceD& in = inst_[inst];
     const RayD r = object_ray(in, w);
-    const double s = kNearSlack * in.cond;
-    // tau at the object's own t: a first pass finds t, the second uses tolerance(ray, t) * cond.
     const Geometry& g = scene_->geometries[scene_->instances[inst].geometry];
     if (prim >= prim_count(g)) return {};
+    // tau and delta at the object's own t: a first pass finds t, the second uses it. delta bounds how far float
+    // rounding of the object-space ray (cond roundings of its origin and of t d) can move the hit point.
+    const double on = std::max({std::fabs(r.o[0]), std::fabs(r.o[1]), std::fabs(r.o[2])});
+    const double dn = std::max({std::fabs(r.d[0]), std::fabs(r.d[1]), std::fabs(r.d[2])});
     auto tau_at = [&](double t) { return (tolerance(ray, std::isfinite(t) ? t : 0.0) + tau0) * in.cond; };
+    auto delta_at = [&](double t) { return kNearDelta * in.cond * (on + (std::isfinite(t) ? std::fabs(t) : 0.0) * dn); };
     ObjectRef o;
     if (const auto* m = std::get_if<Mesh>(&g)) {
         const Triangle& tr = m->triangles[prim];
-        o = triangle(r, m->positions[tr[0]], m->positions[tr[1]], m->positions[tr[2]], s, 0.0);
-        o = triangle(r, m->positions[tr[0]], m->positions[tr[1]], m->positions[tr[2]], s, tau_at(o.t));
+        o = triangle(r, m->positions[tr[0]], m->positions[tr[1]], m->positions[tr[2]], delta_at(0), 0.0);
+        o = triangle(r, m->positions[tr[0]], m->positions[tr[1]], m->positions[tr[2]], delta_at(o.t), tau_at(o.t));
     } else if (const auto* sp = std::get_if<SphereSet>(&g)) {
-        o = sphere(r, sp->spheres[prim], s, 0.0);
-        o = sphere(r, sp->spheres[prim], s, tau_at(o.t));
+        o = sphere(r, sp->spheres[prim], delta_at(0), 0.0);
+        o = sphere(r, sp->spheres[prim], delta_at(o.t), tau_at(o.t));
     } else {
         const Aabb& bx = std::get<BoxSet>(g).boxes[prim];
-        o = box(r, bx, s, 0.0);
-        o = box(r, bx, s, tau_at(o.t));
+        o = box(r, bx, delta_at(0), 0.0);
+        o = box(r, bx, delta_at(o.t), tau_at(o.t));
     }
     return o;
 }

@@ -10,10 +10,14 @@
 // Tolerance: tau = tolerance(ray, t_ref) (reference.h) times the condition
 // number of the hit instance's matrix (1 for planes): the float transform of a
 // ray moves its hits by about that much; t is compared within tau times the
-// object's t_sensitivity (a grazing triangle's t moves more). "Near" hits admit a slack of
-// 2^-16 * cond on the barycentrics (triangles), on r^2 of the discriminant
-// (spheres) and on the box extents: a generous bound on what float rounding of
-// the transformed ray can do, used to flag disagreements as marginal.
+// object's t_sensitivity (a grazing triangle's t moves more). "Near" hits admit
+// the hit point within delta = 16 * 2^-24 * cond * (|o'| + |t| |d'|) (object
+// space, infinity norms) of the surface: the triangle's edges (each barycentric
+// against delta over the height to its edge), the sphere (closest approach
+// within r + delta), the box (grown by delta); "robust" hits are still hits
+// that far inside. A generous bound on what float rounding of the transformed
+// ray can do, used to flag disagreements as marginal (a ray through a shared
+// edge of a small triangle).
 //
 // Labels, for a method's closest hit against the reference's:
 //   agree        both miss, or the reference's object at |t - t_ref| <= tau
