@@ -102,25 +102,31 @@ ObjectRef sphere(const RayD& r, const Sphere& sp, double delta, double tau) {
     return out;
 }
 
+// The slab interval [tn, tf] of the box grown by grow[k] on axis k (negative: shrunk); false when empty. A zero
+// direction component keeps the slab when the origin lies in it.
+bool slab_interval(const RayD& r, const Aabb& bx, const double grow[3], double* tn, double* tf) {
+    *tn = -kInf;
+    *tf = kInf;
+    for (int k = 0; k < 3; ++k) {
+        const double lo = double(bx.lo[k]) - grow[k], hi = double(bx.hi[k]) + grow[k];
+        if (r.d[k] == 0.0) {
+            if (r.o[k] < lo || r.o[k] > hi) return false;
+            continue;
+        }
+        double a = (lo - r.o[k]) / r.d[k], b = (hi - r.o[k]) / r.d[k];
+        if (a > b) std::swap(a, b);
+        *tn = std::max(*tn, a);
+        *tf = std::min(*tf, b);
+    }
+    return *tn <= *tf;
+}
+
 // Slabs in double; near: the box grown by delta, robust: a hit of the box shrunk by delta.
 ObjectRef box(const RayD& r, const Aabb& bx, double delta, double tau) {
     ObjectRef out;
     auto slabs = [&](double grow, double* tn, double* tf) {
-        *tn = -kInf;
-        *tf = kInf;
-        for (int k = 0; k < 3; ++k) {
-            const double e = grow;
-            const double lo = double(bx.lo[k]) - e, hi = double(bx.hi[k]) + e;
-            if (r.d[k] == 0.0) {
-                if (r.o[k] < lo || r.o[k] > hi) return false;
-                continue;
-            }
-            double a = (lo - r.o[k]) / r.d[k], b = (hi - r.o[k]) / r.d[k];
-            if (a > b) std::swap(a, b);
-            *tn = std::max(*tn, a);
-            *tf = std::min(*tf, b);
-        }
-        return *tn <= *tf;
+        const double g[3] = {grow, grow, grow};
+        return slab_interval(r, bx, g, tn, tf);
     };
     double tn, tf;
     if (slabs(delta, &tn, &tf)) {
@@ -151,22 +157,15 @@ ObjectRef plane(const RayD& r, const Plane& p) {
 }
 
 bool enters(const RayD& r, const Aabb& b, double s) {
-    double tn = -kInf, tf = kInf;
+    double grow[3];
     for (int k = 0; k < 3; ++k) {
         const double mag = std::max({std::fabs(double(b.lo[k])), std::fabs(double(b.hi[k])), std::fabs(r.o[k])});
-        const double e = s * (double(b.hi[k]) - b.lo[k] + mag) + 1e-30;
-        const double lo = double(b.lo[k]) - e, hi = double(b.hi[k]) + e;
-        if (r.d[k] == 0.0) {
-            if (r.o[k] < lo || r.o[k] > hi) return false;
-            continue;
-        }
-        double a = (lo - r.o[k]) / r.d[k], c = (hi - r.o[k]) / r.d[k];
-        if (a > c) std::swap(a, c);
-        tn = std::max(tn, a);
-        tf = std::min(tf, c);
+        grow[k] = s * (double(b.hi[k]) - b.lo[k] + mag) + 1e-30;
     }
+    double tn, tf;
+    if (!slab_interval(r, b, grow, &tn, &tf)) return false;
     // The interval with a loose margin: this only skips instances the ray cannot come near.
-    return tn <= tf && tf >= r.tmin - 1e-3 * (1.0 + std::fabs(tf)) && tn <= r.tmax + 1e-3 * (1.0 + std::fabs(tn));
+    return tf >= r.tmin - 1e-3 * (1.0 + std::fabs(tf)) && tn <= r.tmax + 1e-3 * (1.0 + std::fabs(tn));
 }
 
 std::size_t prim_count(const Geometry& g) {
