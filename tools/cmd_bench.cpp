@@ -48,6 +48,11 @@ BenchConfig parse_bench(const std::vector<std::string>& args) {
                     {"quick", "no-report"});
     BenchConfig c;
     c.scene = o.has("scene") ? o.get("scene") : default_scene(&c.scene_why);
+    if (is_scene_desc(c.scene))  // the scene bench runs one thread, on that scene, without the refit sequence
+        for (const char* opt : {"threads", "width-scenes", "refit-frames", "stats-rays"})
+            if (o.has(opt))
+                throw UsageError(std::string("--") + opt + " does not apply to a scene description (" + c.scene +
+                                 "): the scene bench runs one thread on that scene");
     c.quick = o.has("quick");
     c.width_scenes = width_scenes(o, c);
     c.threads_all = int(o.get_int("threads", std::max(1, topology().physical_cores), 1, 1024));

@@ -178,6 +178,12 @@ TEST_F(SceneCli, BenchOnASceneWritesTheSceneReport) {
     EXPECT_EQ(ours, 4);
     EXPECT_TRUE(fs::exists(dir + "/report.md"));
     EXPECT_TRUE(fs::exists(dir + "/scene_render.png"));
+    // Options of the mesh bench that a scene bench would ignore are refused, before anything is written.
+    const std::string dir2 = path("report2");
+    const CliRun refused = run_cli("bench --scene " + scene + " --threads 2 --report " + dir2);
+    EXPECT_EQ(refused.status, 2) << refused.output;
+    EXPECT_NE(refused.output.find("--threads does not apply"), std::string::npos) << refused.output;
+    EXPECT_FALSE(fs::exists(dir2));
 }
 
 TEST_F(SceneCli, BadJsonExits2NamingThePathAndWritesNothing) {
