@@ -147,40 +147,46 @@ std::size_t EmbreeInstanceScene::bytes() const {
     return m > 0 ? std::size_t(m) : 0;
 }
 
-void EmbreeInstanceScene::intersect(std::span<const Ray> rays, std::span<SceneHit> hits) const {
+namespace {
+
+// The loop both queries share: each ray's answer starts as a miss; rays Embree must not see stay misses.
+template <class Fn>
+void for_each_ray(std::span<const Ray> rays, std::span<SceneHit> hits, Fn&& fn) {
     if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
-    const Impl& s = *impl_;
     for (std::size_t i = 0; i < rays.size(); ++i) {
-        const Ray& r = rays[i];
         hits[i] = SceneHit{};
-        if (check_embree_ray(r) != EmbreeRayCheck::ok) continue;
+        if (check_embree_ray(rays[i]) == EmbreeRayCheck::ok) fn(rays[i], hits[i]);
+    }
+}
+
+}  // namespace
+
+void EmbreeInstanceScene::intersect(std::span<const Ray> rays, std::span<SceneHit> hits) const {
+    const Impl& s = *impl_;
+    for_each_ray(rays, hits, [&s](const Ray& r, SceneHit& hit) {
         alignas(16) RTCRayHit rh = embree_ray_hit(r);
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
         rtcIntersect1(s.top, &ctx, &rh);
         if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
             const std::uint32_t inst = rh.hit.instID[0], geom = s.geometry_of[inst];
-            hits[i] = SceneHit{rh.ray.tfar, rh.hit.u, rh.hit.v, rh.hit.primID / s.prim_divisor[geom], geom, inst};
+            hit = SceneHit{rh.ray.tfar, rh.hit.u, rh.hit.v, rh.hit.primID / s.prim_divisor[geom], geom, inst};
         }
-        s.planes_after(r, hits[i]);
-    }
+        s.planes_after(r, hit);
+    });
 }
 
 void EmbreeInstanceScene::occluded(std::span<const Ray> rays, std::span<SceneHit> hits) const {
-    if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
     const Impl& s = *impl_;
-    for (std::size_t i = 0; i < rays.size(); ++i) {
-        const Ray& r = rays[i];
-        hits[i] = SceneHit{};
-        if (check_embree_ray(r) != EmbreeRayCheck::ok) continue;
-        s.planes_after(r, hits[i]);
-        if (hits[i].hit()) continue;
+    for_each_ray(rays, hits, [&s](const Ray& r, SceneHit& hit) {
+        s.planes_after(r, hit);
+        if (hit.hit()) return;
         alignas(16) RTCRay ray = embree_ray_hit(r).ray;
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
         rtcOccluded1(s.top, &ctx, &ray);
-        if (ray.tfar < 0.0f) hits[i] = SceneHit{0.0f, 0.0f, 0.0f, 0, kNoGeometry, kInvalidPrim};
-    }
+        if (ray.tfar < 0.0f) hit = SceneHit{0.0f, 0.0f, 0.0f, 0, kNoGeometry, kInvalidPrim};
+    });
 }
 
 }  // namespace simdbvh::compare
