@@ -16,9 +16,7 @@ constexpr double kNearSlack = 0x1p-16;  // relative, for skipping instances the 
 constexpr double kNearDelta = 16 * 0x1p-24;  // absolute near distance per unit of |o| + |t d|, times cond
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-struct RayD {
-    double o[3], d[3], tmin, tmax;
-};
+using RayD = SceneReferencer::RayD;
 
 RayD world_ray(const Ray& r) {
     return {{r.org.x, r.org.y, r.org.z}, {r.dir.x, r.dir.y, r.dir.z}, r.tmin, r.tmax};
@@ -93,12 +91,13 @@ ObjectRef sphere(const RayD& r, const Sphere& sp, double delta, double tau) {
     const L c = f[0] * f[0] + f[1] * f[1] + f[2] * f[2] - rr;
     L t0 = qv / a, t1 = qv != 0 ? c / qv : t0;
     if (t0 > t1) std::swap(t0, t1);
-    const double lo = r.tmin, hi = r.tmax;
-    const double t = double(t0) >= lo - tau ? double(t0) : double(t1);
-    out.t = t;
-    out.near = t >= lo - tau && t <= hi + tau;
-    out.strict = disc >= 0 && t >= lo && t <= hi;
-    out.robust = out.strict && disc > 2 * L(sp.radius) * dl && t >= lo + tau && t <= hi - tau;
+    // Strict: the first root in [tmin, tmax] (independent of tau and delta); near: with the interval widened by tau.
+    const double lo = r.tmin, hi = r.tmax, a0 = double(t0), a1 = double(t1);
+    const double ts = a0 >= lo ? a0 : a1, tn = a0 >= lo - tau ? a0 : a1;
+    out.strict = disc >= 0 && ts >= lo && ts <= hi;
+    out.t = out.strict ? ts : tn;
+    out.near = out.strict || (tn >= lo - tau && tn <= hi + tau);
+    out.robust = out.strict && disc > 2 * L(sp.radius) * dl && ts >= lo + tau && ts <= hi - tau;
     return out;
 }
 
@@ -237,38 +236,38 @@ SceneReferencer::SceneReferencer(const SceneDesc& scene) : scene_(&scene) {
 
 double SceneReferencer::cond(std::uint32_t inst) const { return inst < inst_.size() ? inst_[inst].cond : 1.0; }
 
+// One primitive of a geometry against an object-space ray.
+ObjectRef SceneReferencer::shape(const RayD& r, const Geometry& g, std::uint32_t prim, double delta, double tau) {
+    if (const auto* m = std::get_if<Mesh>(&g)) {
+        const Triangle& tr = m->triangles[prim];
+        return triangle(r, m->positions[tr[0]], m->positions[tr[1]], m->positions[tr[2]], delta, tau);
+    }
+    if (const auto* sp = std::get_if<SphereSet>(&g)) return sphere(r, sp->spheres[prim], delta, tau);
+    return box(r, std::get<BoxSet>(g).boxes[prim], delta, tau);
+}
+
+// The object with its margins: a first pass finds t (strict and t do not depend on the margins), the second uses
+// tau and delta at that t. delta bounds how far float rounding of the object-space ray (cond roundings of its
+// origin and of t d) can move the hit point.
+ObjectRef SceneReferencer::object_in(const Ray& ray, const RayD& r, std::uint32_t inst, std::uint32_t prim) const {
+    const InstanceD& in = inst_[inst];
+    const Geometry& g = scene_->geometries[scene_->instances[inst].geometry];
+    const double on = std::max({std::fabs(r.o[0]), std::fabs(r.o[1]), std::fabs(r.o[2])});
+    const double dn = std::max({std::fabs(r.d[0]), std::fabs(r.d[1]), std::fabs(r.d[2])});
+    const double t = shape(r, g, prim, 0.0, 0.0).t, tf = std::isfinite(t) ? t : 0.0;
+    const double tau = (tolerance(ray, tf) + tolerance(ray, 0.0)) * in.cond;
+    return shape(r, g, prim, kNearDelta * in.cond * (on + std::fabs(tf) * dn), tau);
+}
+
 ObjectRef SceneReferencer::object(const Ray& ray, std::uint32_t inst, std::uint32_t prim) const {
     const RayD w = world_ray(ray);
-    const double tau0 = tolerance(ray, 0.0);
     if (inst >= inst_.size()) {
         const std::size_t k = inst - inst_.size();
         if (k >= scene_->planes.size() || prim != k) return {};
         return plane(w, scene_->planes[k]);
     }
-    const InstanceD& in = inst_[inst];
-    const RayD r = object_ray(in, w);
-    const Geometry& g = scene_->geometries[scene_->instances[inst].geometry];
-    if (prim >= prim_count(g)) return {};
-    // tau and delta at the object's own t: a first pass finds t, the second uses it. delta bounds how far float
-    // rounding of the object-space ray (cond roundings of its origin and of t d) can move the hit point.
-    const double on = std::max({std::fabs(r.o[0]), std::fabs(r.o[1]), std::fabs(r.o[2])});
-    const double dn = std::max({std::fabs(r.d[0]), std::fabs(r.d[1]), std::fabs(r.d[2])});
-    auto tau_at = [&](double t) { return (tolerance(ray, std::isfinite(t) ? t : 0.0) + tau0) * in.cond; };
-    auto delta_at = [&](double t) { return kNearDelta * in.cond * (on + (std::isfinite(t) ? std::fabs(t) : 0.0) * dn); };
-    ObjectRef o;
-    if (const auto* m = std::get_if<Mesh>(&g)) {
-        const Triangle& tr = m->triangles[prim];
-        o = triangle(r, m->positions[tr[0]], m->positions[tr[1]], m->positions[tr[2]], delta_at(0), 0.0);
-        o = triangle(r, m->positions[tr[0]], m->positions[tr[1]], m->positions[tr[2]], delta_at(o.t), tau_at(o.t));
-    } else if (const auto* sp = std::get_if<SphereSet>(&g)) {
-        o = sphere(r, sp->spheres[prim], delta_at(0), 0.0);
-        o = sphere(r, sp->spheres[prim], delta_at(o.t), tau_at(o.t));
-    } else {
-        const Aabb& bx = std::get<BoxSet>(g).boxes[prim];
-        o = box(r, bx, delta_at(0), 0.0);
-        o = box(r, bx, delta_at(o.t), tau_at(o.t));
-    }
-    return o;
+    if (prim >= prim_count(scene_->geometries[scene_->instances[inst].geometry])) return {};
+    return object_in(ray, object_ray(inst_[inst], w), inst, prim);
 }
 
 SceneReference SceneReferencer::closest(const Ray& ray) const {
@@ -291,8 +290,12 @@ SceneReference SceneReferencer::closest(const Ray& ray) const {
         const RayD r = object_ray(in, w);
         const std::uint32_t geom = scene_->instances[i].geometry;
         if (!enters(r, bounds_[geom], kNearSlack * in.cond)) continue;
-        const std::size_t n = prim_count(scene_->geometries[geom]);
-        for (std::uint32_t p = 0; p < n; ++p) consider(i, p, object(ray, i, p));
+        const Geometry& g = scene_->geometries[geom];
+        const std::size_t n = prim_count(g);
+        for (std::uint32_t p = 0; p < n; ++p) {
+            const ObjectRef quick = shape(r, g, p, 0.0, 0.0);  // strict and t only
+            if (quick.strict && quick.t <= out.t) consider(i, p, object_in(ray, r, i, p));
+        }
     }
     for (std::uint32_t k = 0; k < scene_->planes.size(); ++k)
         consider(std::uint32_t(inst_.size()) + k, k, plane(w, scene_->planes[k]));

@@ -53,6 +53,13 @@ TEST(SceneReference, KnownAnswers) {
     const Ray away{{0, 0, 0}, 0.0f, {0, 0, -1}, INFINITY};
     EXPECT_FALSE(ref.closest(away).hit());
     EXPECT_FALSE(ref.closest(Ray{{0, 0, 0}, 0.0f, {0, 0, 0}, INFINITY}).valid);
+    // tmin a hair past the sphere's near root (t = 3, within the tolerance): the strict hit is the far root, t = 7.
+    const Ray past_front{{0, 0, 0}, std::nextafter(3.0f, 4.0f), {0, 0, 1}, 3.5f};
+    const Ray through{{0, 0, 0}, std::nextafter(3.0f, 4.0f), {0, 0, 1}, INFINITY};
+    EXPECT_FALSE(ref.closest(past_front).hit());
+    const compare::SceneReference rf = ref.closest(through);
+    EXPECT_EQ(rf.inst, 0u);
+    EXPECT_NEAR(rf.t, 7.0, 1e-12);
 }
 
 TEST(SceneReference, EveryLabel) {

@@ -80,7 +80,14 @@ public:
         double cond = 1;
     };
 
+    struct RayD {  // a ray in double: a world ray, or one mapped into an instance
+        double o[3], d[3], tmin, tmax;
+    };
+
 private:
+    static ObjectRef shape(const RayD& r, const Geometry& g, std::uint32_t prim, double delta, double tau);
+    ObjectRef object_in(const Ray& ray, const RayD& r, std::uint32_t inst, std::uint32_t prim) const;
+
     const SceneDesc* scene_;
     std::vector<InstanceD> inst_;
     std::vector<Aabb> bounds_;  // per geometry, object space
