@@ -7,6 +7,9 @@ usage: scripts/plot_accuracy.py ACCURACY.json [OUT_DIR]
                          the Pareto front (faster and more accurate) marked.
   offsets.png            leak rate and max relative t error against the scene
                          offset (1e0..1e7), one line per method.
+  inside_outside.png     the inside/outside panel: wrong answers against CGAL and
+                         microseconds per point, per mesh, point family and method
+                         (ours, Embree hit parity, Open3D compute_occupancy).
 Uses Debian's python3-matplotlib (Agg backend, no display needed).
 """
 import json
@@ -127,7 +130,8 @@ def offsets(rows, out):
 
 
 def inside_outside(inside, out):
-    """The inside/outside panel: wrong answers (% of compared points, log) and microseconds per point, per method."""
+    """The inside/outside panel: wrong answers (% of compared points, log) and microseconds per point, per method
+    (ours, Embree's hit parity, Open3D's compute_occupancy)."""
     if not inside:
         return None
     groups = list(dict.fromkeys((r["mesh"], r["family"]) for r in inside))
@@ -136,16 +140,22 @@ def inside_outside(inside, out):
     w = 0.8 / max(1, len(methods))
     for i, m in enumerate(methods):
         wrong, us = [], []
+        failed = []
         for g in groups:
             r = next((r for r in inside if (r["mesh"], r["family"]) == g and r["method"] == m), None)
-            wrong.append(100.0 * r["wrong"] / r["points"] if r and r["points"] else float("nan"))
+            # A failed row (Open3D's worker died on those points) has no wrong count and no time.
+            ok = r is not None and r.get("wrong") is not None and r["points"]
+            wrong.append(100.0 * r["wrong"] / r["points"] if ok else float("nan"))
             us.append(num(r["us_per_point"]) if r else float("nan"))
+            failed.append(r is not None and r.get("failed") is not None)
         xs = [x + i * w for x in range(len(groups))]
         # 0 wrong answers would vanish on a log axis: drawn at 1e-4 % and labelled.
         axes[0].bar(xs, [v if v > 0 else 1e-4 for v in wrong], w, label=m)
-        for x, v in zip(xs, wrong):
+        for x, v, f in zip(xs, wrong, failed):
             if v == 0:
                 axes[0].text(x, 1.2e-4, "0", ha="center", fontsize=6)
+            if f:
+                axes[0].text(x, 1.2e-4, "failed", ha="center", rotation=90, fontsize=6, color="tab:red")
         axes[1].bar(xs, us, w, label=m)
     labels = [f"{m}\n{f}" for m, f in groups]
     for ax in axes:

@@ -17,6 +17,7 @@ namespace simdbvh::cli {
 struct AccuracyConfig {
     bool quick = false;
     bool embree = true;
+    bool open3d = true;  // Open3D's rows in the inside/outside panel (--no-open3d leaves them out)
     bool inside = true;  // the inside/outside panel (default without --family; --inside adds it)
     int threads = 2;  // the double reference only; traces run on one thread
     scene::FamilyOptions families;

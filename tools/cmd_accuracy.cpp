@@ -31,10 +31,11 @@ std::vector<scene::Family> parse_families(const Options& o) {
 }
 
 AccuracyConfig parse_accuracy(const std::vector<std::string>& args) {
-    const Options o("accuracy", args, {"report", "json", "seed", "family", "threads", "scene"}, {"quick", "no-embree", "inside"});
+    const Options o("accuracy", args, {"report", "json", "seed", "family", "threads", "scene"}, {"quick", "no-embree", "no-open3d", "inside"});
     AccuracyConfig c;
     c.quick = o.has("quick");
     c.embree = !o.has("no-embree");
+    c.open3d = !o.has("no-open3d");
     c.inside = !o.has("family") || o.has("inside");
     c.families.quick = c.quick;
     c.families.seed = std::uint64_t(o.get_int("seed", 1, 0, (1LL << 62)));
@@ -58,7 +59,7 @@ AccuracyConfig parse_accuracy(const std::vector<std::string>& args) {
 int cmd_accuracy(const std::vector<std::string>& args) {
     const AccuracyConfig c = parse_accuracy(args);
     AccuracyResults res = run_accuracy(c);
-    if (c.inside) res.inside = run_inside_panel(c.quick, c.embree);
+    if (c.inside) res.inside = run_inside_panel(c.quick, c.embree, c.open3d);
     report_accuracy(c, res);
     return 0;
 }

@@ -5,10 +5,11 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
-#include <map>
 #include <sstream>
 
 #include "common.h"
+#include "inside_points.h"
+#include "open3d_inside.h"
 #include "simdbvh/bvh2/inside.h"
 #include "simdbvh/bvh8/inside.h"
 #include "simdbvh/compare/cgal.h"
@@ -20,95 +21,13 @@ namespace simdbvh::cli {
 
 namespace {
 
+constexpr const char* kOpen3dMethod = "Open3D (compute_occupancy)";
+constexpr double kOpen3dTimeoutSeconds = 600;  // the worker's whole run (the full panel takes seconds)
+
 struct PointSet {
     std::string name;
     std::vector<Vec3> points;
 };
-
-// The surface of [0, k]^3 split into unit squares, two triangles each, welded,
-// facing outward: every coordinate an integer, so rays along +z from points
-// with integer x and y run exactly through vertices, and with one of them a
-// half integer, along edges.
-Mesh cube_grid(int k) {
-    Mesh m;
-    std::map<std::array<int, 3>, std::uint32_t> index;
-    auto vertex = [&](int x, int y, int z) {
-        auto [it, added] = index.try_emplace({x, y, z}, std::uint32_t(m.positions.size()));
-        if (added) m.positions.push_back({float(x), float(y), float(z)});
-        return it->second;
-    };
-    // axis a is the face normal's axis; (u, v) the other two in right-handed order.
-    for (int a = 0; a < 3; ++a) {
-        const int u = (a + 1) % 3, v = (a + 2) % 3;
-        for (int side = 0; side < 2; ++side)
-            for (int i = 0; i < k; ++i)
-                for (int j = 0; j < k; ++j) {
-                    auto at = [&](int di, int dj) {
-                        int c[3];
-                        c[a] = side * k;
-                        c[u] = i + di;
-                        c[v] = j + dj;
-                        return vertex(c[0], c[1], c[2]);
-                    };
-                    const std::uint32_t p00 = at(0, 0), p10 = at(1, 0), p11 = at(1, 1), p01 = at(0, 1);
-                    if (side == 1) {  // normal +a: u x v = a
-                        m.triangles.push_back({p00, p10, p11});
-                        m.triangles.push_back({p00, p11, p01});
-                    } else {
-                        m.triangles.push_back({p00, p11, p10});
-                        m.triangles.push_back({p00, p01, p11});
-                    }
-                }
-    }
-    return m;
-}
-
-// Points whose +z rays pass through vertices (integer x, y) and along edges
-// (one half integer), at every level z + 0.5 and outside the box too.
-std::vector<Vec3> lattice_points(int k) {
-    std::vector<Vec3> p;
-    for (int x2 = -2; x2 <= 2 * k + 2; ++x2)
-        for (int y2 = -2; y2 <= 2 * k + 2; ++y2) {
-            if (x2 % 2 != 0 && y2 % 2 != 0) continue;  // at least one integer coordinate
-            for (int z = -1; z <= k; ++z) p.push_back({0.5f * float(x2), 0.5f * float(y2), float(z) + 0.5f});
-        }
-    return p;
-}
-
-// For each vertex, the points just below and just above it on the vertical
-// through it (their +z rays meet the vertex).
-std::vector<Vec3> through_vertices(const Mesh& m, std::size_t max, float d) {
-    std::vector<Vec3> p;
-    for (std::size_t i = 0; i < m.positions.size() && p.size() < max; ++i) {
-        const Vec3 v = m.positions[i];
-        p.push_back({v.x, v.y, v.z - d});
-        p.push_back({v.x, v.y, v.z + d});
-    }
-    return p;
-}
-
-// Triangle centroids moved off the surface along the normal, both ways, by
-// `ulps` units in the last place of the centroid's largest coordinate.
-std::vector<Vec3> near_surface(const Mesh& m, std::size_t max, int ulps) {
-    std::vector<Vec3> p;
-    for (std::size_t t = 0; t < m.size() && p.size() < max; ++t) {
-        const Vec3 a = m.vertex(t, 0), b1 = m.vertex(t, 1), c = m.vertex(t, 2);
-        const double ux = b1.x - a.x, uy = b1.y - a.y, uz = b1.z - a.z, vx = c.x - a.x, vy = c.y - a.y, vz = c.z - a.z;
-        double nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
-        const double len = std::sqrt(nx * nx + ny * ny + nz * nz);
-        if (!(len > 0)) continue;
-        nx /= len, ny /= len, nz /= len;
-        const double cx = (double(a.x) + b1.x + c.x) / 3, cy = (double(a.y) + b1.y + c.y) / 3,
-                     cz = (double(a.z) + b1.z + c.z) / 3;
-        const float big = float(std::max({std::fabs(cx), std::fabs(cy), std::fabs(cz)}));
-        const double ulp = double(std::nextafter(big, INFINITY)) - double(big);
-        for (double s : {-1.0, 1.0}) {
-            const double o = s * ulps * ulp;
-            p.push_back({float(cx + o * nx), float(cy + o * ny), float(cz + o * nz)});
-        }
-    }
-    return p;
-}
 
 double seconds_of(const std::function<void()>& f) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -116,8 +35,16 @@ double seconds_of(const std::function<void()>& f) {
     return seconds_since(t0);
 }
 
-void run_mesh(const std::string& mesh_name, const Mesh& mesh, const std::vector<PointSet>& sets, bool embree,
-              std::vector<InsideRow>& rows) {
+// A mesh and its point families.
+struct MeshCase {
+    std::string name;
+    Mesh mesh;
+    std::vector<PointSet> sets;
+};
+
+// `o3d`: Open3D's answers for the case's sets (null: no Open3D rows).
+void run_mesh(const MeshCase& mc, bool embree, const Open3dAnswer* o3d, std::vector<InsideRow>& rows) {
+    const Mesh& mesh = mc.mesh;
     const Bvh8 bvh = Bvh8::build(mesh);  // the CLI's default tree for inside (every tree gives the same sides)
     std::unique_ptr<compare::EmbreeScene> emb[2];
     if (embree)
@@ -128,15 +55,16 @@ void run_mesh(const std::string& mesh_name, const Mesh& mesh, const std::vector<
             o.count_filter = true;
             emb[robust] = std::make_unique<compare::EmbreeScene>(mesh, o);
         }
-    for (const PointSet& set : sets) {
-        progress("inside/outside: " + mesh_name + ", " + set.name + " (" + std::to_string(set.points.size()) +
+    for (std::size_t k = 0; k < mc.sets.size(); ++k) {
+        const PointSet& set = mc.sets[k];
+        progress("inside/outside: " + mc.name + ", " + set.name + " (" + std::to_string(set.points.size()) +
                      " points)",
                  true);
         const std::vector<Side> ref = compare::cgal_sides(mesh, set.points);
         std::size_t surface = 0;
         for (Side s : ref) surface += s == Side::surface;
         auto tally = [&](const std::string& method, double seconds, const std::function<Side(std::size_t)>& side) {
-            InsideRow r{mesh_name, set.name, method, set.points.size() - surface, surface, 0, seconds};
+            InsideRow r{mc.name, set.name, method, set.points.size() - surface, surface, 0, seconds, {}};
             for (std::size_t i = 0; i < ref.size(); ++i)
                 if (ref[i] != Side::surface && side(i) != ref[i]) ++r.wrong;
             rows.push_back(r);
@@ -159,12 +87,31 @@ void run_mesh(const std::string& mesh_name, const Mesh& mesh, const std::vector<
             tally(robust ? "Embree robust (hit parity)" : "Embree (hit parity)", s,
                   [&](std::size_t i) { return count[i] % 2 ? Side::inside : Side::outside; });
         }
+        if (!o3d) continue;
+        const Open3dAnswer& a = o3d[k];
+        if (a.error.empty())
+            tally(kOpen3dMethod, a.seconds, [&](std::size_t i) { return a.sides[i]; });
+        else
+            rows.push_back({mc.name, set.name, kOpen3dMethod, set.points.size() - surface, surface, 0, 0, a.error});
     }
+}
+
+// Open3D's answers for every set of every case, in order; empty (with a message) when it is not there.
+std::vector<Open3dAnswer> run_open3d(const std::vector<MeshCase>& cases) {
+    std::vector<Open3dJob> jobs;
+    for (const MeshCase& mc : cases)
+        for (const PointSet& set : mc.sets) jobs.push_back({&mc.mesh, set.points});
+    progress("inside/outside: Open3D compute_occupancy, " + std::to_string(jobs.size()) +
+                 " point sets (scripts/open3d/inside_worker.py) ...",
+             true);
+    Open3dRun run = run_open3d_occupancy(jobs, kOpen3dTimeoutSeconds);
+    if (!run.available) progress("inside/outside: Open3D rows left out: " + run.message, true);
+    return std::move(run.answers);
 }
 
 }  // namespace
 
-std::vector<InsideRow> run_inside_panel(bool quick, bool embree) {
+std::vector<InsideRow> run_inside_panel(bool quick, bool embree, bool open3d) {
     std::vector<InsideRow> rows;
     if (!compare::have_cgal()) {
         progress("inside/outside panel skipped: this build has no CGAL (libcgal-dev)", true);
@@ -172,32 +119,43 @@ std::vector<InsideRow> run_inside_panel(bool quick, bool embree) {
     }
     const std::size_t n = quick ? 4000 : 40000;
     const int k = quick ? 6 : 12;
-    const Mesh cubes = cube_grid(k);
-    run_mesh("cube-grid-" + std::to_string(k), cubes,
-             {{"through vertices and edges", lattice_points(k)},
-              {"uniform", scene::random_points(cubes.bounds(), n, 5)},
-              {"2 ulps off the surface", near_surface(cubes, n, 2)}},
-             embree, rows);
-    const Mesh sphere = scene::icosphere(quick ? 3 : 5);
-    run_mesh(quick ? "icosphere-3" : "icosphere-5", sphere,
-             {{"through vertices", through_vertices(sphere, n, 0.01f)},
-              {"uniform", scene::random_points(sphere.bounds(), n, 6)},
-              {"2 ulps off the surface", near_surface(sphere, n, 2)}},
-             embree, rows);
+    std::vector<MeshCase> cases(2);
+    cases[0].name = "cube-grid-" + std::to_string(k);
+    cases[0].mesh = cube_grid(k);
+    const Mesh& cubes = cases[0].mesh;
+    cases[0].sets = {{"through vertices and edges", lattice_points(k)},
+                     {"uniform", scene::random_points(cubes.bounds(), n, 5)},
+                     {"2 ulps off the surface", near_surface(cubes, n, 2)}};
+    cases[1].name = quick ? "icosphere-3" : "icosphere-5";
+    cases[1].mesh = scene::icosphere(quick ? 3 : 5);
+    const Mesh& sphere = cases[1].mesh;
+    cases[1].sets = {{"through vertices", through_vertices(sphere, n, 0.01f)},
+                     {"uniform", scene::random_points(sphere.bounds(), n, 6)},
+                     {"2 ulps off the surface", near_surface(sphere, n, 2)}};
+    const std::vector<Open3dAnswer> o3d = open3d ? run_open3d(cases) : std::vector<Open3dAnswer>{};
+    std::size_t job = 0;
+    for (const MeshCase& mc : cases) {
+        run_mesh(mc, embree, o3d.empty() ? nullptr : &o3d[job], rows);
+        job += mc.sets.size();
+    }
     return rows;
 }
 
 Json inside_json(const std::vector<InsideRow>& rows) {
     Json a = Json::array();
-    for (const InsideRow& r : rows)
+    for (const InsideRow& r : rows) {
+        const bool ok = r.failed.empty();
+        const std::size_t all = r.points + r.on_surface;
         a.push_back({{"mesh", r.mesh},
                      {"family", r.family},
                      {"method", r.method},
                      {"points", r.points},
                      {"on_surface", r.on_surface},
-                     {"wrong", r.wrong},
-                     {"seconds", r.seconds},
-                     {"us_per_point", r.points + r.on_surface ? 1e6 * r.seconds / double(r.points + r.on_surface) : 0.0}});
+                     {"wrong", ok ? Json(r.wrong) : Json()},
+                     {"seconds", ok ? Json(r.seconds) : Json()},
+                     {"us_per_point", ok ? Json(all ? 1e6 * r.seconds / double(all) : 0.0) : Json()},
+                     {"failed", ok ? Json() : Json(r.failed)}});
+    }
     return a;
 }
 
@@ -208,12 +166,24 @@ std::string inside_markdown(const std::vector<InsideRow>& rows, bool chart) {
     s << "Reference: CGAL's Side_of_triangle_mesh (exact predicates); points it puts on the surface are left out. "
          "simdbvh: one ray along +z per point, exact crossings (docs/exact_crossings.md), winding or parity rule. "
          "Embree: the parity of the hits `rtcIntersect1` reports along +z with a counting filter that rejects each "
-         "hit (Open3D's RaycastingScene counts intersections this way). One thread.\n\n";
+         "hit. Open3D: `RaycastingScene.compute_occupancy` (Debian's python3-open3d 0.16 with the ray-mask shim, "
+         "docs/open3d.md) in a Python worker (scripts/open3d/inside_worker.py): the parity of its "
+         "`count_intersections` along (1, 1, 1), which skips a hit on the triangle it counted last or at the same "
+         "t. One thread (Open3D: OMP_NUM_THREADS=1, nthreads=1). Time: the query only, after the build (ours and "
+         "Embree: the first call; Open3D: the second call, the first, untimed, commits its scene). A failed row: "
+         "the worker died on those points.\n\n";
     Table t({"mesh", "points", "method", "compared", "on surface", "wrong", "wrong %", "us/point"}, "lllrrrrr");
-    for (const InsideRow& r : rows)
+    for (const InsideRow& r : rows) {
+        const std::size_t all = r.points + r.on_surface;
+        if (!r.failed.empty()) {
+            t.row({r.mesh, r.family, r.method, std::to_string(r.points), std::to_string(r.on_surface),
+                   "failed: " + r.failed, "-", "-"});
+            continue;
+        }
         t.row({r.mesh, r.family, r.method, std::to_string(r.points), std::to_string(r.on_surface),
                std::to_string(r.wrong), fmt("%.3g", r.points ? 100.0 * double(r.wrong) / double(r.points) : 0.0),
-               fmt("%.3g", r.points + r.on_surface ? 1e6 * r.seconds / double(r.points + r.on_surface) : 0.0)});
+               fmt("%.3g", all ? 1e6 * r.seconds / double(all) : 0.0)});
+    }
     s << t.markdown();
     if (chart) s << "\n![inside/outside: wrong answers and time per point](inside_outside.png)\n";
     return s.str();

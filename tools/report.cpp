@@ -7,10 +7,16 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <iostream>
 #include <fstream>
 #include <span>
+#include <string_view>
+#include <thread>
 
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/scene/output.h"
@@ -97,24 +103,79 @@ void replace_marked_block(const fs::path& file, const std::string& begin, const 
     write_text(file, text.substr(0, pb + begin.size()) + body + text.substr(pe));
 }
 
-bool run_chart_script(const std::string& script, const std::string& json_file, const std::string& out_dir) {
+bool PythonRun::ok() const { return started && !timed_out && WIFEXITED(status) && WEXITSTATUS(status) == 0; }
+
+int PythonRun::exit_code() const { return started && !timed_out && WIFEXITED(status) ? WEXITSTATUS(status) : -1; }
+
+std::string PythonRun::describe() const {
+    if (!started) return "could not start python3";
+    if (timed_out) return "timed out";
+    if (WIFEXITED(status)) return "exit status " + std::to_string(WEXITSTATUS(status));
+    if (WIFSIGNALED(status))
+        return "killed by signal " + std::to_string(WTERMSIG(status)) + " (" + ::strsignal(WTERMSIG(status)) + ")";
+    return "wait status " + std::to_string(status);
+}
+
+PythonRun run_python_script(const std::string& script, const std::vector<std::string>& args,
+                            const PythonOptions& options) {
     const std::string py = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
     const std::string path = std::string(SIMDBVH_SOURCE_DIR) + "/scripts/" + script;
+    std::vector<const char*> argv{py.c_str(), path.c_str()};
+    for (const std::string& a : args) argv.push_back(a.c_str());
+    argv.push_back(nullptr);
+    // Our environment, with the options' entries replacing any of the same name.
+    std::vector<const char*> envp;
+    for (char** e = environ; *e; ++e) {
+        const std::string_view entry(*e);
+        const bool replaced = std::any_of(options.env.begin(), options.env.end(), [&](const std::string& o) {
+            const auto eq = o.find('=');
+            return entry.substr(0, entry.find('=')) == std::string_view(o).substr(0, eq);
+        });
+        if (!replaced) envp.push_back(*e);
+    }
+    for (const std::string& o : options.env) envp.push_back(o.c_str());
+    envp.push_back(nullptr);
     std::cout.flush();
+    std::cerr.flush();
     // posix_spawn, no shell: the paths reach the script as they are. Its stdout (noise here) goes to /dev/null.
     posix_spawn_file_actions_t fa;
     posix_spawn_file_actions_init(&fa);
     posix_spawn_file_actions_addopen(&fa, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
-    const char* argv[] = {py.c_str(), path.c_str(), json_file.c_str(), out_dir.c_str(), nullptr};
+    if (!options.stderr_file.empty())
+        posix_spawn_file_actions_addopen(&fa, STDERR_FILENO, options.stderr_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
+                                         0644);
+    PythonRun run;
     pid_t pid = 0;
-    const int err = ::posix_spawnp(&pid, argv[0], &fa, nullptr, const_cast<char* const*>(argv), environ);
+    const int err = ::posix_spawnp(&pid, argv[0], &fa, nullptr, const_cast<char* const*>(argv.data()),
+                                   const_cast<char* const*>(envp.data()));
     posix_spawn_file_actions_destroy(&fa);
-    int status = 0;
-    const bool ok = err == 0 && ::waitpid(pid, &status, 0) == pid && WIFEXITED(status) && WEXITSTATUS(status) == 0;
-    if (!ok)
-        std::cerr << "[simdbvh] warning: chart script failed (" << py << " " << path << " " << json_file << " "
-                  << out_dir << "; needs matplotlib); the report has tables only\n";
-    return ok;
+    if (err != 0) return run;
+    run.started = true;
+    if (options.timeout_seconds <= 0) {
+        while (::waitpid(pid, &run.status, 0) < 0 && errno == EINTR) {
+        }
+        return run;
+    }
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(options.timeout_seconds);
+    for (;;) {
+        const pid_t r = ::waitpid(pid, &run.status, WNOHANG);
+        if (r == pid || (r < 0 && errno != EINTR)) return run;
+        if (std::chrono::steady_clock::now() > deadline) {
+            ::kill(pid, SIGKILL);  // the child we started, by its id
+            ::waitpid(pid, &run.status, 0);
+            run.timed_out = true;
+            return run;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+}
+
+bool run_chart_script(const std::string& script, const std::string& json_file, const std::string& out_dir) {
+    const PythonRun run = run_python_script(script, {json_file, out_dir});
+    if (!run.ok())
+        std::cerr << "[simdbvh] warning: chart script failed (scripts/" << script << " " << json_file << " " << out_dir
+                  << ": " << run.describe() << "; needs /usr/bin/python3 with matplotlib); the report has tables only\n";
+    return run.ok();
 }
 
 }  // namespace simdbvh::cli

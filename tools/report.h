@@ -60,9 +60,30 @@ struct Report {
     void save_markdown(const std::filesystem::path& file) const { write_text(file, markdown.str()); }
 };
 
-// Runs scripts/SCRIPT JSON_FILE OUT_DIR with /usr/bin/python3 (matplotlib),
-// without a shell (any path works). False, with a warning on stderr, when it
-// fails; the report then has tables only.
+// A Python script run in a child process (run_python_script).
+struct PythonRun {
+    bool started = false;    // the child ran (posix_spawn succeeded)
+    bool timed_out = false;  // killed (SIGKILL) after the timeout
+    int status = 0;          // its waitpid status
+    bool ok() const;         // started, not timed out, exit status 0
+    int exit_code() const;   // its exit status; -1 when it did not exit by itself
+    // "exit status 1", "killed by signal 6 (Aborted)", "timed out", "could not start python3"
+    std::string describe() const;
+};
+
+struct PythonOptions {
+    std::vector<std::string> env;  // "NAME=value" entries set on top of our environment
+    std::string stderr_file;       // the child's stderr goes here (empty: ours)
+    double timeout_seconds = 0;    // 0: wait as long as it runs
+};
+
+// Runs scripts/SCRIPT ARGS... with /usr/bin/python3 (else python3 on the PATH), without a shell (any path
+// works); its stdout goes to /dev/null. Waits for it (at most the timeout, then kills it).
+PythonRun run_python_script(const std::string& script, const std::vector<std::string>& args,
+                            const PythonOptions& options = {});
+
+// Runs scripts/SCRIPT JSON_FILE OUT_DIR (matplotlib) through run_python_script. False, with a warning on
+// stderr, when it fails; the report then has tables only.
 bool run_chart_script(const std::string& script, const std::string& json_file, const std::string& out_dir);
 
 }  // namespace simdbvh::cli

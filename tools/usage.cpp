@@ -70,8 +70,9 @@ bench --sweep [--quick] [--threads N] [--reps N] [--build-reps N] [--budget-ms M
            [--threads N] [--reps N] [--rays N] [--stats-rays N] [--no-report]
 )"},
     {"accuracy", R"(accuracy [--quick] [--family F] [--report DIR] [--json FILE] [--no-embree]   ray families x method variants
-           [--seed K] [--threads N] [--scene S (for the random family)] [--inside]
-           and the inside/outside panel (ours vs Embree hit parity against CGAL; without --family, or --inside)
+           [--seed K] [--threads N] [--scene S (for the random family)] [--inside] [--no-open3d]
+           and the inside/outside panel (ours vs Embree hit parity and Open3D's compute_occupancy against CGAL;
+           without --family, or --inside)
 )"},
 };
 

@@ -71,10 +71,10 @@ TEST_F(JsonReports, AccuracyWithInfiniteErrorsParses) {
 }
 
 // The inside/outside panel: ours never wrong against CGAL; Embree's hit parity
-// wrong somewhere (the families exist to break it).
+// wrong somewhere (the families exist to break it). Open3D's rows: open3d_inside_test.cpp.
 TEST_F(JsonReports, InsideOutsidePanel) {
     const fs::path json = dir_ / "inside.json";
-    const test::CliRun r = test::run_cli("accuracy --quick --family watertight --inside --json " +
+    const test::CliRun r = test::run_cli("accuracy --quick --family watertight --inside --no-open3d --json " +
                                          shell_quote(json.string()));
     ASSERT_EQ(r.status, 0) << r.output;
     const Json j = parse(json);
