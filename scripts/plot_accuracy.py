@@ -150,7 +150,7 @@ def inside_outside(inside, out):
             failed.append(r is not None and r.get("failed") is not None)
         xs = [x + i * w for x in range(len(groups))]
         # 0 wrong answers would vanish on a log axis: drawn at 1e-4 % and labelled.
-        axes[0].bar(xs, [v if v > 0 else 1e-4 for v in wrong], w, label=m)
+        axes[0].bar(xs, [v if v > 0 else 1e-4 if v == 0 else float("nan") for v in wrong], w, label=m)
         for x, v, f in zip(xs, wrong, failed):
             if v == 0:
                 axes[0].text(x, 1.2e-4, "0", ha="center", fontsize=6)
