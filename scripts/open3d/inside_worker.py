@@ -19,6 +19,7 @@ OMP_NUM_THREADS=1. Exit 3: /usr/bin/python3 has no open3d module.
 """
 import importlib.util
 import os
+import resource
 import shutil
 import sys
 import tempfile
@@ -83,6 +84,7 @@ def main(argv):
     if not argv or len(argv) % 3:
         print(__doc__, file=sys.stderr)
         return 2
+    resource.setrlimit(resource.RLIMIT_CORE, (0, 0))  # Open3D's aborts leave no core files behind
     if MARK not in os.environ:
         if importlib.util.find_spec("open3d") is None:
             print(f"inside_worker: {sys.executable} cannot import open3d (Debian: python3-open3d)", file=sys.stderr)
