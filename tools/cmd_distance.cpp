@@ -57,7 +57,7 @@ int cmd_gen_points(const std::vector<std::string>& args) {
 }
 
 int cmd_distance(const std::vector<std::string>& args) {
-    const Options o("distance", args, {"scene", "points", "out", "threads", "max-distance", "rule", "tree"},
+    const Options o("distance", args, {"scene", "points", "out", "threads", "max-distance", "rule", "ray", "tree"},
                     {"stats", "unsigned"});
     // The tree of the closest point and the sign: the BVH4 by default (the
     // fastest closest point on the dragon in bench/bvh8/closest_point_bench.cpp,
@@ -77,6 +77,7 @@ int cmd_distance(const std::vector<std::string>& args) {
     InsideOptions io;
     io.threads = q.threads;
     io.rule = parse_rule(o);
+    io.ray = parse_ray(o);
     const bool is_signed = !o.has("unsigned");
     const Mesh mesh = load_scene_with_progress(scene_name);
     if (is_signed) report_closure(scene_name, mesh);

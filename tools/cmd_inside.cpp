@@ -15,7 +15,7 @@
 namespace simdbvh::cli {
 
 int cmd_inside(const std::vector<std::string>& args) {
-    const Options o("inside", args, {"scene", "points", "out", "threads", "rule", "tree"}, {});
+    const Options o("inside", args, {"scene", "points", "out", "threads", "rule", "ray", "tree"}, {});
     const std::string scene_name = o.require("scene");
     const std::string points_file = o.require("points");
     const std::string out = o.require("out");
@@ -25,6 +25,7 @@ int cmd_inside(const std::vector<std::string>& args) {
     InsideOptions io;
     io.threads = int(o.get_int("threads", 1, 1, 1024));
     io.rule = parse_rule(o);
+    io.ray = parse_ray(o);
     check_outputs({{"--out", out}}, {{"--scene", scene_name}, {"--points", points_file}});
     const auto points = scene::read_points(points_file);
     check_memory("--points " + points_file, std::uint64_t(points.size()) * (sizeof(PointSide) + 1));
@@ -41,7 +42,8 @@ int cmd_inside(const std::vector<std::string>& args) {
     scene::write_file_atomic(out, scene::encode_sides(sides));
     std::size_t count[3] = {0, 0, 0};
     for (const PointSide& s : sides) count[int(s.side)]++;
-    std::cout << "method " << tree << "  threads " << io.threads << "  rule " << o.get("rule", "winding") << "\n"
+    std::cout << "method " << tree << "  threads " << io.threads << "  rule " << o.get("rule", "winding") << "  ray "
+              << o.get("ray", "shortest") << "\n"
               << "points " << points.size() << "  inside " << count[1] << "  outside " << count[0] << "  surface "
               << count[2] << "\n"
               << "build " << build_s * 1e3 << " ms  query " << query_s * 1e3 << " ms  "

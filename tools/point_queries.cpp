@@ -27,6 +27,14 @@ InsideOptions::Rule parse_rule(const Options& o) {
     throw UsageError("unknown --rule '" + r + "' (winding, parity)");
 }
 
+CountRay parse_ray(const Options& o) {
+    const std::string r = o.get("ray", "shortest");
+    static const char* const names[] = {"+x", "-x", "+y", "-y", "+z", "-z", "shortest"};
+    for (int k = 0; k <= int(CountRay::shortest); ++k)
+        if (r == names[k]) return CountRay(k);
+    throw UsageError("unknown --ray '" + r + "' (shortest, +x, -x, +y, -y, +z, -z)");
+}
+
 std::string parse_tree(const Options& o, const std::string& fallback) {
     const std::string tree = o.get("tree", fallback);
     if (tree != "bvh2" && tree != "bvh4" && tree != "bvh8" && tree != "bvh16")

@@ -1,6 +1,6 @@
 #pragma once
 // Shared by the point query commands (distance, inside): the closure line,
-// the --rule option and the --tree a query walks.
+// the --rule and --ray options and the --tree a query walks.
 #include <string>
 #include <type_traits>
 #include <variant>
@@ -19,6 +19,10 @@ bool report_closure(const std::string& scene_name, const Mesh& mesh);
 
 // --rule winding|parity (default winding).
 InsideOptions::Rule parse_rule(const Options& o);
+
+// --ray shortest|+x|-x|+y|-y|+z|-z (default shortest): the ray each point's
+// crossings are counted along.
+CountRay parse_ray(const Options& o);
 
 // --tree bvh2|bvh4|bvh8|bvh16 (every tree gives the same answers; the
 // default is the fastest for the command's query in the bench).

@@ -35,14 +35,15 @@ constexpr CommandText kCommands[] = {
     {"gen-points", R"(gen-points --scene S --count N [--seed K] --out POINTS.bin   uniform in the bounds + 10% per side
 )"},
     {"distance", R"(distance --scene S --points POINTS.bin --out DIST.bin [--threads N] [--max-distance R] [--stats]
-           [--unsigned] [--rule winding|parity] [--tree bvh2|bvh4|bvh8|bvh16]
+           [--unsigned] [--rule winding|parity] [--ray shortest|+x|-x|+y|-y|+z|-z] [--tree bvh2|bvh4|bvh8|bvh16]
            closest point per point: 20-byte records (signed distance, triangle, x y z); negative inside;
            --tree: the tree of the closest point and the sign (default bvh4; same records from each)
 )"},
     {"inside", R"(inside   --scene S --points POINTS.bin --out SIDES.bin [--threads N] [--rule winding|parity]
-           [--tree bvh2|bvh4|bvh8|bvh16]
+           [--ray shortest|+x|-x|+y|-y|+z|-z] [--tree bvh2|bvh4|bvh8|bvh16]
            exact inside/outside per point: one byte (0 outside, 1 inside, 2 on the surface);
-           --tree: the tree the +z rays walk (default bvh8; same bytes from each)
+           --ray: the axis ray counted from each point (default shortest: toward the nearest face of the
+           mesh's bounds); --tree: the tree the rays walk (default bvh8; same bytes from each)
 )"},
     {"classify", R"(classify --scene S --rays RAYS.bin --hits HITS.bin [--threads N] [--json FILE]
            any method's closest hits (16-byte hit records, e.g. another library's answers) classified per ray

@@ -1,5 +1,6 @@
 #pragma once
 // Internal: the crossing of the +z ray from a point with one triangle, exactly
+// (any other axis direction through RayFrame below)
 // (exact_predicates.h, docs/exact_crossings.md), and the count of crossings
 // into a PointSide: shared by the BVH2's inside test (inside.cpp) and the
 // wide trees' (bvh8/src/inside.cpp), so both count with the same predicates.
@@ -69,7 +70,8 @@ struct CrossingCounter {
             r.crossings++;
         }
     }
-    PointSide result(const InsideOptions& o) {
+    PointSide result(const InsideOptions& o, CountRay ray = CountRay::plus_z) {
+        r.ray = ray;
         if (surface) r.side = Side::surface;
         else if (o.rule == InsideOptions::Rule::winding) r.side = r.winding != 0 ? Side::inside : Side::outside;
         else r.side = (r.crossings & 1u) ? Side::inside : Side::outside;
@@ -81,6 +83,59 @@ struct CrossingCounter {
 // (px, py) is in the closure of its projection, so in its box.
 inline bool box_reaches(const Aabb& b, const Vec3& p) {
     return b.lo.x <= p.x && p.x <= b.hi.x && b.lo.y <= p.y && p.y <= b.hi.y && p.z <= b.hi.z;
+}
+
+// A point's ray along an axis direction, and the rotation by quarter turns
+// that takes it to +z: axis w (0 x, 1 y, 2 z) up or down, u and v the other
+// two axes in cyclic order. map(q) = (q_u, q_v, q_w) up, (q_v, q_u, -q_w)
+// down: a permutation and a negation of float coordinates, exact, with
+// determinant +1, so the crossing test above runs unchanged on the mapped
+// coordinates (same predicates, same facing signs along the ray).
+struct RayFrame {
+    int u = 0, v = 1, w = 2;
+    bool up = true;
+    static RayFrame of(CountRay r) {
+        RayFrame f;
+        f.w = int(r) / 2;
+        f.up = int(r) % 2 == 0;
+        f.u = (f.w + 1) % 3;
+        f.v = (f.w + 2) % 3;
+        return f;
+    }
+    CountRay ray() const { return CountRay(2 * w + (up ? 0 : 1)); }
+    Vec3 map(const Vec3& q) const { return up ? Vec3{q[u], q[v], q[w]} : Vec3{q[v], q[u], -q[w]}; }
+    // box_reaches() of the mapped box, without mapping it.
+    bool reaches(const Aabb& b, const Vec3& p) const {
+        return b.lo[u] <= p[u] && p[u] <= b.hi[u] && b.lo[v] <= p[v] && p[v] <= b.hi[v] &&
+               (up ? p[w] <= b.hi[w] : b.lo[w] <= p[w]);
+    }
+};
+
+// The ray InsideOptions::ray names for p; for `shortest`, the direction toward
+// the nearest face of `bounds` (the union of the mesh's triangle boxes: every
+// path passes the same box, so every path picks the same ray). Distances in
+// double, so they never overflow.
+inline RayFrame ray_frame(CountRay r, const Aabb& bounds, const Vec3& p) {
+    if (r != CountRay::shortest) return RayFrame::of(r);
+    CountRay best = CountRay::plus_z;
+    double d = double(bounds.hi.z) - p.z;
+    auto offer = [&](CountRay c, double e) {
+        if (e < d) d = e, best = c;
+    };
+    offer(CountRay::minus_z, double(p.z) - bounds.lo.z);
+    offer(CountRay::plus_x, double(bounds.hi.x) - p.x);
+    offer(CountRay::minus_x, double(p.x) - bounds.lo.x);
+    offer(CountRay::plus_y, double(bounds.hi.y) - p.y);
+    offer(CountRay::minus_y, double(p.y) - bounds.lo.y);
+    return RayFrame::of(best);
+}
+
+// crossing() of p's ray in frame f.
+inline int crossing(const RayFrame& f, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p) {
+    return crossing(f.map(a), f.map(b), f.map(c), f.map(p));
+}
+inline int crossing_exact(const RayFrame& f, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p) {
+    return crossing_exact(f.map(a), f.map(b), f.map(c), f.map(p));
 }
 
 }  // namespace simdbvh::detail

@@ -1,4 +1,4 @@
-// Exact inside/outside by crossing counting along +z (see simdbvh/bvh2/inside.h
+// Exact inside/outside by crossing counting along an axis (see simdbvh/bvh2/inside.h
 // and docs/exact_crossings.md).
 #include "simdbvh/bvh2/inside.h"
 
@@ -11,7 +11,6 @@
 namespace simdbvh {
 namespace {
 
-using detail::box_reaches;
 using detail::crossing;
 using detail::usable;
 using Counter = detail::CrossingCounter;
@@ -19,7 +18,9 @@ using Counter = detail::CrossingCounter;
 PointSide classify(const Bvh2& bvh, const Vec3& p, const InsideOptions& o) {
     Counter cnt;
     const auto& nodes = bvh.nodes();
-    if (!usable(p) || nodes.empty() || !box_reaches(nodes[0].box, p)) return cnt.result(o);
+    if (!usable(p) || nodes.empty()) return cnt.result(o);
+    const detail::RayFrame f = detail::ray_frame(o.ray, nodes[0].box, p);
+    if (!f.reaches(nodes[0].box, p)) return cnt.result(o, f.ray());
     const TriangleVerts* tris = bvh.triangles().data();
     std::uint32_t stack[kMaxDepth + 1];
     int sp = 0;
@@ -27,7 +28,7 @@ PointSide classify(const Bvh2& bvh, const Vec3& p, const InsideOptions& o) {
     for (;;) {
         const Node2& n = nodes[idx];
         if (!n.is_leaf()) {
-            const bool ha = box_reaches(nodes[n.first].box, p), hb = box_reaches(nodes[n.first + 1].box, p);
+            const bool ha = f.reaches(nodes[n.first].box, p), hb = f.reaches(nodes[n.first + 1].box, p);
             if (ha && hb) stack[sp++] = n.first + 1;
             if (ha || hb) {
                 idx = ha ? n.first : n.first + 1;
@@ -35,9 +36,9 @@ PointSide classify(const Bvh2& bvh, const Vec3& p, const InsideOptions& o) {
             }
         } else {
             for (std::uint32_t i = n.first, e = n.first + n.count; i < e; ++i)
-                cnt.add(crossing(tris[i].v0, tris[i].v1, tris[i].v2, p));
+                cnt.add(crossing(f, tris[i].v0, tris[i].v1, tris[i].v2, p));
         }
-        if (sp == 0) return cnt.result(o);
+        if (sp == 0) return cnt.result(o, f.ray());
         idx = stack[--sp];
     }
 }
@@ -61,11 +62,16 @@ PointSide brute_force_classify_point(const Mesh& mesh, const Vec3& p, const Insi
     Counter cnt;
     if (!usable(p)) return cnt.result(opts);
     const std::size_t nv = mesh.positions.size();
-    for (const Triangle& t : mesh.triangles) {
-        if (t[0] >= nv || t[1] >= nv || t[2] >= nv) continue;
-        cnt.add(crossing(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]], p));
-    }
-    return cnt.result(opts);
+    auto valid = [&](const Triangle& t) { return t[0] < nv && t[1] < nv && t[2] < nv; };
+    Aabb bounds;  // the trees' root box: the union of the triangles' boxes
+    if (opts.ray == CountRay::shortest)
+        for (const Triangle& t : mesh.triangles)
+            if (valid(t))
+                for (int k = 0; k < 3; ++k) bounds.grow(mesh.positions[t[k]]);
+    const detail::RayFrame f = detail::ray_frame(opts.ray, bounds, p);
+    for (const Triangle& t : mesh.triangles)
+        if (valid(t)) cnt.add(crossing(f, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]], p));
+    return cnt.result(opts, f.ray());
 }
 
 }  // namespace simdbvh

@@ -2,7 +2,8 @@
 // crossing count (bvh2/src/crossing-inl.h) over wide nodes and Tri8 blocks.
 // The column tests run 4 lanes at a time with SSE (the x86-64 baseline: no
 // dispatch, no AVX); they are comparisons only, so they decide exactly what
-// box_reaches() and column_misses() decide in the BVH2's loop.
+// RayFrame::reaches() and column_misses() (on the mapped coordinates) decide
+// in the BVH2's loop.
 #include "simdbvh/bvh8/inside.h"
 
 #include <emmintrin.h>
@@ -16,15 +17,27 @@
 namespace simdbvh {
 namespace {
 
+// The column of p's ray (a RayFrame): the boxes whose closed extent in u and
+// v holds p and that reach p along w (hi_w >= p_w up, lo_w <= p_w down).
 struct Column {
-    __m128 x, y, z;
+    __m128 pu, pv, pw, up_free, down_free;  // *_free: all ones where that bound is not tested
+    int u, v, w;
     Column() = default;
-    explicit Column(const Vec3& p) : x(_mm_set1_ps(p.x)), y(_mm_set1_ps(p.y)), z(_mm_set1_ps(p.z)) {}
-    // Lanes whose closed xy box holds (px, py) and whose top is at or above pz.
-    int reaches(__m128 lx, __m128 hx, __m128 ly, __m128 hy, __m128 hz) const {
-        const __m128 in_x = _mm_and_ps(_mm_cmple_ps(lx, x), _mm_cmple_ps(x, hx));
-        const __m128 in_y = _mm_and_ps(_mm_cmple_ps(ly, y), _mm_cmple_ps(y, hy));
-        return _mm_movemask_ps(_mm_and_ps(_mm_and_ps(in_x, in_y), _mm_cmple_ps(z, hz)));
+    Column(const detail::RayFrame& f, const Vec3& p) : u(f.u), v(f.v), w(f.w) {
+        pu = _mm_set1_ps(p[u]);
+        pv = _mm_set1_ps(p[v]);
+        pw = _mm_set1_ps(p[w]);
+        const __m128 ones = _mm_castsi128_ps(_mm_set1_epi32(-1));
+        up_free = f.up ? _mm_setzero_ps() : ones;
+        down_free = f.up ? ones : _mm_setzero_ps();
+    }
+    // Lanes reached, for 4 boxes given as the lo and hi planes of x, y, z.
+    int reaches(const __m128 (&lo)[3], const __m128 (&hi)[3]) const {
+        const __m128 in_u = _mm_and_ps(_mm_cmple_ps(lo[u], pu), _mm_cmple_ps(pu, hi[u]));
+        const __m128 in_v = _mm_and_ps(_mm_cmple_ps(lo[v], pv), _mm_cmple_ps(pv, hi[v]));
+        const __m128 in_w = _mm_and_ps(_mm_or_ps(_mm_cmple_ps(pw, hi[w]), up_free),
+                                       _mm_or_ps(_mm_cmple_ps(lo[w], pw), down_free));
+        return _mm_movemask_ps(_mm_and_ps(_mm_and_ps(in_u, in_v), in_w));
     }
 };
 
@@ -32,33 +45,34 @@ struct Column {
 template <int N>
 std::uint32_t reached_children(const BoxN<N>& b, const Column& c) {
     std::uint32_t m = 0;
-    for (int i = 0; i < N; i += 4)
-        m |= std::uint32_t(c.reaches(_mm_load_ps(b.lo_x + i), _mm_load_ps(b.hi_x + i), _mm_load_ps(b.lo_y + i),
-                                     _mm_load_ps(b.hi_y + i), _mm_load_ps(b.hi_z + i)))
-             << i;
+    for (int i = 0; i < N; i += 4) {
+        const __m128 lo[3] = {_mm_load_ps(b.lo_x + i), _mm_load_ps(b.lo_y + i), _mm_load_ps(b.lo_z + i)};
+        const __m128 hi[3] = {_mm_load_ps(b.hi_x + i), _mm_load_ps(b.hi_y + i), _mm_load_ps(b.hi_z + i)};
+        m |= std::uint32_t(c.reaches(lo, hi)) << i;
+    }
     return m;
 }
 
-// Triangles of a block whose column test passes (column_misses() false; the
-// vertices are finite, so min/max agree with fmin/fmax).
 std::uint32_t reached_triangles(const Tri8& t, const Column& c) {
     std::uint32_t m = 0;
     for (int i = 0; i < kBlockWidth; i += 4) {
         const detail::TriangleBoxes4 x = detail::triangle_boxes4(t, i);
-        m |= std::uint32_t(c.reaches(x.lx, x.hx, x.ly, x.hy, x.hz)) << i;
+        const __m128 lo[3] = {x.lx, x.ly, x.lz}, hi[3] = {x.hx, x.hy, x.hz};
+        m |= std::uint32_t(c.reaches(lo, hi)) << i;
     }
     return m;
 }
 
 template <int N>
-void count_leaf(detail::CrossingCounter& cnt, const Tri8* blocks, ChildN<N> leaf, const Column& col, const Vec3& p) {
+void count_leaf(detail::CrossingCounter& cnt, const Tri8* blocks, ChildN<N> leaf, const Column& col,
+                const detail::RayFrame& f, const Vec3& p) {
     for (std::uint32_t b = 0; b < leaf.blocks(); ++b) {
         const Tri8& t = blocks[leaf.index + b];
         // A single-block leaf counts its own lanes only (its block may be shared).
         const std::uint32_t own = leaf.own_lanes() != 0 ? leaf.own_lanes() : detail::used_lanes(t);
         for (std::uint32_t m = reached_triangles(t, col) & own; m != 0; m &= m - 1) {
             const int k = __builtin_ctz(m);
-            cnt.add(detail::crossing_exact(t.v0(k), t.v1(k), t.v2(k), p));
+            cnt.add(detail::crossing_exact(f, t.v0(k), t.v1(k), t.v2(k), p));
         }
     }
 }
@@ -69,11 +83,12 @@ struct Entry {
     std::uint32_t index, count;
 };
 
-// One point's walk: visits every node and leaf whose box the +z column
-// reaches, in any order (a count does not depend on it).
+// One point's walk: visits every node and leaf whose box the column of its
+// ray reaches, in any order (a count does not depend on it).
 template <int N>
 struct Walk {
     detail::CrossingCounter cnt;
+    detail::RayFrame frame;
     Column col;
     Vec3 p;
     ChildN<N> cur;
@@ -82,12 +97,15 @@ struct Walk {
     Entry stack[1 + (N - 1) * kMaxDepth];
 
     // False (and nothing to walk) when the column misses the tree.
-    bool start(const BvhN<N>& bvh, const Vec3& q, std::uint32_t i) {
+    bool start(const BvhN<N>& bvh, const Vec3& q, std::uint32_t i, const InsideOptions& o) {
         cnt = {};
         p = q;
         point = i;
-        if (!detail::usable(q) || bvh.nodes().empty() || !detail::box_reaches(bvh.bounds(), q)) return false;
-        col = Column(q);
+        frame = {};
+        if (!detail::usable(q) || bvh.nodes().empty()) return false;
+        frame = detail::ray_frame(o.ray, bvh.bounds(), q);
+        if (!frame.reaches(bvh.bounds(), q)) return false;
+        col = Column(frame, q);
         cur = ChildN<N>::inner(0);
         sp = 0;
         return true;
@@ -106,7 +124,7 @@ struct Walk {
                 return false;
             }
         } else {
-            count_leaf<N>(cnt, blocks, cur, col, p);
+            count_leaf<N>(cnt, blocks, cur, col, frame, p);
         }
         if (sp == 0) return true;
         --sp;
@@ -140,8 +158,8 @@ void classify_span(const BvhN<N>& bvh, std::span<const Vec3> points, const std::
                 __builtin_prefetch(&out[order[next + kPointAhead]], 1);
             }
             const std::uint32_t i = order[next++];
-            if (walks[slot].start(bvh, points[i], i)) return true;
-            out[i] = walks[slot].cnt.result(o);
+            if (walks[slot].start(bvh, points[i], i, o)) return true;
+            out[i] = walks[slot].cnt.result(o, walks[slot].frame.ray());
         }
         return false;
     };
@@ -153,7 +171,7 @@ void classify_span(const BvhN<N>& bvh, std::span<const Vec3> points, const std::
             if (!w.step(nodes, blocks)) {
                 bvh8::detail::prefetch_child(nodes, blocks, w.cur);
             } else {
-                out[w.point] = w.cnt.result(o);
+                out[w.point] = w.cnt.result(o, w.frame.ray());
                 if (!refill(live[k])) {
                     live[k] = live[--nlive];
                     continue;

@@ -101,23 +101,43 @@ TEST(MeshClosure, ClosedOpenFlippedAndUnwelded) {
     EXPECT_TRUE(mesh_closure(scene::icosphere(3)).consistently_oriented());
 }
 
-// The cube [o, o+1]^3 on a grid of quarter steps: the +z rays from these points
-// pass exactly through the cube's vertices, along its edges and faces and along
-// the diagonals that split its faces. Points on the closed box's boundary are
-// on the surface; strictly inside, one crossing; below the cube, two crossings
-// when the perturbed point p + (eps, eps^2) projects into the square, that is
-// when 0 <= x - o < 1 and 0 <= y - o < 1.
-void check_cube_grid(float o) {
+// The cube [o, o+1]^3 on a grid of quarter steps: the axis rays from these
+// points pass exactly through the cube's vertices, along its edges and faces
+// and along the diagonals that split its faces. Points on the closed box's
+// boundary are on the surface; strictly inside, one crossing; before the cube
+// along the ray, two crossings when the perturbed point p + (eps, eps^2) of the
+// ray's frame projects into the square: with (u', v') the frame's first two
+// coordinates ((u, v) up, (v, u) down, never negated), when 0 <= u' - o < 1 and
+// 0 <= v' - o < 1. `ray` fixed: that ray for every point; shortest: the ray
+// toward the nearest face of the cube, the first of +z, -z, +x, -x, +y, -y.
+void check_cube_grid(float o, CountRay ray) {
     Mesh cube = test::unit_cube();
     for (Vec3& v : cube.positions) v = v + Vec3{o, o, o};
     const Bvh2 bvh = Bvh2::build(cube);
+    InsideOptions opts;
+    opts.ray = ray;
     std::size_t n = 0, on_surface = 0, inside = 0;
     auto in = [](int v, int lo, int hi) { return v >= lo && v <= hi; };
     for (int i = -2; i <= 6; ++i)
         for (int j = -2; j <= 6; ++j)
             for (int k = -2; k <= 6; ++k) {
+                const int idx[3] = {i, j, k};
                 const Vec3 p{o + 0.25f * float(i), o + 0.25f * float(j), o + 0.25f * float(k)};
-                const bool in_proj = in(i, 0, 3) && in(j, 0, 3);
+                CountRay r = ray;
+                if (ray == CountRay::shortest) {  // nearest face; distances in quarter steps
+                    const CountRay order[6] = {CountRay::plus_z, CountRay::minus_z, CountRay::plus_x,
+                                               CountRay::minus_x, CountRay::plus_y, CountRay::minus_y};
+                    int best = 1 << 30;
+                    for (CountRay c : order) {
+                        const int a = int(c) / 2, d = int(c) % 2 == 0 ? 4 - idx[a] : idx[a];
+                        if (d < best) best = d, r = c;
+                    }
+                }
+                const int w = int(r) / 2, u = (w + 1) % 3, v = (w + 2) % 3;
+                const bool up = int(r) % 2 == 0;
+                const int pu = up ? idx[u] : idx[v], pv = up ? idx[v] : idx[u];
+                const bool in_proj = in(pu, 0, 3) && in(pv, 0, 3);
+                const bool before = up ? idx[w] < 0 : idx[w] > 4;
                 Side want = Side::outside;
                 std::uint32_t crossings = 0;
                 std::int32_t winding = 0;
@@ -127,16 +147,21 @@ void check_cube_grid(float o) {
                     want = Side::inside;
                     crossings = 1;
                     winding = 1;
-                } else if (in_proj && k < 0) {
+                } else if (in_proj && before) {
                     crossings = 2;
                 }
-                const PointSide got = classify_point(bvh, p);
-                const PointSide brute = brute_force_classify_point(cube, p);
-                ASSERT_EQ(int(got.side), int(want)) << o << " grid " << i << " " << j << " " << k;
-                ASSERT_EQ(int(brute.side), int(want)) << o << " grid " << i << " " << j << " " << k;
+                const PointSide got = classify_point(bvh, p, opts);
+                const PointSide brute = brute_force_classify_point(cube, p, opts);
+                const auto at = ::testing::Message() << o << " ray " << int(ray) << " grid " << i << " " << j << " " << k;
+                ASSERT_EQ(int(got.side), int(want)) << at;
+                ASSERT_EQ(int(brute.side), int(want)) << at;
+                ASSERT_EQ(int(got.ray), int(r)) << at;
+                ASSERT_EQ(int(brute.ray), int(r)) << at;
                 if (want != Side::surface) {
-                    ASSERT_EQ(got.crossings, crossings) << o << " grid " << i << " " << j << " " << k;
-                    ASSERT_EQ(got.winding, winding) << o << " grid " << i << " " << j << " " << k;
+                    ASSERT_EQ(got.crossings, crossings) << at;
+                    ASSERT_EQ(got.winding, winding) << at;
+                    ASSERT_EQ(brute.crossings, crossings) << at;
+                    ASSERT_EQ(brute.winding, winding) << at;
                 }
                 ++n;
                 on_surface += want == Side::surface;
@@ -148,9 +173,11 @@ void check_cube_grid(float o) {
 }
 
 TEST(Inside, CubeGridThroughVerticesEdgesAndDiagonals) {
-    check_cube_grid(0.0f);
-    check_cube_grid(1048576.0f);  // 2^20: quarter steps still exact in float
-    check_cube_grid(-3.0f);
+    for (int r = 0; r <= int(CountRay::shortest); ++r) {
+        check_cube_grid(0.0f, CountRay(r));
+        check_cube_grid(1048576.0f, CountRay(r));  // 2^20: quarter steps still exact in float
+        check_cube_grid(-3.0f, CountRay(r));
+    }
 }
 
 // The octahedron |x| + |y| + |z| <= 1: every vertical ray through x = 0 or
@@ -176,10 +203,17 @@ TEST(Inside, OctahedronGridOffTheSurface) {
                 ++n;
             }
     EXPECT_GT(n, 1500u);
-    // Along the axis through both apexes, from below: in at one vertex, out at the other.
-    const PointSide below = classify_point(bvh, {0, 0, -2});
+    // Along the axis through both apexes, from below: in at one vertex, out at
+    // the other. The shortest ray from there points away (-z): no crossing.
+    InsideOptions plus_z;
+    plus_z.ray = CountRay::plus_z;
+    const PointSide below = classify_point(bvh, {0, 0, -2}, plus_z);
     EXPECT_EQ(below.crossings, 2u);
     EXPECT_EQ(below.winding, 0);
+    EXPECT_EQ(below.ray, CountRay::plus_z);
+    const PointSide away = classify_point(bvh, {0, 0, -2});
+    EXPECT_EQ(away.crossings, 0u);
+    EXPECT_EQ(away.ray, CountRay::minus_z);
     EXPECT_EQ(classify_point(bvh, {0, 0, 1}).side, Side::surface);
 }
 

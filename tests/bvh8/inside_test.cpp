@@ -1,7 +1,9 @@
 // Exact inside/outside on the wide trees (bvh8/src/inside.cpp): every field
-// (side, winding, crossings) equal to the brute-force count with the same
+// (side, ray, winding, crossings) equal to the brute-force count with the same
 // predicates (tests/bvh2/inside_test.cpp checks those against answers derived
-// by hand) at widths 4, 8, 16, one and two threads, both rules; on 64
+// by hand) at widths 4, 8, 16, one and two threads, both rules, four ray
+// choices (on the soup, an open mesh, the rays disagree: the same ray must be
+// picked on every path); on 64
 // separated cubes with points on a quarter grid (their +z rays run through
 // vertices and along edges and faces of cubes in different leaves, and the
 // side is known by hand), on a sphere with points at its vertices and edge
@@ -28,42 +30,56 @@ std::size_t shared_leaves(const BvhN<N>& t) {
     return n;
 }
 
-// Checks every width against brute force; returns the BVH8's answers (winding rule).
+// Checks every width against brute force, for the shortest ray and three
+// fixed ones (each axis, both signs) and both rules; returns the BVH8's answers
+// (default options: winding rule, shortest ray).
 std::vector<PointSide> check(const Mesh& mesh, const std::vector<Vec3>& pts, const char* what,
                              bool expect_shared = false) {
-    std::vector<PointSide> want(pts.size()), want_parity(pts.size());
-    InsideOptions parity;
-    parity.rule = InsideOptions::Rule::parity;
-    for (std::size_t i = 0; i < pts.size(); ++i) {
-        want[i] = brute_force_classify_point(mesh, pts[i]);
-        want_parity[i] = brute_force_classify_point(mesh, pts[i], parity);
-    }
     std::vector<PointSide> result;
-    auto run = [&]<int N>(const BvhN<N>& wide) {
-        if (expect_shared) {
-            EXPECT_GT(shared_leaves(wide), 0u) << what << " N=" << N << ": no shared block tested";
-        }
-        for (int threads : {1, 2}) {
-            for (const bool par : {false, true}) {
-                InsideOptions o = par ? parity : InsideOptions{};
-                o.threads = threads;
-                const std::vector<PointSide>& w = par ? want_parity : want;
-                std::vector<PointSide> got(pts.size());
-                classify_points(wide, pts, got, o);
-                for (std::size_t i = 0; i < pts.size(); ++i) {
-                    ASSERT_EQ(int(got[i].side), int(w[i].side)) << what << " N=" << N << " point " << i;
-                    ASSERT_EQ(got[i].winding, w[i].winding) << what << " N=" << N << " point " << i;
-                    ASSERT_EQ(got[i].crossings, w[i].crossings) << what << " N=" << N << " point " << i;
+    const Bvh4 b4 = Bvh4::build(mesh);
+    const Bvh8 b8 = Bvh8::build(mesh);
+    const Bvh16 b16 = Bvh16::build(mesh);
+    for (const CountRay r : {CountRay::shortest, CountRay::plus_z, CountRay::minus_x, CountRay::minus_y}) {
+        const int ray = int(r);
+        InsideOptions winding;
+        winding.ray = r;
+        std::vector<PointSide> brute(pts.size());
+        for (std::size_t i = 0; i < pts.size(); ++i) brute[i] = brute_force_classify_point(mesh, pts[i], winding);
+        for (const bool par : {false, true}) {
+            InsideOptions o = winding;
+            o.rule = par ? InsideOptions::Rule::parity : InsideOptions::Rule::winding;
+            std::vector<PointSide> want = brute;  // the parity rule: the same count, odd = inside
+            if (par)
+                for (PointSide& w : want)
+                    if (w.side != Side::surface) w.side = w.crossings % 2 ? Side::inside : Side::outside;
+            auto run = [&]<int N>(const BvhN<N>& wide) {
+                if (expect_shared) {
+                    EXPECT_GT(shared_leaves(wide), 0u) << what << " N=" << N << ": no shared block tested";
                 }
-                if (N == 8 && threads == 1 && !par) result = got;
-            }
+                // Both thread counts on the default ray, one thread on the fixed ones.
+                for (int threads = 1; threads <= (o.ray == CountRay::shortest ? 2 : 1); ++threads) {
+                    InsideOptions ot = o;
+                    ot.threads = threads;
+                    std::vector<PointSide> got(pts.size());
+                    classify_points(wide, pts, got, ot);
+                    for (std::size_t i = 0; i < pts.size(); ++i) {
+                        const auto at = ::testing::Message() << what << " N=" << N << " ray " << ray << " parity "
+                                                             << par << " point " << i;
+                        ASSERT_EQ(int(got[i].side), int(want[i].side)) << at;
+                        ASSERT_EQ(int(got[i].ray), int(want[i].ray)) << at;
+                        ASSERT_EQ(got[i].winding, want[i].winding) << at;
+                        ASSERT_EQ(got[i].crossings, want[i].crossings) << at;
+                    }
+                    if (N == 8 && threads == 1 && !par && o.ray == CountRay::shortest) result = got;
+                }
+                for (std::size_t i = 0; i < pts.size(); i += 53)
+                    ASSERT_EQ(classify_point(wide, pts[i], o).crossings, want[i].crossings) << what << " single " << i;
+            };
+            run(b4);
+            run(b8);
+            run(b16);
         }
-        for (std::size_t i = 0; i < pts.size(); i += 53)
-            ASSERT_EQ(classify_point(wide, pts[i]).crossings, want[i].crossings) << what << " single point " << i;
-    };
-    run(Bvh4::build(mesh));
-    run(Bvh8::build(mesh));
-    run(Bvh16::build(mesh));
+    }
     return result;
 }
 
@@ -132,6 +148,22 @@ TEST(WideInside, SoupOfOverlappingTrianglesWithSharedBlocks) {
     std::uint32_t most = 0;
     for (const PointSide& s : got) most = std::max(most, s.crossings);
     EXPECT_GE(most, 3u) << "rays through several overlapping triangles";
+    // An open mesh: the rays give different answers, so check() above shows
+    // that every path picks the same ray.
+    const Bvh8 bvh = Bvh8::build(soup);
+    InsideOptions up, left;
+    up.ray = CountRay::plus_z;
+    left.ray = CountRay::minus_x;
+    std::vector<PointSide> a(pts.size()), b(pts.size());
+    classify_points(bvh, pts, a, up);
+    classify_points(bvh, pts, b, left);
+    std::size_t differ = 0, shortest_not_z = 0;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+        differ += a[i].side != b[i].side;
+        shortest_not_z += got[i].ray != CountRay::plus_z;
+    }
+    EXPECT_GT(differ, 100u);
+    EXPECT_GT(shortest_not_z, 1000u);
 }
 
 }  // namespace
