@@ -141,6 +141,36 @@ TEST_F(DistanceCli, InsideEveryTreeWritesTheBruteForceBytes) {
     EXPECT_FALSE(fs::exists(path("x.bin")));
 }
 
+// --ray: on an open soup the rays disagree, so the bytes say which ray ran:
+// each choice writes brute force's sides for that ray (and the default is
+// shortest); an unknown ray is a usage error with nothing written.
+TEST_F(DistanceCli, InsideRayOptionPicksTheRayCounted) {
+    const std::string pts = path("p.bin");
+    ASSERT_EQ(run_cli("gen-points --scene soup-2000 --count 2000 --seed 3 --out " + pts).status, 0);
+    const Mesh mesh = scene::load_scene("soup-2000");
+    const auto points = scene::read_points(pts);
+    std::string plus_z;
+    for (const auto& [name, ray] : std::vector<std::pair<std::string, CountRay>>{
+             {"", CountRay::shortest}, {"+z", CountRay::plus_z}, {"-x", CountRay::minus_x}, {"+y", CountRay::plus_y}}) {
+        InsideOptions o;
+        o.ray = ray;
+        std::string want;
+        for (const Vec3& p : points) want.push_back(char(brute_force_classify_point(mesh, p, o).side));
+        const std::string out = path("s" + std::to_string(int(ray)) + ".bin");
+        const std::string opt = name.empty() ? std::string() : " --ray " + name;
+        CliRun r = run_cli("inside --scene soup-2000 --points " + pts + " --out " + out + opt);
+        ASSERT_EQ(r.status, 0) << r.output;
+        EXPECT_NE(r.output.find("ray " + (name.empty() ? std::string("shortest") : name)), std::string::npos) << r.output;
+        EXPECT_EQ(test::read_bytes(out), want) << name;
+        if (ray == CountRay::plus_z) plus_z = want;
+        else EXPECT_NE(want, plus_z) << name << ": the soup should tell the rays apart";
+    }
+    CliRun bad = run_cli("inside --scene soup-2000 --points " + pts + " --out " + path("x.bin") + " --ray z");
+    EXPECT_EQ(bad.status, 2) << bad.output;
+    EXPECT_NE(bad.output.find("unknown --ray 'z'"), std::string::npos) << bad.output;
+    EXPECT_FALSE(fs::exists(path("x.bin")));
+}
+
 TEST_F(DistanceCli, MaxDistanceAndNonFinitePoints) {
     const std::string pts = path("p.bin"), out = path("d.bin");
     const float nan = std::numeric_limits<float>::quiet_NaN();
