@@ -6,6 +6,7 @@
 #include <cmath>
 #include <functional>
 #include <sstream>
+#include <tuple>
 
 #include "common.h"
 #include "inside_points.h"
@@ -69,13 +70,18 @@ void run_mesh(const MeshCase& mc, bool embree, const Open3dAnswer* o3d, std::vec
                 if (ref[i] != Side::surface && side(i) != ref[i]) ++r.wrong;
             rows.push_back(r);
         };
-        for (auto rule : {InsideOptions::Rule::winding, InsideOptions::Rule::parity}) {
+        // Along +z, the ray the families are built to break (through vertices
+        // and along edges), with both rules; and the default ray (shortest).
+        for (auto [rule, ray, name] : {std::tuple{InsideOptions::Rule::winding, CountRay::plus_z, "simdbvh (winding)"},
+                                       std::tuple{InsideOptions::Rule::parity, CountRay::plus_z, "simdbvh (parity)"},
+                                       std::tuple{InsideOptions::Rule::winding, CountRay::shortest,
+                                                  "simdbvh (winding, shortest ray)"}}) {
             std::vector<PointSide> out(set.points.size());
             InsideOptions o;
             o.rule = rule;
+            o.ray = ray;
             const double s = seconds_of([&] { classify_points(bvh, set.points, out, o); });
-            tally(rule == InsideOptions::Rule::winding ? "simdbvh (winding)" : "simdbvh (parity)", s,
-                  [&](std::size_t i) { return out[i].side; });
+            tally(name, s, [&](std::size_t i) { return out[i].side; });
         }
         for (int robust = 0; robust < 2 && embree; ++robust) {
             std::vector<std::uint32_t> count(set.points.size());
@@ -164,7 +170,9 @@ std::string inside_markdown(const std::vector<InsideRow>& rows, bool chart) {
     s << "\n## inside/outside: where methods fail\n\n";
     if (rows.empty()) return s.str() + "Not run (no CGAL in this build, or --family without --inside).\n";
     s << "Reference: CGAL's Side_of_triangle_mesh (exact predicates); points it puts on the surface are left out. "
-         "simdbvh: one ray along +z per point, exact crossings (docs/exact_crossings.md), winding or parity rule. "
+         "simdbvh: one ray per point, exact crossings (docs/exact_crossings.md), winding or parity rule, along +z "
+         "(the ray the point families are built to break) or along the default shortest ray (toward the nearest "
+         "face of the bounds). "
          "Embree: the parity of the hits `rtcIntersect1` reports along +z with a counting filter that rejects each "
          "hit. Open3D: `RaycastingScene.compute_occupancy` (Debian's python3-open3d 0.16 with the ray-mask shim, "
          "docs/open3d.md) in a Python worker (scripts/open3d/inside_worker.py): the parity of its "
