@@ -34,6 +34,13 @@ InsideOptions::Rule parse_rule(const std::string& r) {
     throw Error("rule must be 'winding' or 'parity' (got '" + r + "')");
 }
 
+CountRay parse_ray(const std::string& r) {
+    static const char* const names[] = {"+x", "-x", "+y", "-y", "+z", "-z", "shortest"};
+    for (int k = 0; k <= int(CountRay::shortest); ++k)
+        if (r == names[k]) return CountRay(k);
+    throw Error("ray must be 'shortest', '+x', '-x', '+y', '-y', '+z' or '-z' (got '" + r + "')");
+}
+
 class Bvh {
 public:
     Bvh(Mesh mesh, const std::string& method, const std::optional<std::string>& isa)
@@ -188,11 +195,13 @@ public:
         else f(bvh2_);
     }
 
-    std::vector<PointSide> side_list(const py::handle& points, const std::string& rule, int threads) const {
-        const F32 p = as_points(points, "points");
-        const auto n = std::size_t(p.shape(0));
+    std::vector<PointSide> side_list(const py::handle& points, const std::string& rule, int threads,
+                                     const std::string& ray) const {
         InsideOptions o;
         o.rule = parse_rule(rule);
+        o.ray = parse_ray(ray);
+        const F32 p = as_points(points, "points");
+        const auto n = std::size_t(p.shape(0));
         o.threads = check_threads(threads);
         std::vector<PointSide> res(n);
         py::gil_scoped_release nogil;
@@ -204,23 +213,26 @@ public:
         return res;
     }
 
-    py::array_t<std::uint8_t> sides(const py::handle& points, const std::string& rule, int threads) const {
-        const auto res = side_list(points, rule, threads);
+    py::array_t<std::uint8_t> sides(const py::handle& points, const std::string& rule, int threads,
+                                    const std::string& ray) const {
+        const auto res = side_list(points, rule, threads, ray);
         auto out = empty_array<std::uint8_t>(res.size());
         for (std::size_t i = 0; i < res.size(); ++i) out.mutable_data()[i] = std::uint8_t(res[i].side);
         return out;
     }
 
-    py::array_t<bool> contains(const py::handle& points, const std::string& rule, int threads) const {
-        const auto res = side_list(points, rule, threads);
+    py::array_t<bool> contains(const py::handle& points, const std::string& rule, int threads,
+                               const std::string& ray) const {
+        const auto res = side_list(points, rule, threads, ray);
         auto out = empty_array<bool>(res.size());
         for (std::size_t i = 0; i < res.size(); ++i) out.mutable_data()[i] = res[i].side == Side::inside;
         return out;
     }
 
-    py::array_t<float> signed_distance(const py::handle& points, const std::string& rule, int threads) const {
+    py::array_t<float> signed_distance(const py::handle& points, const std::string& rule, int threads,
+                                       const std::string& ray) const {
         py::dict near = closest(points, kInf, threads);
-        const auto res = side_list(points, rule, threads);
+        const auto res = side_list(points, rule, threads, ray);
         auto d = near["distance"].cast<py::array_t<float>>();
         auto out = empty_array<float>(res.size());
         for (std::size_t i = 0; i < res.size(); ++i) {
@@ -408,11 +420,14 @@ PYBIND11_MODULE(_simdbvh, m) {
              py::arg("threads") = 1,
              "Closest points: dict of distance (inf when none within max_distance), prim (-1), points (n, 3), u, v.")
         .def("sides", &Bvh::sides, py::arg("points"), py::arg("rule") = "winding", py::arg("threads") = 1,
-             "Exact inside/outside: uint8 per point, 0 outside, 1 inside, 2 on the surface.")
+             py::arg("ray") = "shortest",
+             "Exact inside/outside: uint8 per point, 0 outside, 1 inside, 2 on the surface. ray: the axis ray "
+             "counted from each point ('shortest': toward the nearest face of the bounds; or '+x' ... '-z').")
         .def("contains", &Bvh::contains, py::arg("points"), py::arg("rule") = "winding", py::arg("threads") = 1,
-             "Exact inside test: True for points inside (not on the surface).")
+             py::arg("ray") = "shortest", "Exact inside test: True for points inside (not on the surface).")
         .def("signed_distance", &Bvh::signed_distance, py::arg("points"), py::arg("rule") = "winding",
-             py::arg("threads") = 1, "Distance to the closest point, negative inside, 0 on the surface.")
+             py::arg("threads") = 1, py::arg("ray") = "shortest",
+             "Distance to the closest point, negative inside, 0 on the surface.")
         .def("count_crossings", &Bvh::count, py::arg("origins"), py::arg("directions"), py::arg("tmin") = 0.0f,
              py::arg("tmax") = kInf, py::arg("threads") = 1,
              "Signed crossing counts: dict of winding (int32) and crossings (uint32); every crossing once.")

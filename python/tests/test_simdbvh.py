@@ -181,6 +181,25 @@ def test_point_queries_identical_on_every_tree():
                 np.testing.assert_array_equal(near[k], want_near[k], err_msg=f"{method} {k}")
 
 
+def test_inside_ray_choice():
+    """ray= picks the axis ray counted from each point. On the cube without its
+    top (an open mesh), a point inside sees no crossing upward (+z: outside)
+    and one downward (-z: inside); the default (shortest, toward the nearest
+    face of the bounds) and the wide trees agree with brute force."""
+    open_cube = simdbvh.Mesh(CUBE_V, np.delete(CUBE_F, [2, 3], axis=0))  # no top face
+    top = np.array([[0.3, 0.4, 0.9]])  # nearest face of the bounds: the (missing) top
+    bottom = np.array([[0.3, 0.4, 0.1]])  # nearest face: the bottom
+    for method in ("brute", "bvh2", "bvh8"):
+        bvh = simdbvh.BVH(open_cube, method=method)
+        assert bvh.sides(top, ray="+z").tolist() == [0], method
+        assert bvh.sides(top, ray="-z").tolist() == [1], method
+        assert bvh.sides(top).tolist() == [0], method
+        assert bvh.sides(bottom).tolist() == [1], method
+        assert bvh.contains(top, ray="-z").tolist() == [True], method
+    with pytest.raises(ValueError, match="ray must be"):
+        simdbvh.BVH(open_cube).sides(top, ray="z")
+
+
 def test_crossings_and_all_hits(cube):
     bvh = simdbvh.BVH(cube)
     # Rays 0 and 1 pass exactly through the diagonals splitting the bottom and top
