@@ -130,12 +130,14 @@ std::vector<InsideRow> run_inside_panel(bool quick, bool embree, bool open3d) {
     cases[0].mesh = cube_grid(k);
     const Mesh& cubes = cases[0].mesh;
     cases[0].sets = {{"through vertices and edges", lattice_points(k)},
+                     {"diagonal rays through vertices", diagonal_through_vertices(cubes, n)},
                      {"uniform", scene::random_points(cubes.bounds(), n, 5)},
                      {"2 ulps off the surface", near_surface(cubes, n, 2)}};
     cases[1].name = quick ? "icosphere-3" : "icosphere-5";
     cases[1].mesh = scene::icosphere(quick ? 3 : 5);
     const Mesh& sphere = cases[1].mesh;
     cases[1].sets = {{"through vertices", through_vertices(sphere, n, 0.01f)},
+                     {"diagonal rays through vertices", diagonal_through_vertices(sphere, n)},
                      {"uniform", scene::random_points(sphere.bounds(), n, 6)},
                      {"2 ulps off the surface", near_surface(sphere, n, 2)}};
     const std::vector<Open3dAnswer> o3d = open3d ? run_open3d(cases) : std::vector<Open3dAnswer>{};

@@ -63,6 +63,35 @@ std::vector<Vec3> through_vertices(const Mesh& m, std::size_t max, float d) {
     return p;
 }
 
+namespace {
+
+// a + b when it is exact in double and in float (Knuth's TwoSum: s + err == a + b exactly).
+bool exact_float_sum(double a, double b, float& out) {
+    const double s = a + b, bb = s - a, err = (a - (s - bb)) + (b - bb);
+    out = float(s);
+    return err == 0 && double(out) == s;
+}
+
+}  // namespace
+
+std::vector<Vec3> diagonal_through_vertices(const Mesh& m, std::size_t max) {
+    std::vector<Vec3> p;
+    if (m.positions.empty()) return p;
+    const Vec3 e = m.bounds().extent();
+    int exp = 0;
+    std::frexp(double(std::max({e.x, e.y, e.z})), &exp);  // 2^(exp-1) <= extent < 2^exp
+    const double d = std::ldexp(1.0, exp - 1 - 8);
+    for (std::size_t i = 0; i < m.positions.size() && p.size() < max; ++i) {
+        const Vec3 v = m.positions[i];
+        for (double s : {-d, d}) {
+            Vec3 q;
+            if (exact_float_sum(v.x, s, q.x) && exact_float_sum(v.y, s, q.y) && exact_float_sum(v.z, s, q.z))
+                p.push_back(q);
+        }
+    }
+    return p;
+}
+
 std::vector<Vec3> near_surface(const Mesh& m, std::size_t max, int ulps) {
     std::vector<Vec3> p;
     for (std::size_t t = 0; t < m.size() && p.size() < max; ++t) {

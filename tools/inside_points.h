@@ -24,6 +24,13 @@ std::vector<Vec3> lattice_points(int k);
 // through it (their +z rays meet the vertex); at most `max` points.
 std::vector<Vec3> through_vertices(const Mesh& m, std::size_t max, float d);
 
+// For each vertex v, the points v - d(1, 1, 1) (its ray along (1, 1, 1), the
+// one Open3D's compute_occupancy casts, meets v) and v + d(1, 1, 1), with d
+// the power of two at or below 2^-8 of the largest extent of the bounds. A
+// point is kept only when its three coordinates are exact in float, so that
+// v - p = d(1, 1, 1) holds exactly; at most `max` points.
+std::vector<Vec3> diagonal_through_vertices(const Mesh& m, std::size_t max);
+
 // Triangle centroids moved off the surface along the normal, both ways, by
 // `ulps` units in the last place of the centroid's largest coordinate; at most `max` points.
 std::vector<Vec3> near_surface(const Mesh& m, std::size_t max, int ulps);

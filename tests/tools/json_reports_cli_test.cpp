@@ -14,6 +14,8 @@
 #include <set>
 #include <string>
 
+#include "inside_points.h"
+#include "simdbvh/scene/scenes.h"
 #include "support/cli.h"
 
 namespace fs = std::filesystem;
@@ -79,10 +81,17 @@ TEST_F(JsonReports, InsideOutsidePanel) {
     ASSERT_EQ(r.status, 0) << r.output;
     const Json j = parse(json);
     if (j["inside"].empty()) GTEST_SKIP() << "no CGAL in this build";
-    std::size_t ours = 0, embree_wrong = 0;
+    std::size_t ours = 0, embree_wrong = 0, diagonal = 0;
+    // The diagonal family's points (tests/tools/inside_points_test.cpp checks them): all of them in each row.
+    const std::size_t diagonal_points =
+        simdbvh::cli::diagonal_through_vertices(simdbvh::scene::icosphere(3), 4000).size();
     for (const Json& row : j["inside"]) {
         const std::string m = row["method"].get<std::string>();
         EXPECT_GT(row["points"].get<int>(), 0) << row.dump();
+        if (row["mesh"] == "icosphere-3" && row["family"] == "diagonal rays through vertices") {
+            ++diagonal;
+            EXPECT_EQ(row["points"].get<std::size_t>() + row["on_surface"].get<std::size_t>(), diagonal_points);
+        }
         if (m.rfind("simdbvh", 0) == 0) {
             ++ours;
             EXPECT_EQ(row["wrong"].get<int>(), 0) << row.dump();
@@ -90,7 +99,8 @@ TEST_F(JsonReports, InsideOutsidePanel) {
             embree_wrong += row["wrong"].get<std::size_t>();
         }
     }
-    EXPECT_EQ(ours, 18u);  // 2 meshes x 3 point families x (+z with 2 rules, the shortest ray)
+    EXPECT_EQ(ours, 24u);  // 2 meshes x 4 point families x (+z with 2 rules, the shortest ray)
+    EXPECT_EQ(diagonal, 5u);  // ours 3, Embree 2
     EXPECT_GT(embree_wrong, 0u);
 }
 
