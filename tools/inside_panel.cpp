@@ -172,9 +172,14 @@ std::string inside_markdown(const std::vector<InsideRow>& rows, bool chart) {
     s << "\n## inside/outside: where methods fail\n\n";
     if (rows.empty()) return s.str() + "Not run (no CGAL in this build, or --family without --inside).\n";
     s << "Reference: CGAL's Side_of_triangle_mesh (exact predicates); points it puts on the surface are left out. "
+         "Points: through vertices (and edges): +z rays exactly through vertices (and along edges); diagonal rays "
+         "through vertices: v - d(1, 1, 1) and v + d(1, 1, 1) for each vertex v (d a power of two near 2^-8 of "
+         "the extent; a point is kept only when it is exact in float), so the (1, 1, 1) ray from v - d(1, 1, 1), "
+         "the ray Open3D casts, runs exactly through v (on the cube grid their +z rays also run along the squares' "
+         "diagonal edges); uniform in the bounds; triangle centroids 2 ulps off the surface. "
          "simdbvh: one ray per point, exact crossings (docs/exact_crossings.md), winding or parity rule, along +z "
-         "(the ray the point families are built to break) or along the default shortest ray (toward the nearest "
-         "face of the bounds). "
+         "(the ray the vertex and edge families are built to break) or along the default shortest ray (toward the "
+         "nearest face of the bounds). "
          "Embree: the parity of the hits `rtcIntersect1` reports along +z with a counting filter that rejects each "
          "hit. Open3D: `RaycastingScene.compute_occupancy` (Debian's python3-open3d 0.16 with the ray-mask shim, "
          "docs/open3d.md) in a Python worker (scripts/open3d/inside_worker.py): the parity of its "
