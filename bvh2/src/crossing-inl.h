@@ -130,11 +130,41 @@ inline RayFrame ray_frame(CountRay r, const Aabb& bounds, const Vec3& p) {
     return RayFrame::of(best);
 }
 
-// crossing() of p's ray in frame f.
-inline int crossing(const RayFrame& f, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p) {
+// A RayFrame with its axes fixed at compile time: the BVH2's and brute
+// force's loops are instantiated per direction (visit_frame), so map() and
+// reaches() cost what the +z code did.
+template <int W, bool Up>
+struct AxisFrame {
+    static constexpr int u = (W + 1) % 3, v = (W + 2) % 3, w = W;
+    static constexpr bool up = Up;
+    static CountRay ray() { return CountRay(2 * W + (Up ? 0 : 1)); }
+    static Vec3 map(const Vec3& q) { return Up ? Vec3{q[u], q[v], q[w]} : Vec3{q[v], q[u], -q[w]}; }
+    static bool reaches(const Aabb& b, const Vec3& p) {
+        return b.lo[u] <= p[u] && p[u] <= b.hi[u] && b.lo[v] <= p[v] && p[v] <= b.hi[v] &&
+               (Up ? p[w] <= b.hi[w] : b.lo[w] <= p[w]);
+    }
+};
+
+// fn(AxisFrame<...>{}) for frame f's direction.
+template <class Fn>
+decltype(auto) visit_frame(const RayFrame& f, Fn&& fn) {
+    switch (f.ray()) {
+        case CountRay::plus_x: return fn(AxisFrame<0, true>{});
+        case CountRay::minus_x: return fn(AxisFrame<0, false>{});
+        case CountRay::plus_y: return fn(AxisFrame<1, true>{});
+        case CountRay::minus_y: return fn(AxisFrame<1, false>{});
+        case CountRay::minus_z: return fn(AxisFrame<2, false>{});
+        default: return fn(AxisFrame<2, true>{});
+    }
+}
+
+// crossing() of p's ray in frame f (a RayFrame or an AxisFrame).
+template <class Frame>
+inline int crossing(const Frame& f, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p) {
     return crossing(f.map(a), f.map(b), f.map(c), f.map(p));
 }
-inline int crossing_exact(const RayFrame& f, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p) {
+template <class Frame>
+inline int crossing_exact(const Frame& f, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p) {
     return crossing_exact(f.map(a), f.map(b), f.map(c), f.map(p));
 }
 

@@ -15,11 +15,10 @@ using detail::crossing;
 using detail::usable;
 using Counter = detail::CrossingCounter;
 
-PointSide classify(const Bvh2& bvh, const Vec3& p, const InsideOptions& o) {
+template <class Frame>
+PointSide classify_along(const Bvh2& bvh, const Vec3& p, const InsideOptions& o, Frame f) {
     Counter cnt;
     const auto& nodes = bvh.nodes();
-    if (!usable(p) || nodes.empty()) return cnt.result(o);
-    const detail::RayFrame f = detail::ray_frame(o.ray, nodes[0].box, p);
     if (!f.reaches(nodes[0].box, p)) return cnt.result(o, f.ray());
     const TriangleVerts* tris = bvh.triangles().data();
     std::uint32_t stack[kMaxDepth + 1];
@@ -41,6 +40,12 @@ PointSide classify(const Bvh2& bvh, const Vec3& p, const InsideOptions& o) {
         if (sp == 0) return cnt.result(o, f.ray());
         idx = stack[--sp];
     }
+}
+
+PointSide classify(const Bvh2& bvh, const Vec3& p, const InsideOptions& o) {
+    if (!usable(p) || bvh.nodes().empty()) return Counter{}.result(o);
+    return detail::visit_frame(detail::ray_frame(o.ray, bvh.nodes()[0].box, p),
+                               [&](auto f) { return classify_along(bvh, p, o, f); });
 }
 
 }  // namespace
@@ -68,10 +73,11 @@ PointSide brute_force_classify_point(const Mesh& mesh, const Vec3& p, const Insi
         for (const Triangle& t : mesh.triangles)
             if (valid(t))
                 for (int k = 0; k < 3; ++k) bounds.grow(mesh.positions[t[k]]);
-    const detail::RayFrame f = detail::ray_frame(opts.ray, bounds, p);
-    for (const Triangle& t : mesh.triangles)
-        if (valid(t)) cnt.add(crossing(f, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]], p));
-    return cnt.result(opts, f.ray());
+    return detail::visit_frame(detail::ray_frame(opts.ray, bounds, p), [&](auto f) {
+        for (const Triangle& t : mesh.triangles)
+            if (valid(t)) cnt.add(crossing(f, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]], p));
+        return cnt.result(opts, f.ray());
+    });
 }
 
 }  // namespace simdbvh

@@ -8,6 +8,8 @@
 
 #include <emmintrin.h>
 
+#include <cstddef>
+
 #include "crossing-inl.h"
 #include "prefetch-inl.h"
 #include "tri8_lanes-inl.h"
@@ -18,47 +20,63 @@ namespace simdbvh {
 namespace {
 
 // The column of p's ray (a RayFrame): the boxes whose closed extent in u and
-// v holds p and that reach p along w (hi_w >= p_w up, lo_w <= p_w down).
+// v holds p and that reach p along w: hi_w >= p_w up, lo_w <= p_w down. Down
+// is tested as -lo_w >= -p_w, the sign bits flipped by `flip` (exact, NaN
+// stays NaN), so both directions run the same instructions; the planes are
+// addressed by offset, so a column along any axis costs what +z did.
 struct Column {
-    __m128 pu, pv, pw, up_free, down_free;  // *_free: all ones where that bound is not tested
+    __m128 pu, pv, pw, flip;  // pw and flip: p_w and the bound along w, sign-flipped down
     int u, v, w;
+    bool up;
     Column() = default;
-    Column(const detail::RayFrame& f, const Vec3& p) : u(f.u), v(f.v), w(f.w) {
+    Column(const detail::RayFrame& f, const Vec3& p) : u(f.u), v(f.v), w(f.w), up(f.up) {
+        flip = f.up ? _mm_setzero_ps() : _mm_set1_ps(-0.0f);
         pu = _mm_set1_ps(p[u]);
         pv = _mm_set1_ps(p[v]);
-        pw = _mm_set1_ps(p[w]);
-        const __m128 ones = _mm_castsi128_ps(_mm_set1_epi32(-1));
-        up_free = f.up ? _mm_setzero_ps() : ones;
-        down_free = f.up ? ones : _mm_setzero_ps();
+        pw = _mm_xor_ps(_mm_set1_ps(p[w]), flip);
     }
-    // Lanes reached, for 4 boxes given as the lo and hi planes of x, y, z.
-    int reaches(const __m128 (&lo)[3], const __m128 (&hi)[3]) const {
-        const __m128 in_u = _mm_and_ps(_mm_cmple_ps(lo[u], pu), _mm_cmple_ps(pu, hi[u]));
-        const __m128 in_v = _mm_and_ps(_mm_cmple_ps(lo[v], pv), _mm_cmple_ps(pv, hi[v]));
-        const __m128 in_w = _mm_and_ps(_mm_or_ps(_mm_cmple_ps(pw, hi[w]), up_free),
-                                       _mm_or_ps(_mm_cmple_ps(lo[w], pw), down_free));
+    int reaches(__m128 lu, __m128 hu, __m128 lv, __m128 hv, __m128 bound_w) const {
+        const __m128 in_u = _mm_and_ps(_mm_cmple_ps(lu, pu), _mm_cmple_ps(pu, hu));
+        const __m128 in_v = _mm_and_ps(_mm_cmple_ps(lv, pv), _mm_cmple_ps(pv, hv));
+        const __m128 in_w = _mm_cmple_ps(pw, _mm_xor_ps(bound_w, flip));
         return _mm_movemask_ps(_mm_and_ps(_mm_and_ps(in_u, in_v), in_w));
     }
 };
 
-// Child boxes the column reaches (empty slots: lo +inf, hi -inf, never).
+// Child boxes the column reaches (empty slots: lo +inf, hi -inf, never). A
+// BoxN's planes are lo_x, hi_x, lo_y, hi_y, lo_z, hi_z, N floats each.
 template <int N>
 std::uint32_t reached_children(const BoxN<N>& b, const Column& c) {
+    static_assert(offsetof(BoxN<N>, hi_z) == 5 * N * sizeof(float));
+    const float* plane = reinterpret_cast<const float*>(&b);
+    const float *lu = plane + 2 * c.u * N, *lv = plane + 2 * c.v * N, *bw = plane + (2 * c.w + c.up) * N;
     std::uint32_t m = 0;
-    for (int i = 0; i < N; i += 4) {
-        const __m128 lo[3] = {_mm_load_ps(b.lo_x + i), _mm_load_ps(b.lo_y + i), _mm_load_ps(b.lo_z + i)};
-        const __m128 hi[3] = {_mm_load_ps(b.hi_x + i), _mm_load_ps(b.hi_y + i), _mm_load_ps(b.hi_z + i)};
-        m |= std::uint32_t(c.reaches(lo, hi)) << i;
-    }
+    for (int i = 0; i < N; i += 4)
+        m |= std::uint32_t(c.reaches(_mm_load_ps(lu + i), _mm_load_ps(lu + N + i), _mm_load_ps(lv + i),
+                                     _mm_load_ps(lv + N + i), _mm_load_ps(bw + i)))
+             << i;
     return m;
 }
 
+// Triangles of a block whose column test passes (column_misses() false on the
+// mapped coordinates; the vertices are finite, so min/max agree with
+// fmin/fmax). A Tri8's planes are v0x, v0y, v0z, v1x, ..., 8 floats each.
 std::uint32_t reached_triangles(const Tri8& t, const Column& c) {
+    static_assert(offsetof(Tri8, v2z) == 8 * kBlockWidth * sizeof(float));
+    const float* plane = reinterpret_cast<const float*>(&t);
+    auto axis = [&](int k, int i, __m128& lo, __m128& hi) {
+        const __m128 a = _mm_load_ps(plane + k * kBlockWidth + i), b = _mm_load_ps(plane + (3 + k) * kBlockWidth + i),
+                     d = _mm_load_ps(plane + (6 + k) * kBlockWidth + i);
+        lo = _mm_min_ps(_mm_min_ps(a, b), d);
+        hi = _mm_max_ps(_mm_max_ps(a, b), d);
+    };
     std::uint32_t m = 0;
     for (int i = 0; i < kBlockWidth; i += 4) {
-        const detail::TriangleBoxes4 x = detail::triangle_boxes4(t, i);
-        const __m128 lo[3] = {x.lx, x.ly, x.lz}, hi[3] = {x.hx, x.hy, x.hz};
-        m |= std::uint32_t(c.reaches(lo, hi)) << i;
+        __m128 lu, hu, lv, hv, lw, hw;
+        axis(c.u, i, lu, hu);
+        axis(c.v, i, lv, hv);
+        axis(c.w, i, lw, hw);
+        m |= std::uint32_t(c.reaches(lu, hu, lv, hv, c.up ? hw : lw)) << i;
     }
     return m;
 }
