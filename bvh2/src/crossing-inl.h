@@ -1,7 +1,7 @@
 #pragma once
 // Internal: the crossing of the +z ray from a point with one triangle, exactly
-// (any other axis direction through RayFrame below)
-// (exact_predicates.h, docs/exact_crossings.md), and the count of crossings
+// (exact_predicates.h, docs/exact_crossings.md; the other axis rays through
+// the quarter-turn frames below), and the count of crossings
 // into a PointSide: shared by the BVH2's inside test (inside.cpp) and the
 // wide trees' (bvh8/src/inside.cpp), so both count with the same predicates.
 #include <cmath>
@@ -79,12 +79,6 @@ struct CrossingCounter {
     }
 };
 
-// Closed boxes: the perturbed line through (px, py) meets a triangle only if
-// (px, py) is in the closure of its projection, so in its box.
-inline bool box_reaches(const Aabb& b, const Vec3& p) {
-    return b.lo.x <= p.x && p.x <= b.hi.x && b.lo.y <= p.y && p.y <= b.hi.y && p.z <= b.hi.z;
-}
-
 // A point's ray along an axis direction, and the rotation by quarter turns
 // that takes it to +z: axis w (0 x, 1 y, 2 z) up or down, u and v the other
 // two axes in cyclic order. map(q) = (q_u, q_v, q_w) up, (q_v, q_u, -q_w)
@@ -104,7 +98,10 @@ struct RayFrame {
     }
     CountRay ray() const { return CountRay(2 * w + (up ? 0 : 1)); }
     Vec3 map(const Vec3& q) const { return up ? Vec3{q[u], q[v], q[w]} : Vec3{q[v], q[u], -q[w]}; }
-    // box_reaches() of the mapped box, without mapping it.
+    // Whether the ray's column reaches closed box b: in the mapped
+    // coordinates, (pu, pv) in its projection and its top at or above pw (the
+    // perturbed line through (pu, pv) meets a triangle only if (pu, pv) is in
+    // the closure of its projection, so in its box). Without mapping the box.
     bool reaches(const Aabb& b, const Vec3& p) const {
         return b.lo[u] <= p[u] && p[u] <= b.hi[u] && b.lo[v] <= p[v] && p[v] <= b.hi[v] &&
                (up ? p[w] <= b.hi[w] : b.lo[w] <= p[w]);
