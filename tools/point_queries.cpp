@@ -28,11 +28,11 @@ InsideOptions::Rule parse_rule(const Options& o) {
 }
 
 CountRay parse_ray(const Options& o) {
-    const std::string r = o.get("ray", "shortest");
-    static const char* const names[] = {"+x", "-x", "+y", "-y", "+z", "-z", "shortest"};
-    for (int k = 0; k <= int(CountRay::shortest); ++k)
-        if (r == names[k]) return CountRay(k);
-    throw UsageError("unknown --ray '" + r + "' (shortest, +x, -x, +y, -y, +z, -z)");
+    try {
+        return count_ray_named(o.get("ray", "shortest"));
+    } catch (const Error& e) {
+        throw UsageError(std::string("--ray: ") + e.what());
+    }
 }
 
 std::string parse_tree(const Options& o, const std::string& fallback) {

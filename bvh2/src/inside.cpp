@@ -3,6 +3,7 @@
 #include "simdbvh/bvh2/inside.h"
 
 #include <cmath>
+#include <string>
 
 #include "crossing-inl.h"
 #include "point_query-inl.h"
@@ -49,6 +50,13 @@ PointSide classify(const Bvh2& bvh, const Vec3& p, const InsideOptions& o) {
 }
 
 }  // namespace
+
+CountRay count_ray_named(std::string_view name) {
+    static constexpr std::string_view names[] = {"+x", "-x", "+y", "-y", "+z", "-z", "shortest"};
+    for (int k = 0; k <= int(CountRay::shortest); ++k)
+        if (name == names[k]) return CountRay(k);
+    throw Error("unknown ray '" + std::string(name) + "' (shortest, +x, -x, +y, -y, +z, -z)");
+}
 
 PointSide classify_point(const Bvh2& bvh, const Vec3& p, const InsideOptions& opts) { return classify(bvh, p, opts); }
 

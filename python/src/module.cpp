@@ -34,13 +34,6 @@ InsideOptions::Rule parse_rule(const std::string& r) {
     throw Error("rule must be 'winding' or 'parity' (got '" + r + "')");
 }
 
-CountRay parse_ray(const std::string& r) {
-    static const char* const names[] = {"+x", "-x", "+y", "-y", "+z", "-z", "shortest"};
-    for (int k = 0; k <= int(CountRay::shortest); ++k)
-        if (r == names[k]) return CountRay(k);
-    throw Error("ray must be 'shortest', '+x', '-x', '+y', '-y', '+z' or '-z' (got '" + r + "')");
-}
-
 class Bvh {
 public:
     Bvh(Mesh mesh, const std::string& method, const std::optional<std::string>& isa)
@@ -199,7 +192,7 @@ public:
                                      const std::string& ray) const {
         InsideOptions o;
         o.rule = parse_rule(rule);
-        o.ray = parse_ray(ray);
+        o.ray = count_ray_named(ray);
         const F32 p = as_points(points, "points");
         const auto n = std::size_t(p.shape(0));
         o.threads = check_threads(threads);

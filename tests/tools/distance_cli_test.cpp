@@ -167,7 +167,7 @@ TEST_F(DistanceCli, InsideRayOptionPicksTheRayCounted) {
     }
     CliRun bad = run_cli("inside --scene soup-2000 --points " + pts + " --out " + path("x.bin") + " --ray z");
     EXPECT_EQ(bad.status, 2) << bad.output;
-    EXPECT_NE(bad.output.find("unknown --ray 'z'"), std::string::npos) << bad.output;
+    EXPECT_NE(bad.output.find("--ray: unknown ray 'z'"), std::string::npos) << bad.output;
     EXPECT_FALSE(fs::exists(path("x.bin")));
 }
 

@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <string_view>
 
 #include "simdbvh/bvh2/bvh2.h"
 #include "simdbvh/kernels/error.h"
@@ -33,6 +34,11 @@ enum class Side : std::uint8_t { outside = 0, inside = 1, surface = 2 };
 
 // The axis direction of the ray a point's crossings are counted along.
 enum class CountRay : std::uint8_t { plus_x, minus_x, plus_y, minus_y, plus_z, minus_z, shortest };
+
+// The names of the rays, indexed by CountRay: "+x", "-x", "+y", "-y", "+z",
+// "-z", "shortest" (the CLI's --ray and Python's ray=). Throws simdbvh::Error
+// naming the value and the choices for any other name.
+CountRay count_ray_named(std::string_view name);
 
 struct PointSide {
     Side side = Side::outside;
