@@ -17,13 +17,14 @@
 //
 // Counters (TraceOptions::stats): nodes_visited = wide nodes visited;
 // box_tests and triangle_tests count lanes, N per node test and kBlockWidth
-// per Tri8 block (empty slots and lanes included; a block shared by several
+// per Tri8 block, plus one box test per valid ray for the bounds (start()) (empty slots and lanes included; a block shared by several
 // hit leaves of one node counts once).
 #include <algorithm>
 #include <cstdint>
 #include <span>
 
 #include "simdbvh/bvh8/bvh8.h"
+#include "simdbvh/kernels/box.h"
 #include "simdbvh/kernels/error.h"
 #include "prefetch-inl.h"
 #include "traverse.h"
@@ -182,13 +183,24 @@ inline __attribute__((always_inline)) bool step(const NodeN<N>* nodes, const Tri
     }
 }
 
-// Starts ray `i` in `s`; false (and hits[i] written) when it cannot hit anything.
+// Starts ray `i` in `s`; false (and hits[i] written) when it cannot hit
+// anything: an invalid ray, an empty tree, or a ray that misses the tree's
+// bounds. The bounds are tested by the BVH2's own root test (intersect_box,
+// the conservative slab test with tmax = the ray's): the BVH2 and the BVH2's
+// root box are these bounds (the union of the triangles' boxes), and the BVH2
+// is bit-identical to brute force, so a ray that misses them hits nothing.
+// Rays that miss the scene (a camera's sky) then cost a prepare and one
+// scalar box test, not a packed ray state and a node test.
 template <class K, int N, class Query, bool kStats>
-inline __attribute__((always_inline)) bool start(RayState<K, N>& s, const Ray& ray, std::size_t i, bool empty,
+inline __attribute__((always_inline)) bool start(RayState<K, N>& s, const Ray& ray, std::size_t i, const Aabb* root,
                                                  Hit* hits, TraceStats* stats) {
     const PreparedRay r = prepare(ray);
-    if constexpr (kStats) stats->rays++;
-    if (!r.valid || empty) {
+    if constexpr (kStats) {
+        stats->rays++;
+        if (r.valid && root) stats->box_tests++;
+    }
+    float entry;
+    if (!r.valid || !root || !intersect_box(r, *root, r.tmax, &entry)) {
         Query::finish(Hit{}, 0, hits[i]);
         return false;
     }
@@ -215,7 +227,8 @@ inline __attribute__((always_inline)) void trace_span(const BvhN<N>& bvh, std::s
                                                       std::span<Hit> hits, TraceStats* stats) {
     const NodeN<N>* nodes = bvh.nodes().data();
     const Tri8* blocks = bvh.blocks().data();
-    const bool empty = bvh.nodes().empty();
+    const Aabb bounds = bvh.bounds();
+    const Aabb* root = bvh.nodes().empty() ? nullptr : &bounds;
     const std::size_t n = rays.size();
     RayState<K, N> states[kInFlight];
     int live[kInFlight];
@@ -224,7 +237,7 @@ inline __attribute__((always_inline)) void trace_span(const BvhN<N>& bvh, std::s
     auto refill = [&](int slot) {
         while (next < n) {
             const std::size_t i = next++;
-            if (start<K, N, Query, kStats>(states[slot], rays[i], i, empty, hits.data(), stats)) return true;
+            if (start<K, N, Query, kStats>(states[slot], rays[i], i, root, hits.data(), stats)) return true;
         }
         return false;
     };

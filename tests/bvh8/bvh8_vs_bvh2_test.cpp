@@ -13,6 +13,7 @@
 
 #include "simdbvh/bvh2/bvh2.h"
 #include "simdbvh/bvh8/bvh8.h"
+#include "simdbvh/kernels/box.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/kernels/triangle.h"
 #include "simdbvh/scene/rays.h"
@@ -188,7 +189,8 @@ TEST_P(Bvh8Small, PartlyFilledNodesAndBlocks) {
     }
 }
 
-// Invalid rays miss without visiting a node; stats do not change results.
+// Invalid rays and rays that miss the tree's bounds miss without visiting a
+// node; stats do not change results.
 TEST_P(Bvh8Small, InvalidRaysAndStats) {
     const Isa isa = GetParam();
     if (!supported(isa)) GTEST_SKIP() << "CPU lacks " << name(isa);
@@ -223,8 +225,25 @@ TEST_P(Bvh8Small, InvalidRaysAndStats) {
     intersect(bvh8, rays, counted, counting, isa);
     for (std::size_t i = 0; i < rays.size(); ++i) ASSERT_EQ(plain[i], counted[i]) << "ray " << i;
     EXPECT_EQ(st.rays, rays.size());
-    EXPECT_GE(st.nodes_visited, rays.size());  // every valid ray visits the root
-    EXPECT_EQ(st.box_tests, 8 * st.nodes_visited);
+    // Every ray is valid and aimed into the bounds: one test of the tree's
+    // bounds each, then at least the root node.
+    for (const Ray& r : rays) {
+        const PreparedRay p = prepare(r);
+        float e;
+        ASSERT_TRUE(p.valid && intersect_box(p, bvh8.bounds(), p.tmax, &e));
+    }
+    EXPECT_GE(st.nodes_visited, rays.size());
+    EXPECT_EQ(st.box_tests, 8 * st.nodes_visited + rays.size());
+    // The same rays turned around (they start outside the bounds and leave
+    // them): the bounds test ends each one, no node is visited, no hit.
+    std::vector<Ray> away = rays;
+    for (Ray& r : away) r.dir = r.dir * -1.0f;
+    TraceStats st_away;
+    counting.stats = &st_away;
+    intersect(bvh8, away, counted, counting, isa);
+    for (std::size_t i = 0; i < away.size(); ++i) ASSERT_FALSE(counted[i].hit()) << "ray " << i;
+    EXPECT_EQ(st_away.nodes_visited, 0u);
+    EXPECT_EQ(st_away.box_tests, away.size());
     EXPECT_EQ(st.triangle_tests % 8, 0u);
 }
 
