@@ -52,6 +52,19 @@ void intersect_box8(std::span<const Ray> rays, const Box8& boxes, std::span<std:
     return scalar::intersect_box8(rays, boxes, masks.data(), entries.data());
 }
 
+void intersect_box8_groups(std::span<const Ray> rays, std::span<const Box8> groups, std::span<std::uint8_t> masks,
+                           std::span<float> entries, Isa isa) {
+    require(isa);
+    check_size(masks.size(), groups.size() * rays.size(), "masks");
+    check_size(entries.size(), 8 * groups.size() * rays.size(), "entries");
+    switch (isa) {
+    case Isa::avx512: return avx512::intersect_box8_groups(rays, groups, masks.data(), entries.data());
+    case Isa::avx2: return avx2::intersect_box8_groups(rays, groups, masks.data(), entries.data());
+    case Isa::scalar: break;
+    }
+    return scalar::intersect_box8_groups(rays, groups, masks.data(), entries.data());
+}
+
 std::uint64_t count_box8_hits(std::span<const Ray> rays, std::span<const Box8> blocks, Isa isa) {
     require(isa);
     switch (isa) {

@@ -130,32 +130,33 @@ inline constexpr std::size_t kFlatTopMax = 64;
 // those the tree gives it (a larger box, the same conservative slab test).
 // Extra candidates only add exact bottom-level tests whose hits are real, and
 // hits are merged by closer(), so the results are the tree's and the brute
-// force's bit for bit.
+// force's bit for bit. One grouped kernel call for the chunk: each ray is
+// prepared once for all the groups of 8 boxes, its masks and entries
+// adjacent (ray-major), where one call per group prepared it once per group.
 template <int N>
 void collect_flat(const SceneBvhN<N>& s, std::span<const Ray> world, const std::vector<std::uint8_t>& live,
                   float slack, Isa isa, std::vector<std::pair<float, std::uint32_t>>& cand,
                   std::vector<std::uint32_t>& first) {
-    const std::size_t n = world.size(), ni = s.instances().size(), groups = (ni + 7) / 8;
+    const std::size_t n = world.size(), ni = s.instances().size(), ng = (ni + 7) / 8;
     const SlackBox2Test grow{slack};
-    std::vector<std::uint8_t> masks(groups * n);
-    std::vector<float> entries(groups * n * 8);
-    for (std::size_t g = 0; g < groups; ++g) {
-        Box8 box;
-        box.clear();
+    std::vector<Box8> groups(ng);
+    for (std::size_t g = 0; g < ng; ++g) {
+        groups[g].clear();
         for (std::size_t j = 0; j < 8 && 8 * g + j < ni; ++j) {
             const std::uint32_t leaf = s.leaf_of()[8 * g + j];
-            if (leaf != kInvalidPrim) box.set(int(j), grow.grow(s.top().nodes[leaf].box));
+            if (leaf != kInvalidPrim) groups[g].set(int(j), grow.grow(s.top().nodes[leaf].box));
         }
-        kernels::intersect_box8(world, box, std::span(masks).subspan(g * n, n), std::span(entries).subspan(g * n * 8, n * 8),
-                                isa);
     }
+    std::vector<std::uint8_t> masks(ng * n);
+    std::vector<float> entries(ng * n * 8);
+    kernels::intersect_box8_groups(world, groups, masks, entries, isa);
     for (std::size_t i = 0; i < n; ++i) {
         first[i] = std::uint32_t(cand.size());
         if (!live[i]) continue;
-        for (std::size_t g = 0; g < groups; ++g)
-            for (std::uint32_t m = masks[g * n + i]; m != 0; m &= m - 1) {
+        for (std::size_t g = 0; g < ng; ++g)
+            for (std::uint32_t m = masks[ng * i + g]; m != 0; m &= m - 1) {
                 const int j = __builtin_ctz(m);
-                cand.push_back({entries[(g * n + i) * 8 + std::size_t(j)], std::uint32_t(8 * g + std::size_t(j))});
+                cand.push_back({entries[8 * (ng * i + g) + std::size_t(j)], std::uint32_t(8 * g + std::size_t(j))});
             }
         std::sort(cand.begin() + first[i], cand.end());
     }
@@ -186,25 +187,39 @@ void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Sce
     const std::size_t n = rays.size();
     const std::uint32_t ni = std::uint32_t(s.instances().size());
     const bool flat = ni <= kFlatTopMax;
-    std::vector<Ray> world(rays.begin(), rays.end());
+    // The world rays: the caller's, or with planes a copy whose tmax the
+    // planes' hits clamp. Without planes a ray needs no prepare here (the
+    // validity test is prepare's own; the kernels prepare what they trace).
+    const bool planes = !s.planes().empty();
+    std::vector<Ray> clamped;
+    if (planes) clamped.assign(rays.begin(), rays.end());
+    const std::span<const Ray> world = planes ? std::span<const Ray>(clamped) : rays;
     std::vector<std::pair<float, std::uint32_t>> cand;  // (entry, instance)
     std::vector<std::uint32_t> first(n + 1, 0);
     std::vector<std::uint8_t> done(n, 0), live(n, 0);
     float max_slack = 0.0f;
     for (std::size_t i = 0; i < n; ++i) {
         first[i] = std::uint32_t(cand.size());
-        const PreparedRay pr = prepare(rays[i]);
-        if (!pr.valid) {
+        if (!planes) {
             hits[i] = SceneHit{};
-            done[i] = 1;
-            continue;
-        }
-        hits[i] = scene_accel::trace_planes<kAny>(s.planes(), pr, ni);
-        if (hits[i].hit()) {
-            world[i].tmax = hits[i].t;
-            if (kAny) {
+            if (!valid_ray(rays[i])) {
                 done[i] = 1;
                 continue;
+            }
+        } else {
+            const PreparedRay pr = prepare(rays[i]);
+            if (!pr.valid) {
+                hits[i] = SceneHit{};
+                done[i] = 1;
+                continue;
+            }
+            hits[i] = scene_accel::trace_planes<kAny>(s.planes(), pr, ni);
+            if (hits[i].hit()) {
+                clamped[i].tmax = hits[i].t;
+                if (kAny) {
+                    done[i] = 1;
+                    continue;
+                }
             }
         }
         if (s.top().nodes.empty()) continue;

@@ -57,6 +57,34 @@ protected:
             }
         }
         ASSERT_EQ(kernels::count_box8_hits(rays, {&box, 1}, isa), hits) << what;
+
+        // The grouped form: the box, its lanes reversed, and the box again;
+        // each group's masks and entries are the single-box kernel's (scalar).
+        Box8 reversed;
+        reversed.clear();
+        for (int j = 0; j < 8; ++j) reversed.set(j, box.get(7 - j));
+        const std::vector<Box8> groups = {box, reversed, box};
+        const std::size_t ng = groups.size();
+        std::vector<std::uint8_t> mg(ng * rays.size());
+        std::vector<float> eg(8 * ng * rays.size());
+        kernels::intersect_box8_groups(rays, groups, mg, eg, isa);
+        ASSERT_EQ(kernels::last_isa_used(), isa);
+        for (std::size_t g = 0; g < ng; ++g) {
+            std::vector<std::uint8_t> mr(rays.size());
+            std::vector<float> er(8 * rays.size());
+            kernels::intersect_box8(rays, groups[g], mr, er, Isa::scalar);
+            for (std::size_t i = 0; i < rays.size(); ++i) {
+                ASSERT_EQ(mg[ng * i + g], mr[i]) << what << ": group " << g << " ray " << i;
+                for (int j = 0; j < 8; ++j)
+                    ASSERT_EQ(bits_of(eg[8 * (ng * i + g) + std::size_t(j)]), bits_of(er[8 * i + std::size_t(j)]))
+                        << what << ": group " << g << " ray " << i << " box " << j;
+            }
+        }
+        if (!rays.empty()) {
+            EXPECT_THROW(kernels::intersect_box8_groups(rays, groups, std::span(mg).first(mg.size() - 1), eg, isa),
+                         Error)
+                << what;
+        }
     }
 
     // Tri8: closest hit over all blocks, each block alone, and any-hit, bit for bit.

@@ -29,6 +29,29 @@ struct BatchLoops {
         }
     }
 
+    static SIMDBVH_FORCE_INLINE void box8_groups(std::span<const Ray> rays, std::span<const Box8> groups,
+                                                 std::uint8_t* masks, float* entries) {
+        const std::size_t ng = groups.size();
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            const PreparedRay r = prepare(rays[i]);
+            float* e = entries + 8 * ng * i;
+            if (!r.valid) {
+                for (std::size_t g = 0; g < ng; ++g) masks[ng * i + g] = 0;
+                for (std::size_t j = 0; j < 8 * ng; ++j) e[j] = std::numeric_limits<float>::infinity();
+                continue;
+            }
+            const RayPack<Arch> p = pack_ray<Arch>(r);
+            const Batch<Arch> tmax(r.tmax);
+            for (std::size_t g = 0; g < ng; ++g) {
+                Batch<Arch> tn;
+                masks[ng * i + g] = static_cast<std::uint8_t>(intersect_box8<Arch>(p, groups[g], tmax, tn));
+                tn.store_unaligned(e + 8 * g);
+            }
+            if (r.t_exp != 0)
+                for (std::size_t j = 0; j < 8 * ng; ++j) e[j] = to_caller_t(r, e[j]);
+        }
+    }
+
     static SIMDBVH_FORCE_INLINE std::uint64_t count_box8(std::span<const Ray> rays, std::span<const Box8> blocks) {
         std::uint64_t n = 0;
         for (const Ray& ray : rays) {

@@ -29,6 +29,12 @@ namespace simdbvh::kernels {
 // whatever the slab test computed; invalid rays: +inf).
 void intersect_box8(std::span<const Ray> rays, const Box8& boxes, std::span<std::uint8_t> masks,
                     std::span<float> entries, Isa isa = active_isa());
+// Every ray against every Box8 of `groups` (ray-major, each ray prepared once):
+// masks[G*i + g] bit j = ray i hits box j of group g, entries[8*(G*i + g) + j]
+// its entry distance (in the caller's t), G = groups.size(); each group's
+// masks and entries are those intersect_box8 gives for it, bit for bit.
+void intersect_box8_groups(std::span<const Ray> rays, std::span<const Box8> groups, std::span<std::uint8_t> masks,
+                           std::span<float> entries, Isa isa = active_isa());
 // Closest hit of each ray over all blocks (ties: lower prim id); Hit{} on a miss.
 // The SIMD loops walk the blocks in L1-sized tiles for kBruteRayTile rays at a
 // time (each block is read once per tile): callers that split rays over

@@ -76,14 +76,22 @@ inline float cull_bound(float t) { return t + std::fabs(t) * 0x1p-18f; }
 // itself and of the add).
 inline float far_slack_for(float tmin) { return tmin < 0.0f ? -tmin * (2.0f * (kFarWiden - 1.0f)) : 0.0f; }
 
+// A direction prepare() can use: finite and not zero.
+inline bool usable_dir(const Vec3& d) { return is_finite(d) && (d.x != 0.0f || d.y != 0.0f || d.z != 0.0f); }
+// PreparedRay::valid without the rest of prepare(): a usable direction, a
+// finite origin, tmin and tmax not NaN, tmin <= tmax.
+inline bool valid_ray(const Ray& r) {
+    return usable_dir(r.dir) && is_finite(r.org) && !std::isnan(r.tmin) && !std::isnan(r.tmax) && r.tmin <= r.tmax;
+}
+
 inline PreparedRay prepare(const Ray& r) {
     PreparedRay p;
     p.org = r.org;
     p.dir = r.dir;
     p.tmin = r.tmin;
     p.tmax = r.tmax;
-    const bool dir_ok = is_finite(r.dir) && (r.dir.x != 0.0f || r.dir.y != 0.0f || r.dir.z != 0.0f);
-    p.valid = dir_ok && is_finite(r.org) && !std::isnan(r.tmin) && !std::isnan(r.tmax) && r.tmin <= r.tmax;
+    const bool dir_ok = usable_dir(r.dir);
+    p.valid = valid_ray(r);
     if (dir_ok) {
         // Finite components here, so a plain comparison is fmax (std::fmax is a libm call without -ffinite-math-only).
         const float ax = std::fabs(r.dir.x), ay = std::fabs(r.dir.y), az = std::fabs(r.dir.z);
