@@ -241,17 +241,25 @@ void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Sce
     std::vector<std::uint32_t> count;
     std::vector<Ray> obj;
     std::vector<Hit> got;
+    // The rays with candidates left, in ray order: each round walks these
+    // instead of the whole chunk, and drops the rays it finishes.
+    std::vector<std::uint32_t> active;
+    for (std::size_t i = 0; i < n; ++i)
+        if (!done[i] && first[i] < first[i + 1]) active.push_back(std::uint32_t(i));
     for (std::uint32_t k = 0;; ++k) {
         pairs.clear();
-        for (std::size_t i = 0; i < n; ++i)
-            if (!done[i] && first[i] + k < first[i + 1]) {
-                const auto [entry, inst] = cand[first[i] + k];
-                if (hits[i].hit() && entry > cull_bound(hits[i].t)) {
-                    done[i] = 1;  // sorted: every later candidate is farther
-                    continue;
-                }
-                pairs.push_back({inst, std::uint32_t(i)});
+        std::size_t kept = 0;
+        for (const std::uint32_t i : active) {
+            if (done[i] || first[i] + k >= first[i + 1]) continue;
+            const auto [entry, inst] = cand[first[i] + k];
+            if (hits[i].hit() && entry > cull_bound(hits[i].t)) {
+                done[i] = 1;  // sorted: every later candidate is farther
+                continue;
             }
+            pairs.push_back({inst, i});
+            active[kept++] = i;
+        }
+        active.resize(kept);
         if (pairs.empty()) break;
         group_by_instance(pairs, ni, count, sorted);
         for (std::size_t b = 0; b < pairs.size();) {
