@@ -5,6 +5,12 @@
 # instrumented code against -O1 (the whole stage on this 2-vCPU machine:
 # 986 s against 1,294 s; the tests themselves 363 s against 330 s); -O0
 # builds faster still but runs the flattened traversals 5x slower.
+# On a CPU without AVX-512F the preset's SIMDBVH_SANITIZE_HOST_ISAS_ONLY
+# compiles the src/avx512/ objects (kernels, bvh8) without instrumentation
+# (cmake/SimdbvhIsa.cmake): the dispatch never runs them there, so their
+# instrumentation checked nothing, and bvh8's traverse_avx512.cpp was the
+# costliest file of the build (137 s of CPU instrumented, 12 s not; the
+# kernels' 20 -> 4 s). On a CPU with AVX-512 everything stays instrumented.
 #   scripts/asan.sh [extra ctest args, e.g. -L accuracy]
 # Environment: JOBS (build jobs, default 2), TEST_TIMEOUT (seconds per test,
 # default 900), TARGETS (build only these targets, default all),
