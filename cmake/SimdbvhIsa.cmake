@@ -4,7 +4,7 @@
 set(SIMDBVH_AVX2_FLAGS -mavx2 -mfma -mbmi -mbmi2 -mlzcnt -mpopcnt -mf16c)
 set(SIMDBVH_AVX512_FLAGS ${SIMDBVH_AVX2_FLAGS} -mavx512f -mavx512vl -mavx512dq -mavx512bw -mavx512cd)
 
-# SIMDBVH_SANITIZE_HOST_ISAS_ONLY (on in the asan preset): on a machine without
+# SIMDBVH_SANITIZE_HOST_ISAS_ONLY (on in the asan and tsan presets): on a machine without
 # AVX-512F, the src/avx512/ objects are compiled without sanitizer
 # instrumentation (same -O level). Their code never runs there (kernels/src/isa.cpp
 # picks AVX-512 only when the CPU has F, VL, DQ, BW and CD), so instrumenting

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # ThreadSanitizer: many threads tracing one BVH2/BVH8 (tests/bvh8/concurrent_test.cpp)
-# and the parallel build, under the tsan preset. Builds only the test targets needed.
+# and the parallel build, under the tsan preset (AVX-512 objects uninstrumented on a
+# CPU without AVX-512, cmake/SimdbvhIsa.cmake). Builds only the test targets needed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cmake --preset tsan -DSIMDBVH_BUILD_BENCH=OFF -DSIMDBVH_BUILD_TOOLS=OFF >/dev/null
