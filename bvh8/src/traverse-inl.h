@@ -1,7 +1,8 @@
 #pragma once
 // The wide BVH stack traversal, one loop for every width: a loop (step,
 // trace_span: several rays in flight per batch) x a node test (K::box, N lanes)
-// x a leaf intersector (Tri8Leaf: blocks of kBlockWidth triangles) x a query
+// x a leaf intersector (Tri8Leaf: blocks of kBlockWidth triangles; the
+// sphere and box sets' in scene_accel/src/shape_traverse-inl.h) x a query
 // (query/query.h: ClosestHit, AnyHit, what a leaf does to the ray;
 // finish() writes its Hit),
 // after madmann91/bvh v2's traverse_top_down(leaf_fn, inner_fn) and Embree's
@@ -22,6 +23,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <span>
+#include <type_traits>
 
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/kernels/box.h"
@@ -34,30 +36,45 @@ namespace simdbvh::bvh8::detail {
 
 #define SIMDBVH_TRAVERSE_INLINE inline __attribute__((always_inline))
 
-// Leaf intersector: a leaf is `count` consecutive Tri8 blocks.
+// What a ray state keeps of its PreparedRay for the leaf intersector: nothing
+// (Tri8Leaf reads the packed RayData) or the PreparedRay itself (leaves of
+// scalar primitive tests, scene_accel/src/shape_traverse-inl.h).
+struct NoPreparedRay {};
+
+// Leaf intersector: a leaf is `count` consecutive Tri8 blocks. The leaf
+// interface of step() and trace_span(): `Keep` (what the ray state keeps of
+// the PreparedRay), closest(state, best, stats), any(state, best, stats) on
+// the leaf state.cur, and prefetch(nodes, child) for the next node or leaf.
 template <class K, TriangleTest kTest, bool kStats>
 struct Tri8Leaf {
-    using RayData = typename K::RayData;
+    using Keep = NoPreparedRay;
+    const Tri8* blocks;
     // Closest hit: shrinks `best` (best.t is the current tmax).
-    SIMDBVH_TRAVERSE_INLINE void closest(const RayData& rd, const Tri8* b, std::uint32_t count, Hit& best,
-                                         TraceStats* stats) const {
-        for (std::uint32_t k = 0; k < count; ++k) {
+    template <class State>
+    SIMDBVH_TRAVERSE_INLINE void closest(const State& s, Hit& best, TraceStats* stats) const {
+        const Tri8* b = blocks + s.cur.index;
+        for (std::uint32_t k = 0, count = s.cur.blocks(); k < count; ++k) {
             if constexpr (kStats) stats->triangle_tests += kBlockWidth;
-            K::template closest<kTest>(rd, b[k], best);
+            K::template closest<kTest>(s.rd, b[k], best);
         }
     }
     // Any hit: true at the first hit in [tmin, best.t], written to `best`.
-    SIMDBVH_TRAVERSE_INLINE bool any(const RayData& rd, const Tri8* b, std::uint32_t count, Hit& best,
-                                     TraceStats* stats) const {
-        for (std::uint32_t k = 0; k < count; ++k) {
+    template <class State>
+    SIMDBVH_TRAVERSE_INLINE bool any(const State& s, Hit& best, TraceStats* stats) const {
+        const Tri8* b = blocks + s.cur.index;
+        for (std::uint32_t k = 0, count = s.cur.blocks(); k < count; ++k) {
             if constexpr (kStats) stats->triangle_tests += kBlockWidth;
             Hit h;
-            if (K::template any<kTest>(rd, b[k], best.t, h)) {
+            if (K::template any<kTest>(s.rd, b[k], best.t, h)) {
                 best = h;
                 return true;
             }
         }
         return false;
+    }
+    template <int N>
+    SIMDBVH_TRAVERSE_INLINE void prefetch(const NodeN<N>* nodes, ChildN<N> c) const {
+        prefetch_child(nodes, blocks, c);
     }
 };
 
@@ -97,10 +114,11 @@ inline __attribute__((always_inline)) std::uint32_t merge_shared(const NodeN<N>&
 }
 
 // One ray's traversal state. No default member initializers (the stack must
-// stay uninitialized).
-template <class K, int N>
+// stay uninitialized). `Keep`: the leaf's (NoPreparedRay or PreparedRay).
+template <class K, int N, class Keep = NoPreparedRay>
 struct RayState {
     typename K::RayData rd;
+    [[no_unique_address]] Keep pr;
     Hit best;       // closest hit so far; best.t = current tmax (any hit: the ray's tmax, then the hit)
     ChildN<N> cur;  // next node or leaf to visit
     int sp;
@@ -112,8 +130,8 @@ struct RayState {
 // One traversal step of ray `s`: visits s.cur (one NodeN or one leaf), then
 // sets s.cur to the next node or leaf to visit. Returns true when the ray is
 // finished, its result in s.best (Query::finish turns it into the Hit).
-template <class K, int N, class Leaf, class Query, bool kStats>
-inline __attribute__((always_inline)) bool step(const NodeN<N>* nodes, const Tri8* blocks, RayState<K, N>& s,
+template <class K, int N, class Leaf, class Query, bool kStats, class State>
+inline __attribute__((always_inline)) bool step(const NodeN<N>* nodes, const Leaf& leaf, State& s,
                                                 TraceStats* stats) {
     using Child = ChildN<N>;
     const typename K::RayData& rd = s.rd;
@@ -167,7 +185,7 @@ inline __attribute__((always_inline)) bool step(const NodeN<N>* nodes, const Tri
             s.cur = Child{stack[sp].index, stack[sp].count};
             return false;
         }
-    } else if (Query::leaf(Leaf{}, rd, blocks + s.cur.index, s.cur.blocks(), best, stats)) {
+    } else if (Query::leaf(leaf, s, best, stats)) {
         return true;
     }
     // Pop the nearest pending child still in front of the closest hit.
@@ -191,8 +209,8 @@ inline __attribute__((always_inline)) bool step(const NodeN<N>* nodes, const Tri
 // is bit-identical to brute force, so a ray that misses them hits nothing.
 // Rays that miss the scene (a camera's sky) then cost a prepare and one
 // scalar box test, not a packed ray state and a node test.
-template <class K, int N, class Query, bool kStats>
-inline __attribute__((always_inline)) bool start(RayState<K, N>& s, const Ray& ray, std::size_t i, const Aabb* root,
+template <class K, int N, class Query, bool kStats, class State>
+inline __attribute__((always_inline)) bool start(State& s, const Ray& ray, std::size_t i, const Aabb* root,
                                                  Hit* hits, TraceStats* stats) {
     const PreparedRay r = prepare(ray);
     if constexpr (kStats) {
@@ -205,6 +223,7 @@ inline __attribute__((always_inline)) bool start(RayState<K, N>& s, const Ray& r
         return false;
     }
     K::pack(s.rd, r, ray);  // a pack keeps no pointer to r (a copy of r here was a store-forwarding stall)
+    if constexpr (std::is_same_v<decltype(s.pr), PreparedRay>) s.pr = r;
     s.best = Hit{};
     s.best.t = r.tmax;
     s.cur = ChildN<N>::inner(0);
@@ -222,15 +241,15 @@ inline __attribute__((always_inline)) bool start(RayState<K, N>& s, const Ray& r
 #endif
 inline constexpr int kInFlight = SIMDBVH_BVH8_IN_FLIGHT;
 
+// The batch loop over any wide tree: `nodes` (root at 0), its bounds (nullptr:
+// an empty tree) and the leaf intersector.
 template <class K, int N, class Leaf, class Query, bool kStats>
-inline __attribute__((always_inline)) void trace_span(const BvhN<N>& bvh, std::span<const Ray> rays,
-                                                      std::span<Hit> hits, TraceStats* stats) {
-    const NodeN<N>* nodes = bvh.nodes().data();
-    const Tri8* blocks = bvh.blocks().data();
-    const Aabb bounds = bvh.bounds();
-    const Aabb* root = bvh.nodes().empty() ? nullptr : &bounds;
+inline __attribute__((always_inline)) void trace_span(const NodeN<N>* nodes, const Aabb* root, const Leaf& leaf,
+                                                      std::span<const Ray> rays, std::span<Hit> hits,
+                                                      TraceStats* stats) {
+    using State = RayState<K, N, typename Leaf::Keep>;
     const std::size_t n = rays.size();
-    RayState<K, N> states[kInFlight];
+    State states[kInFlight];
     int live[kInFlight];
     int nlive = 0;
     std::size_t next = 0;
@@ -245,9 +264,9 @@ inline __attribute__((always_inline)) void trace_span(const BvhN<N>& bvh, std::s
         if (refill(w)) live[nlive++] = w;
     while (nlive > 0) {
         for (int k = 0; k < nlive;) {
-            RayState<K, N>& s = states[live[k]];
-            if (!step<K, N, Leaf, Query, kStats>(nodes, blocks, s, stats)) {
-                prefetch_child(nodes, blocks, s.cur);
+            State& s = states[live[k]];
+            if (!step<K, N, Leaf, Query, kStats>(nodes, leaf, s, stats)) {
+                leaf.prefetch(nodes, s.cur);
             } else {
                 Query::finish(s.best, s.t_exp, hits[s.ray]);
                 if (!refill(live[k])) {
@@ -258,6 +277,15 @@ inline __attribute__((always_inline)) void trace_span(const BvhN<N>& bvh, std::s
             ++k;
         }
     }
+}
+
+// A BvhN: its nodes, bounds and Tri8 blocks.
+template <class K, int N, class Leaf, class Query, bool kStats>
+inline __attribute__((always_inline)) void trace_span(const BvhN<N>& bvh, std::span<const Ray> rays,
+                                                      std::span<Hit> hits, TraceStats* stats) {
+    const Aabb bounds = bvh.bounds();
+    trace_span<K, N, Leaf, Query, kStats>(bvh.nodes().data(), bvh.nodes().empty() ? nullptr : &bounds,
+                                          Leaf{bvh.blocks().data()}, rays, hits, stats);
 }
 
 // Triangle test and stats chosen once per batch.

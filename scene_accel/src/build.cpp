@@ -1,49 +1,83 @@
-// Scene build: one bottom level per geometry (a wide BVH for meshes, a BVH2
-// over padded bounds for sphere and box sets), the instance records and world
-// boxes, and the top-level BVH2 over the instance boxes.
+// Scene build: one bottom level per geometry (a wide BVH for meshes, a wide
+// ShapeTree for sphere and box sets), the instance records and world boxes,
+// and the top-level BVH2 over the instance boxes.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <numeric>
+#include <string>
 
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/scene_accel/scene.h"
+#include "collapse.h"  // bvh8/src
 
 namespace simdbvh {
 
 namespace {
 
-std::vector<Aabb> root_children(const Bvh2Topology& t) {
-    if (t.nodes.empty()) return {};
-    const Node2& r = t.nodes[0];
-    if (r.is_leaf()) return {r.box};
-    return {t.nodes[r.first].box, t.nodes[r.first + 1].box};
-}
-
 template <int N>
-std::vector<Aabb> root_children(const BvhN<N>& b) {
+std::vector<Aabb> root_children(const std::vector<NodeN<N>>& nodes) {
     std::vector<Aabb> out;
-    if (b.nodes().empty()) return out;
-    const auto& root = b.nodes()[0];
+    if (nodes.empty()) return out;
     for (int i = 0; i < N; ++i)
-        if (!root.children[i].is_empty()) out.push_back(root.boxes.get(i));
+        if (!nodes[0].children[i].is_empty()) out.push_back(nodes[0].boxes.get(i));
     return out;
 }
 
-// A BVH2 over padded primitive bounds, the primitives gathered in leaf order.
-template <class Prim, class BoundsFn>
-Bvh2Topology build_shapes(const std::vector<Prim>& prims, std::vector<Prim>& gathered, BoundsFn bounds,
-                          const BuildOptions& opts) {
+// Shape leaves of at most this many primitives: the collapse's cost model
+// (bvh8/src/collapse.h) prices a leaf by Tri8 blocks of 8, but a shape leaf
+// tests its primitives one at a time in double.
+inline constexpr int kShapeLeafMax = 4;
+
+// A ShapeTree over padded primitive bounds: a BVH2, collapsed to N wide and
+// packed, the primitives gathered in the wide tree's leaf order.
+template <int N, class Prim, class BoundsFn>
+ShapeTree<N> build_shapes(const std::vector<Prim>& prims, std::vector<Prim>& gathered, BoundsFn bounds,
+                          const SceneOptions& o) {
     std::vector<Aabb> boxes(prims.size());
     std::vector<Vec3> centroids(prims.size());
     for (std::size_t i = 0; i < prims.size(); ++i) {
         boxes[i] = bounds(prims[i]);
         centroids[i] = boxes[i].center();
     }
-    Bvh2Topology t = build_topology(boxes, centroids, opts);
-    gathered.resize(t.prim_ids.size());
-    for (std::size_t i = 0; i < t.prim_ids.size(); ++i) gathered[i] = prims[t.prim_ids[i]];
-    return t;
+    BuildOptions bo = o.bottom;
+    bo.max_leaf_size = std::min(bo.max_leaf_size, kShapeLeafMax);
+    const Bvh2Topology t = build_topology(boxes, centroids, bo);
+    ShapeTree<N> w;
+    if (t.nodes.empty()) return w;
+    WideOptions wo = o.wide;
+    wo.max_leaf_size = kShapeLeafMax;
+    wo.threads = 1;
+    const bvh8::WideTopology<N> topo = bvh8::collapse<N>(std::span<const Node2>(t.nodes), t.prim_ids.size(), wo);
+    gathered.resize(topo.prims.size());
+    w.prim_ids.resize(topo.prims.size());
+    for (std::size_t k = 0; k < topo.prims.size(); ++k) {
+        gathered[k] = prims[t.prim_ids[topo.prims[k]]];
+        w.prim_ids[k] = t.prim_ids[topo.prims[k]];
+    }
+    using Child = ChildN<N>;
+    w.nodes.resize(topo.nodes.size());
+    for (std::size_t j = 0; j < topo.nodes.size(); ++j) {
+        NodeN<N>& n = w.nodes[j];
+        n.boxes.clear();
+        for (int i = 0; i < N; ++i) n.children[i] = Child::empty();
+        const bvh8::WideNode<N>& wn = topo.nodes[j];
+        for (int i = 0; i < wn.child_count; ++i) {
+            const bvh8::WideChild& c = wn.children[std::size_t(i)];
+            if (c.is_leaf() && c.count > Child::kMaxBlocks)
+                throw Error("shape set: a leaf of " + std::to_string(c.count) + " primitives (at most " +
+                            std::to_string(Child::kMaxBlocks) + " at width " + std::to_string(N) +
+                            "; too many primitives share one position)");
+            n.boxes.set(i, c.box);
+            n.children[i] = c.is_leaf() ? Child::leaf(c.index, c.count) : Child::inner(c.index);
+        }
+    }
+    return w;
+}
+
+template <int N>
+std::size_t tree_bytes(const ShapeTree<N>& t) {
+    return t.nodes.size() * sizeof(NodeN<N>) + t.prim_ids.size() * sizeof(std::uint32_t);
 }
 
 std::size_t topo_bytes(const Bvh2Topology& t) {
@@ -56,26 +90,26 @@ BottomLevel<N> build_bottom(const Geometry& g, const SceneOptions& o, std::size_
     if (const Mesh* m = std::get_if<Mesh>(&g)) {
         BvhN<N> bvh = BvhN<N>::build(*m, o.bottom, o.wide);
         b.bounds = bvh.bounds();
-        b.root_children = root_children(bvh);
+        b.root_children = root_children(bvh.nodes());
         *bytes += bvh.nodes().size() * sizeof(typename BvhN<N>::Node) + bvh.blocks().size() * sizeof(Tri8);
         *prims += m->triangles.size();
         b.tree = std::move(bvh);
         return b;
     }
-    Bvh2Topology t;
+    ShapeTree<N> t;
     if (const SphereSet* s = std::get_if<SphereSet>(&g)) {
-        t = build_shapes(s->spheres, b.spheres, sphere_bounds, o.bottom);
+        t = build_shapes<N>(s->spheres, b.spheres, sphere_bounds, o);
         *bytes += b.spheres.size() * sizeof(Sphere);
         *prims += s->spheres.size();
     } else {
         const BoxSet& bs = std::get<BoxSet>(g);
-        t = build_shapes(bs.boxes, b.boxes, padded_box, o.bottom);
+        t = build_shapes<N>(bs.boxes, b.boxes, padded_box, o);
         *bytes += b.boxes.size() * sizeof(Aabb);
         *prims += bs.boxes.size();
     }
-    *bytes += topo_bytes(t);
-    b.bounds = t.nodes.empty() ? Aabb{} : t.nodes[0].box;
-    b.root_children = root_children(t);
+    *bytes += tree_bytes(t);
+    b.root_children = root_children(t.nodes);
+    for (const Aabb& c : b.root_children) b.bounds.grow(c);
     b.tree = std::move(t);
     return b;
 }

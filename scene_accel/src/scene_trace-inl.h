@@ -10,6 +10,7 @@
 #include "simdbvh/kernels/box.h"
 #include "simdbvh/scene_accel/scene.h"
 #include "query/query.h"
+#include "shape_traverse.h"
 #include "traverse.h"  // bvh8/src: the per-ISA wide traversals
 
 namespace simdbvh::scene_accel {
@@ -106,6 +107,26 @@ WideFn<N> wide_fn(Isa isa) {
     }
     return kAnyHit ? &bvh8::Traversal<bvh8::scalar::Kernels, N>::occluded
                    : &bvh8::Traversal<bvh8::scalar::Kernels, N>::intersect;
+}
+
+// The per-ISA wide traversal of a sphere or box set, chosen once per batch.
+template <int N, class Prim>
+using ShapeFn = void (*)(const ShapeTree<N>&, const Prim*, const Aabb&, std::span<const Ray>, std::span<Hit>);
+
+template <int N, class Prim, bool kAnyHit>
+ShapeFn<N, Prim> shape_fn(Isa isa) {
+    require(isa);
+    switch (isa) {
+    case Isa::avx512:
+        return kAnyHit ? &ShapeTraversal<bvh8::avx512::Kernels, N, Prim>::occluded
+                       : &ShapeTraversal<bvh8::avx512::Kernels, N, Prim>::intersect;
+    case Isa::avx2:
+        return kAnyHit ? &ShapeTraversal<bvh8::avx2::Kernels, N, Prim>::occluded
+                       : &ShapeTraversal<bvh8::avx2::Kernels, N, Prim>::intersect;
+    case Isa::scalar: break;
+    }
+    return kAnyHit ? &ShapeTraversal<bvh8::scalar::Kernels, N, Prim>::occluded
+                   : &ShapeTraversal<bvh8::scalar::Kernels, N, Prim>::intersect;
 }
 
 #undef SIMDBVH_SCENE_INLINE

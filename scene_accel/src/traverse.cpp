@@ -18,26 +18,33 @@ namespace simdbvh {
 
 namespace {
 
-using scene_accel::ShapeLeaf;
 using scene_accel::SlackBox2Test;
 
-// A bottom level for an object-space ray: a Hit in the ray's own parameter.
+// A bottom level's traversals (the per-ISA wide ones: meshes, sphere sets,
+// box sets, closest or any), for object-space rays: Hits in the rays' own parameter.
 template <class Query, int N>
 struct Bottom {
-    scene_accel::WideFn<N> wide;  // the per-ISA wide traversal (closest or any)
-    // Flattened: the binary loop, its box tests and leaf loop become one function.
-    [[gnu::flatten]] Hit trace(const BottomLevel<N>& b, const Ray& obj) const {
-        Hit h;
+    scene_accel::WideFn<N> wide;
+    scene_accel::ShapeFn<N, Sphere> spheres;
+    scene_accel::ShapeFn<N, Aabb> boxes;
+    static Bottom of(Isa isa) {
+        constexpr bool kAny = Query::kAnyHit;
+        return {scene_accel::wide_fn<N, kAny>(isa), scene_accel::shape_fn<N, Sphere, kAny>(isa),
+                scene_accel::shape_fn<N, Aabb, kAny>(isa)};
+    }
+    void trace(const BottomLevel<N>& b, std::span<const Ray> obj, std::span<Hit> got) const {
         if (const BvhN<N>* bvh = std::get_if<BvhN<N>>(&b.tree)) {
-            wide(*bvh, std::span<const Ray>(&obj, 1), std::span<Hit>(&h, 1), TraceOptions{});
-            return h;
+            wide(*bvh, obj, got, TraceOptions{});
+            return;
         }
-        const Bvh2Topology& t = std::get<Bvh2Topology>(b.tree);
-        if (!b.spheres.empty())
-            return bvh2::traverse_binary<SlackBox2Test, Query, false>(
-                t.nodes, ShapeLeaf<Sphere>{b.spheres.data(), t.prim_ids.data()}, obj, nullptr);
-        return bvh2::traverse_binary<SlackBox2Test, Query, false>(
-            t.nodes, ShapeLeaf<Aabb>{b.boxes.data(), t.prim_ids.data()}, obj, nullptr);
+        const ShapeTree<N>& t = std::get<ShapeTree<N>>(b.tree);
+        if (!b.spheres.empty()) spheres(t, b.spheres.data(), b.bounds, obj, got);
+        else boxes(t, b.boxes.data(), b.bounds, obj, got);
+    }
+    Hit trace(const BottomLevel<N>& b, const Ray& obj) const {
+        Hit h;
+        trace(b, std::span<const Ray>(&obj, 1), std::span<Hit>(&h, 1));
+        return h;
     }
 };
 
@@ -75,11 +82,11 @@ struct InstanceLeaf {
 };
 
 template <class Query, int N>
-SceneHit trace(const SceneBvhN<N>& s, const Ray& ray, scene_accel::WideFn<N> wide) {
+SceneHit trace(const SceneBvhN<N>& s, const Ray& ray, Isa isa) {
     const PreparedRay pr = prepare(ray);
     if (!pr.valid) return {};
     const std::uint32_t ni = std::uint32_t(s.instances().size());
-    InstanceLeaf<Query, N> leaf{&s, nullptr, {wide}, scene_accel::trace_planes<Query::kAnyHit>(s.planes(), pr, ni)};
+    InstanceLeaf<Query, N> leaf{&s, nullptr, Bottom<Query, N>::of(isa), scene_accel::trace_planes<Query::kAnyHit>(s.planes(), pr, ni)};
     if (leaf.hit.hit() && Query::kAnyHit) return leaf.hit;
     if (s.top().nodes.empty()) return leaf.hit;
     Ray w = ray;
@@ -185,7 +192,7 @@ inline void group_by_instance(std::vector<std::pair<std::uint32_t, std::uint32_t
 
 template <class Query, int N>
 void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<SceneHit> hits,
-                 scene_accel::WideFn<N> wide, Isa isa) {
+                 const Bottom<Query, N>& bottom, Isa isa) {
     constexpr bool kAny = Query::kAnyHit;
     const std::size_t n = rays.size();
     const std::uint32_t ni = std::uint32_t(s.instances().size());
@@ -239,7 +246,6 @@ void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Sce
     }
     if (flat) collect_flat(s, world, live, max_slack, isa, cand, first);
     first[n] = std::uint32_t(cand.size());
-    const Bottom<Query, N> bottom{wide};
     std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs, sorted;  // (instance, ray)
     std::vector<std::uint32_t> count;
     std::vector<Ray> obj;
@@ -279,11 +285,7 @@ void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Sce
                 r = object_ray(rec.inv, world[i]);
                 if (hits[i].hit()) r.tmax = hits[i].t;
             }
-            if (const BvhN<N>* bvh = std::get_if<BvhN<N>>(&bl.tree)) {
-                wide(*bvh, obj, got, TraceOptions{});
-            } else {
-                for (std::size_t j = 0; j < obj.size(); ++j) got[j] = bottom.trace(bl, obj[j]);
-            }
+            bottom.trace(bl, obj, got);
             for (std::size_t j = b; j < e; ++j) {
                 const std::uint32_t i = pairs[j].second;
                 const Hit& h = got[j - b];
@@ -300,13 +302,13 @@ void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Sce
 template <class Query, int N>
 void trace_span(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<SceneHit> hits, Isa isa, int threads) {
     if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
-    const auto wide = scene_accel::wide_fn<N, Query::kAnyHit>(isa);  // the one ISA switch per batch
+    const auto bottom = Bottom<Query, N>::of(isa);  // the one ISA switch per batch
     constexpr std::size_t kChunk = 2048;
     const std::size_t chunks = (rays.size() + kChunk - 1) / kChunk;
     parallel_for(chunks, std::max(1, threads), [&](std::size_t cb, std::size_t ce) {
         for (std::size_t c = cb; c < ce; ++c) {
             const std::size_t b = c * kChunk, e = std::min(rays.size(), b + kChunk);
-            trace_chunk<Query>(s, rays.subspan(b, e - b), hits.subspan(b, e - b), wide, isa);
+            trace_chunk<Query>(s, rays.subspan(b, e - b), hits.subspan(b, e - b), bottom, isa);
         }
     });
 }
@@ -315,11 +317,11 @@ void trace_span(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Scen
 
 template <int N>
 SceneHit intersect(const SceneBvhN<N>& s, const Ray& ray, Isa isa) {
-    return trace<query::ClosestHit>(s, ray, scene_accel::wide_fn<N, false>(isa));
+    return trace<query::ClosestHit>(s, ray, isa);
 }
 template <int N>
 SceneHit occluded(const SceneBvhN<N>& s, const Ray& ray, Isa isa) {
-    return trace<query::AnyHit>(s, ray, scene_accel::wide_fn<N, true>(isa));
+    return trace<query::AnyHit>(s, ray, isa);
 }
 template <int N>
 void intersect(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<SceneHit> hits, Isa isa, int threads) {

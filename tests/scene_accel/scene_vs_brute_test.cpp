@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <ostream>
 #include <sstream>
 #include <random>
@@ -252,6 +253,82 @@ TEST(SceneBuiltins, ManyInstancesThroughTheTopLevelTree) {
 }
 TEST(SceneBuiltins, Spheres) {
     check_builtin(scene::spheres_scene(300), rays_in({-1, -1, -1}, {2, 2, 2}, {0, 0, 0}, {1, 1, 1}, 1000), 300);
+}
+// A sphere or box set's bottom level is a wide tree (ShapeTree): N children
+// per node, leaves of at most 4 gathered primitives, each primitive once, each
+// leaf's box holding its primitives' padded bounds.
+template <int N, class Prim, class BoundsFn>
+void check_shape_tree(const BottomLevel<N>& b, const std::vector<Prim>& original, const std::vector<Prim>& gathered,
+                      BoundsFn bounds) {
+    const ShapeTree<N>* t = std::get_if<ShapeTree<N>>(&b.tree);
+    ASSERT_NE(t, nullptr);
+    ASSERT_EQ(t->prim_ids.size(), original.size());
+    ASSERT_EQ(gathered.size(), original.size());
+    std::vector<int> seen(original.size(), 0);
+    std::size_t leaves = 0, in_leaves = 0;
+    for (const NodeN<N>& n : t->nodes)
+        for (int i = 0; i < N; ++i) {
+            const ChildN<N> c = n.children[i];
+            if (c.is_inner()) ASSERT_LT(c.index, t->nodes.size());
+            if (!c.is_leaf()) continue;
+            ++leaves;
+            ASSERT_LE(c.blocks(), 4u);
+            const Aabb box = n.boxes.get(i);
+            for (std::uint32_t k = c.index; k < c.index + c.blocks(); ++k) {
+                in_leaves++;
+                const std::uint32_t id = t->prim_ids[k];
+                ASSERT_LT(id, original.size());
+                seen[id]++;
+                ASSERT_EQ(std::memcmp(&gathered[k], &original[id], sizeof(Prim)), 0);
+                const Aabb pb = bounds(original[id]);
+                for (int a = 0; a < 3; ++a) {
+                    EXPECT_LE(box.lo[a], pb.lo[a]);
+                    EXPECT_GE(box.hi[a], pb.hi[a]);
+                }
+            }
+        }
+    EXPECT_EQ(in_leaves, original.size());
+    for (int k : seen) ASSERT_EQ(k, 1);
+    // Wide: far fewer nodes than the BVH2's 2 * leaves - 1.
+    EXPECT_LT(t->nodes.size() * 2, leaves);
+}
+TEST(SceneShapes, SphereAndBoxSetsAreWideTrees) {
+    const SceneDesc d = scene::spheres_scene(1000);
+    const auto& spheres = std::get<SphereSet>(d.geometries[0]).spheres;
+    SceneDesc boxes;
+    BoxSet bs;
+    for (const Sphere& s : spheres) bs.boxes.push_back(sphere_bounds(s));
+    boxes.geometries.push_back(bs);
+    boxes.instances.push_back({0, Affine3{}});
+    const SceneBvhN<4> s4 = SceneBvhN<4>::build(d);
+    const SceneBvhN<8> s8 = SceneBvhN<8>::build(d);
+    const SceneBvhN<16> s16 = SceneBvhN<16>::build(d);
+    check_shape_tree(s4.bottoms()[0], spheres, s4.bottoms()[0].spheres, sphere_bounds);
+    check_shape_tree(s8.bottoms()[0], spheres, s8.bottoms()[0].spheres, sphere_bounds);
+    check_shape_tree(s16.bottoms()[0], spheres, s16.bottoms()[0].spheres, sphere_bounds);
+    const SceneBvhN<8> b8 = SceneBvhN<8>::build(boxes);
+    check_shape_tree(b8.bottoms()[0], bs.boxes, b8.bottoms()[0].boxes, padded_box);
+    // Its bounds are the union of its primitives' padded bounds.
+    Aabb all;
+    for (const Sphere& s : spheres) all.grow(sphere_bounds(s));
+    for (int a = 0; a < 3; ++a) {
+        EXPECT_EQ(s8.bottoms()[0].bounds.lo[a], all.lo[a]);
+        EXPECT_EQ(s8.bottoms()[0].bounds.hi[a], all.hi[a]);
+    }
+}
+// Many coincident spheres (no split separates them): a leaf can exceed 4, at
+// every width the hits are still brute force's.
+TEST(SceneShapes, CoincidentSpheresAtEveryWidth) {
+    SceneDesc d;
+    SphereSet set;
+    for (int i = 0; i < 300; ++i) set.spheres.push_back({{0.5f, 0.5f, 0.5f}, 0.25f});
+    for (int i = 0; i < 300; ++i) set.spheres.push_back({{0.5f, 0.5f, 0.5f + 0.001f * float(i % 7)}, 0.25f});
+    d.geometries.push_back(set);
+    d.instances.push_back({0, Affine3{}});
+    const auto rays = rays_in({-1, -1, -1}, {2, 2, 2}, {0.3f, 0.3f, 0.3f}, {0.7f, 0.7f, 0.7f}, 300);
+    check_any_and_closest<4>(d, rays);
+    check_any_and_closest<8>(d, rays);
+    check_any_and_closest<16>(d, rays);
 }
 TEST(SceneBuiltins, Room) {
     if (!scene::is_cached("bunny") || !scene::is_cached("teapot")) GTEST_SKIP() << "bunny/teapot not cached";

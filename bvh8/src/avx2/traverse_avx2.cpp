@@ -1,13 +1,9 @@
 // Wide BVH traversal (N = 4, 8, 16), AVX2 + FMA build of traverse-inl.h:
 // xsimd::avx2 Tri8 kernels, node tests of 4 (xmm), 8 (ymm) and 16 (two ymm) lanes.
-#include "simd_kernels-inl.h"
+#include "kernels_avx2.h"
 #include "traverse-inl.h"
 
 namespace simdbvh::bvh8 {
-
-namespace avx2 {
-struct Kernels : SimdKernels<simd::Avx2> {};
-}  // namespace avx2
 
 template struct Traversal<avx2::Kernels, 4>;
 template struct Traversal<avx2::Kernels, 8>;

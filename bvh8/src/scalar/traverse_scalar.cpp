@@ -1,48 +1,10 @@
 // Wide BVH traversal (N = 4, 8, 16), baseline x86-64 (no AVX, no xsimd):
 // traverse-inl.h over the scalar reference kernels (box.h, triangle.h), one
 // lane at a time.
-#include "simdbvh/kernels/box.h"
-#include "simdbvh/kernels/triangle.h"
+#include "kernels_scalar.h"
 #include "traverse-inl.h"
 
 namespace simdbvh::bvh8 {
-
-namespace scalar {
-
-struct Kernels {
-    using RayData = PreparedRay;
-    static void pack(RayData& d, const PreparedRay& r, const Ray&) { d = r; }
-    template <int N>
-    static std::uint32_t box(const PreparedRay& r, const BoxN<N>& b, float tmax, float* entries) {
-        std::uint32_t m = 0;
-        for (int i = 0; i < N; ++i) m |= std::uint32_t(intersect_box(r, b.get(i), tmax, &entries[i])) << i;
-        return m;
-    }
-    // Lanes in order with a shrinking tmax: the same result as the 8-wide
-    // kernels' lane minimum under closer().
-    template <TriangleTest kTest>
-    static void closest(const PreparedRay& r, const Tri8& b, Hit& best) {
-        for (int i = 0; i < kBlockWidth; ++i) {
-            float t, u, v;
-            if (intersect_triangle<kTest>(r, b.v0(i), b.v1(i), b.v2(i), best.t, &t, &u, &v) &&
-                closer(t, b.prim[i], best))
-                best = Hit{t, u, v, b.prim[i]};
-        }
-    }
-    template <TriangleTest kTest>
-    static bool any(const PreparedRay& r, const Tri8& b, float tmax, Hit& hit) {
-        for (int i = 0; i < kBlockWidth; ++i) {
-            float t, u, v;
-            if (intersect_triangle<kTest>(r, b.v0(i), b.v1(i), b.v2(i), tmax, &t, &u, &v)) {
-                hit = Hit{t, u, v, b.prim[i]};
-                return true;
-            }
-        }
-        return false;
-    }
-};
-
-}  // namespace scalar
 
 template struct Traversal<scalar::Kernels, 4>;
 template struct Traversal<scalar::Kernels, 8>;

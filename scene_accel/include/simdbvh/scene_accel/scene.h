@@ -60,8 +60,8 @@ enum class InstanceBounds : std::uint8_t { corners, child_corners };
 
 struct SceneOptions {
     InstanceBounds bounds = InstanceBounds::child_corners;
-    BuildOptions bottom;  // bottom-level BVH2 builds (meshes, spheres, boxes)
-    WideOptions wide;     // bottom-level wide collapse (meshes)
+    BuildOptions bottom;  // bottom-level BVH2 builds (meshes, spheres, boxes), before the wide collapse
+    WideOptions wide;     // bottom-level wide collapse (meshes; sphere and box sets: leaves of at most 4)
     BuildOptions top;     // top-level BVH2 over the instance boxes (max_leaf_size is set to 1: one instance per leaf)
 };
 
@@ -77,11 +77,22 @@ struct SceneStats {
     double max_cond = 1.0;
 };
 
-// Bottom level of one geometry. Meshes: a wide BVH; spheres and boxes: a BVH2
-// over their padded bounds (shapes.h) with the primitives in leaf order.
+// The wide hierarchy of a sphere or box set: a BVH2 over the padded
+// primitive bounds (shapes.h), collapsed to N children per node as a mesh's
+// is, whose leaves are ranges of the primitives gathered in leaf order
+// (ChildN::leaf(first, count): `count` primitives from BottomLevel::spheres
+// or ::boxes[first]). Its nodes take the same SIMD node test as a mesh's.
+template <int N>
+struct ShapeTree {
+    std::vector<NodeN<N>> nodes;          // root at 0 (none for an empty set)
+    std::vector<std::uint32_t> prim_ids;  // gathered position -> primitive id
+};
+
+// Bottom level of one geometry. Meshes: a wide BVH; spheres and boxes: a
+// ShapeTree, the primitives in its leaf order.
 template <int N>
 struct BottomLevel {
-    std::variant<BvhN<N>, Bvh2Topology> tree;
+    std::variant<BvhN<N>, ShapeTree<N>> tree;
     std::vector<Sphere> spheres;  // spheres[i]: primitive prim_ids[i] (sphere sets)
     std::vector<Aabb> boxes;      // boxes[i]: primitive prim_ids[i] (box sets)
     Aabb bounds;                  // root box

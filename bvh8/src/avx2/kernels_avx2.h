@@ -1,0 +1,9 @@
+#pragma once
+// Internal: the AVX2 kernels behind traverse-inl.h's K interface (a distinct
+// type per ISA). Include only from src/avx2 translation units (here and
+// scene_accel/src/avx2), compiled with the AVX2 flags.
+#include "simd_kernels-inl.h"
+
+namespace simdbvh::bvh8::avx2 {
+struct Kernels : SimdKernels<simd::Avx2> {};
+}  // namespace simdbvh::bvh8::avx2
