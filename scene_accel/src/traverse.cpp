@@ -4,6 +4,7 @@
 // instance and runs that geometry's bottom level.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 #include <vector>
 #include <type_traits>
@@ -148,6 +149,18 @@ void collect_flat(const SceneBvhN<N>& s, std::span<const Ray> world, const std::
                   float slack, Isa isa, std::vector<std::pair<float, std::uint32_t>>& cand,
                   std::vector<std::uint32_t>& first) {
     const std::size_t n = world.size(), ni = s.instances().size(), ng = (ni + 7) / 8;
+    if (ni == 1) {
+        // One instance (a sphere set, a single mesh): every live ray is its
+        // candidate, at entry -inf (never culled), without a box test: the
+        // bottom level's traversal tests its own bounds first (start() in
+        // bvh8/src/traverse-inl.h), so the top-level test would only repeat
+        // that work (a ray prepare and a group kernel call per ray).
+        for (std::size_t i = 0; i < n; ++i) {
+            first[i] = std::uint32_t(cand.size());
+            if (live[i]) cand.push_back({-std::numeric_limits<float>::infinity(), 0});
+        }
+        return;
+    }
     const SlackBox2Test grow{slack};
     std::vector<Box8> groups(ng);
     for (std::size_t g = 0; g < ng; ++g) {

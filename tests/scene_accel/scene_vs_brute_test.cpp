@@ -227,7 +227,8 @@ TEST(SceneBuiltins, InstancesOfAnIcosphere) {
 }
 // More instances than the flat candidate collection takes (kFlatTopMax = 128 in traverse.cpp): the batches
 // collect candidates through the top-level tree. Closest hits bit for bit, any hits the same hit/miss, at every
-// width and ISA (150 instances); and the same for 40 and 100 instances (the flat collection).
+// width and ISA (150 instances); and the same for 40 and 100 instances (the flat collection) and for one
+// instance (no top-level box test: its bottom level's own bounds test).
 template <int N>
 void check_any_and_closest(const SceneDesc& d, const std::vector<Ray>& rays) {
     std::vector<SceneHit> want(rays.size()), got(rays.size()), want_any(rays.size());
@@ -243,7 +244,7 @@ void check_any_and_closest(const SceneDesc& d, const std::vector<Ray>& rays) {
     }
 }
 TEST(SceneBuiltins, ManyInstancesThroughTheTopLevelTree) {
-    for (std::size_t count : {40u, 100u, 150u}) {
+    for (std::size_t count : {1u, 40u, 100u, 150u}) {
         const SceneDesc d = scene::instances_scene(scene::icosphere(2), count);
         const auto rays = rays_in({-20, -20, -20}, {20, 20, 20}, {-4, -4, -4}, {4, 4, 4}, 400);
         check_any_and_closest<4>(d, rays);
