@@ -331,6 +331,34 @@ TEST(SceneShapes, CoincidentSpheresAtEveryWidth) {
     check_any_and_closest<8>(d, rays);
     check_any_and_closest<16>(d, rays);
 }
+// Rays tangent to spheres (discriminant at or within a few ulps of 0): the
+// leaves' four-at-a-time discriminant (shape_traverse-inl.h) must reject
+// exactly the spheres hit_sphere rejects, at every width and ISA.
+TEST(SceneShapes, GrazingRaysAtSpheres) {
+    SceneDesc d;
+    SphereSet set;
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    for (int i = 0; i < 40; ++i) set.spheres.push_back({{u(rng) * 8, u(rng) * 8, u(rng) * 8}, 0.05f + u(rng)});
+    std::vector<Ray> rays;
+    for (const Sphere& s : set.spheres)
+        for (int k = -3; k <= 3; ++k) {
+            const float y = std::ldexp(s.radius + float(k) * std::ldexp(s.radius, -23), 0);
+            rays.push_back(Ray{{s.center.x - 20.0f, s.center.y + y, s.center.z}, 0.0f, {1.0f, 0.0f, 0.0f}, INFINITY});
+            rays.push_back(Ray{{s.center.x, s.center.y - 20.0f, s.center.z - y}, 0.0f, {0.0f, 3.0f, 0.0f}, INFINITY});
+        }
+    d.geometries.push_back(set);
+    d.instances.push_back({0, Affine3{}});
+    std::vector<SceneHit> want(rays.size());
+    brute_force_intersect(d, rays, want);
+    std::size_t hits = 0;
+    for (const SceneHit& h : want) hits += h.hit();
+    EXPECT_GT(hits, rays.size() / 3);  // the inner and tangent rays hit
+    EXPECT_LT(hits, rays.size());      // the outer ones miss
+    check_any_and_closest<4>(d, rays);
+    check_any_and_closest<8>(d, rays);
+    check_any_and_closest<16>(d, rays);
+}
 TEST(SceneBuiltins, Room) {
     if (!scene::is_cached("bunny") || !scene::is_cached("teapot")) GTEST_SKIP() << "bunny/teapot not cached";
     check_builtin(scene::room_scene(), rays_in({-3.5f, 0.1f, -3.5f}, {3.5f, 3, 3.5f}, {-4, 0, -4}, {4, 2, 4}, 300), 290);
