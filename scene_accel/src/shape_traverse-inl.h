@@ -4,7 +4,8 @@
 // ISA, front-to-back order, culling) with a leaf intersector that tests a
 // leaf's gathered primitives one at a time through shapes.h's tests (the
 // same functions, compiled once without ISA flags, that the brute force
-// calls, so every ISA gets the same bits). Included only by the per-ISA
+// calls, so every ISA gets the same bits); sphere leaves first drop, four at
+// a time, the spheres hit_sphere would reject at its discriminant. Included only by the per-ISA
 // translation units (src/scalar, src/avx2, src/avx512).
 #include <cstring>
 
@@ -54,7 +55,7 @@ struct WideShapeLeaf {
 // computes. Lanes whose discriminant is negative or NaN are exactly the
 // spheres hit_sphere rejects at its first test; the others go to hit_sphere
 // itself, in the leaf's order, so `best` evolves as in ShapeLeaf's loop.
-// Bit 3 - lane: lanes >= count are 0.
+// Returns the candidates: bit k for sphere k (bits >= count are 0).
 typedef double Double4 __attribute__((vector_size(32)));
 typedef float Float4 __attribute__((vector_size(16)));
 inline __attribute__((always_inline)) std::uint32_t sphere_candidates(const PreparedRay& r, const Sphere* sp,

@@ -41,6 +41,8 @@ bool hit_sphere(const PreparedRay& r, const Sphere& s, float tmax, float* t, flo
     const double b = -(fx * dx + fy * dy + fz * dz);  // the half-b of a t^2 - 2 b t + c
     const double rr = double(s.radius) * double(s.radius);
     // Closest approach: l = f + (b / a) d, disc = r^2 - |l|^2 (Haines 2019 eq. 7.5).
+    // sphere_candidates() (shape_traverse-inl.h) computes this disc four spheres
+    // at a time with the same operations in the same order: change both or neither.
     const double tc = b / a;
     const double lx = fx + tc * dx, ly = fy + tc * dy, lz = fz + tc * dz;
     const double disc = rr - (lx * lx + ly * ly + lz * lz);
