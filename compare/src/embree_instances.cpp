@@ -80,7 +80,7 @@ struct EmbreeInstanceScene::Impl {
     // The nearest plane hit strictly before `best` (planes lose ties to instances and to lower planes).
     void planes_after(const Ray& r, SceneHit& best) const {
         if (planes.empty()) return;
-        const PreparedRay pr = prepare(r);
+        const PreparedRay pr = prepare_scaled(r);  // as ours (scene_accel/src/traverse.cpp)
         if (!pr.valid) return;
         for (std::uint32_t k = 0; k < planes.size(); ++k) {
             float t = 0;

@@ -230,7 +230,7 @@ void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Sce
                 continue;
             }
         } else {
-            const PreparedRay pr = prepare(rays[i]);
+            const PreparedRay pr = prepare_scaled(rays[i]);  // all that the plane tests read
             if (!pr.valid) {
                 hits[i] = SceneHit{};
                 done[i] = 1;

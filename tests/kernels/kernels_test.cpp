@@ -2,6 +2,7 @@
 // for bit: masks, entry distances, and Hit (t, u, v, prim), on randomized and
 // edge-case inputs. Unsupported ISAs are skipped, not passed.
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <vector>
 
@@ -510,6 +511,44 @@ TEST(Kernels, SpanSizesAreChecked) {
     std::vector<std::uint8_t> m(4);
     std::vector<float> e(31);
     EXPECT_THROW(kernels::intersect_box8(rays, box, m, e, Isa::scalar), Error);
+}
+
+// prepare_scaled() is prepare()'s first stage: the same org, dir, tmin, tmax,
+// t_exp and valid bits for ordinary, tiny, huge, subnormal and invalid rays.
+TEST(PrepareScaled, SameFirstStageAsPrepare) {
+    const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+    const float sub = std::numeric_limits<float>::denorm_min();
+    const std::vector<Ray> rays = {
+        {{1, 2, 3}, 0.0f, {0.5f, -0.25f, 1.0f}, inf},
+        {{1, 2, 3}, -2.0f, {1e-30f, 3e-31f, -2e-30f}, 1e30f},  // rescaled up
+        {{0, 0, 0}, 0.0f, {1e30f, -3e30f, 2e29f}, 5.0f},       // rescaled down
+        {{0, 0, 0}, 0.0f, {1.0f, sub, -sub}, inf},             // subnormal components flushed
+        {{0, 0, 0}, 0.0f, {0.0f, 0.0f, 0.0f}, inf},            // invalid: zero direction
+        {{nan, 0, 0}, 0.0f, {1.0f, 0.0f, 0.0f}, inf},          // invalid: NaN origin
+        {{0, 0, 0}, 2.0f, {1.0f, 0.0f, 0.0f}, 1.0f},           // invalid: empty interval
+    };
+    auto bits = [](float f) {
+        std::uint32_t b;
+        std::memcpy(&b, &f, 4);
+        return b;
+    };
+    int rescaled = 0;
+    for (const Ray& r : rays) {
+        const PreparedRay a = prepare(r), b = prepare_scaled(r);
+        for (int k = 0; k < 3; ++k) {
+            EXPECT_EQ(bits(a.org[k]), bits(b.org[k]));
+            EXPECT_EQ(bits(a.dir[k]), bits(b.dir[k]));
+        }
+        EXPECT_EQ(bits(a.tmin), bits(b.tmin));
+        EXPECT_EQ(bits(a.tmax), bits(b.tmax));
+        EXPECT_EQ(a.t_exp, b.t_exp);
+        EXPECT_EQ(a.valid, b.valid);
+        rescaled += a.t_exp != 0;
+    }
+    EXPECT_EQ(rescaled, 2);
+    EXPECT_EQ(prepare_scaled(rays[3]).dir.y, 0.0f);
+    EXPECT_FALSE(prepare_scaled(rays[4]).valid);
+    EXPECT_FALSE(prepare_scaled(rays[6]).valid);
 }
 
 INSTANTIATE_TEST_SUITE_P(AllIsas, KernelsVsScalar, testing::ValuesIn(kAllIsas), test::isa_param_name);

@@ -84,7 +84,12 @@ inline bool valid_ray(const Ray& r) {
     return usable_dir(r.dir) && is_finite(r.org) && !std::isnan(r.tmin) && !std::isnan(r.tmax) && r.tmin <= r.tmax;
 }
 
-inline PreparedRay prepare(const Ray& r) {
+// The first stage of prepare(): org, dir (rescaled, subnormals flushed),
+// tmin, tmax, t_exp and valid, the same values prepare() gives; the
+// reciprocals, near planes, octant, watertight permutation and shear are left
+// at their defaults. For tests that read only those fields (the scenes'
+// planes, shapes.h's hit_plane).
+inline PreparedRay prepare_scaled(const Ray& r) {
     PreparedRay p;
     p.org = r.org;
     p.dir = r.dir;
@@ -106,6 +111,11 @@ inline PreparedRay prepare(const Ray& r) {
         auto flush = [](float d) { return std::fabs(d) < std::numeric_limits<float>::min() ? std::copysign(0.0f, d) : d; };
         p.dir = {flush(p.dir.x), flush(p.dir.y), flush(p.dir.z)};
     }
+    return p;
+}
+
+inline PreparedRay prepare(const Ray& r) {
+    PreparedRay p = prepare_scaled(r);
     const Vec3 d = p.dir;
     // 1/(+-0) = +-inf, written without dividing by zero (UBSan's float-divide-by-zero).
     auto rcp = [](float d) { return d != 0.0f ? 1.0f / d : std::copysign(std::numeric_limits<float>::infinity(), d); };
