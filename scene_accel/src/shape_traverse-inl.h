@@ -89,34 +89,33 @@ template <>
 struct WideShapeLeaf<Sphere> {
     using Keep = PreparedRay;
     ShapeLeaf<Sphere> leaf;
-    template <class State>
-    inline __attribute__((always_inline)) void closest(const State& s, Hit& best, TraceStats*) const {
+    // The leaf's spheres in order; kAny: true at the first hit (written to best), else best shrinks.
+    template <bool kAny, class State>
+    inline __attribute__((always_inline)) bool visit(const State& s, Hit& best) const {
         const std::uint32_t first = s.cur.index, count = s.cur.blocks();
         for (std::uint32_t g = 0; g < count; g += 4) {
             const std::uint32_t n = count - g < 4 ? count - g : 4;
             for (std::uint32_t m = sphere_candidates(s.pr, leaf.prims + first + g, n); m != 0; m &= m - 1) {
                 const std::uint32_t i = first + g + std::uint32_t(__builtin_ctz(m));
                 float t, u, v;
-                if (hit_sphere(s.pr, leaf.prims[i], best.t, &t, &u, &v) && closer(t, leaf.id(i), best))
-                    best = {t, u, v, leaf.id(i)};
-            }
-        }
-    }
-    template <class State>
-    inline __attribute__((always_inline)) bool any(const State& s, Hit& best, TraceStats*) const {
-        const std::uint32_t first = s.cur.index, count = s.cur.blocks();
-        for (std::uint32_t g = 0; g < count; g += 4) {
-            const std::uint32_t n = count - g < 4 ? count - g : 4;
-            for (std::uint32_t m = sphere_candidates(s.pr, leaf.prims + first + g, n); m != 0; m &= m - 1) {
-                const std::uint32_t i = first + g + std::uint32_t(__builtin_ctz(m));
-                float t, u, v;
-                if (hit_sphere(s.pr, leaf.prims[i], best.t, &t, &u, &v)) {
+                if (!hit_sphere(s.pr, leaf.prims[i], best.t, &t, &u, &v)) continue;
+                if constexpr (kAny) {
                     best = {t, u, v, leaf.id(i)};
                     return true;
+                } else if (closer(t, leaf.id(i), best)) {
+                    best = {t, u, v, leaf.id(i)};
                 }
             }
         }
         return false;
+    }
+    template <class State>
+    inline __attribute__((always_inline)) void closest(const State& s, Hit& best, TraceStats*) const {
+        visit<false>(s, best);
+    }
+    template <class State>
+    inline __attribute__((always_inline)) bool any(const State& s, Hit& best, TraceStats*) const {
+        return visit<true>(s, best);
     }
     template <int N>
     inline __attribute__((always_inline)) void prefetch(const NodeN<N>* nodes, ChildN<N> c) const {
