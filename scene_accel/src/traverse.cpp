@@ -149,18 +149,6 @@ void collect_flat(const SceneBvhN<N>& s, std::span<const Ray> world, const std::
                   float slack, Isa isa, std::vector<std::pair<float, std::uint32_t>>& cand,
                   std::vector<std::uint32_t>& first) {
     const std::size_t n = world.size(), ni = s.instances().size(), ng = (ni + 7) / 8;
-    if (ni == 1) {
-        // One instance (a sphere set, a single mesh): every live ray is its
-        // candidate, at entry -inf (never culled), without a box test: the
-        // bottom level's traversal tests its own bounds first (start() in
-        // bvh8/src/traverse-inl.h), so the top-level test would only repeat
-        // that work (a ray prepare and a group kernel call per ray).
-        for (std::size_t i = 0; i < n; ++i) {
-            first[i] = std::uint32_t(cand.size());
-            if (live[i]) cand.push_back({-std::numeric_limits<float>::infinity(), 0});
-        }
-        return;
-    }
     const SlackBox2Test grow{slack};
     std::vector<Box8> groups(ng);
     for (std::size_t g = 0; g < ng; ++g) {
@@ -182,6 +170,35 @@ void collect_flat(const SceneBvhN<N>& s, std::span<const Ray> world, const std::
                 cand.push_back({entries[8 * (ng * i + g) + std::size_t(j)], std::uint32_t(8 * g + std::size_t(j))});
             }
         std::sort(cand.begin() + first[i], cand.end());
+    }
+}
+
+// One instance (a sphere set, a single mesh, any one-object scene): the live
+// rays go to the bottom level as one batch, without candidates or rounds. The
+// rounds would give each live ray this one candidate, at entry -inf (never
+// culled), and the bottom level tests its own bounds first (start() in
+// bvh8/src/traverse-inl.h), so a top-level box test would only repeat that
+// work; the merge is the rounds' own (closer() against a plane's hit).
+template <class Query, int N>
+void trace_one_instance(const SceneBvhN<N>& s, std::span<const Ray> world, const std::vector<std::uint8_t>& live,
+                        std::span<SceneHit> hits, const Bottom<Query, N>& bottom) {
+    const InstanceRecord& rec = s.instances()[0];
+    std::vector<std::uint32_t> ids;
+    std::vector<Ray> obj;
+    ids.reserve(world.size());
+    obj.reserve(world.size());
+    for (std::size_t i = 0; i < world.size(); ++i) {
+        if (!live[i]) continue;
+        ids.push_back(std::uint32_t(i));
+        obj.push_back(object_ray(rec.inv, world[i]));
+        if (hits[i].hit()) obj.back().tmax = hits[i].t;
+    }
+    std::vector<Hit> got(obj.size());
+    bottom.trace(s.bottoms()[rec.geometry], obj, got);
+    for (std::size_t j = 0; j < ids.size(); ++j) {
+        const Hit& h = got[j];
+        SceneHit& hit = hits[ids[j]];
+        if (h.hit() && closer(h.t, 0, h.prim, hit)) hit = SceneHit{h.t, h.u, h.v, h.prim, rec.geometry, 0};
     }
 }
 
@@ -256,6 +273,10 @@ void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Sce
         const CollectLeaf<N> leaf{&s, test, &cand};
         bvh2::traverse_binary<SlackBox2Test, query::ClosestHit, false>(s.top().nodes, leaf, world[i], nullptr, test);
         std::sort(cand.begin() + first[i], cand.end());
+    }
+    if (ni == 1) {
+        trace_one_instance(s, world, live, hits, bottom);
+        return;
     }
     if (flat) collect_flat(s, world, live, max_slack, isa, cand, first);
     first[n] = std::uint32_t(cand.size());
