@@ -58,11 +58,28 @@ void intersect_box8_groups(std::span<const Ray> rays, std::span<const Box8> grou
     check_size(masks.size(), groups.size() * rays.size(), "masks");
     check_size(entries.size(), 8 * groups.size() * rays.size(), "entries");
     switch (isa) {
-    case Isa::avx512: return avx512::intersect_box8_groups(rays, groups, masks.data(), entries.data());
-    case Isa::avx2: return avx2::intersect_box8_groups(rays, groups, masks.data(), entries.data());
+    case Isa::avx512: return avx512::intersect_box8_groups(rays, {}, groups, masks.data(), entries.data());
+    case Isa::avx2: return avx2::intersect_box8_groups(rays, {}, groups, masks.data(), entries.data());
     case Isa::scalar: break;
     }
-    return scalar::intersect_box8_groups(rays, groups, masks.data(), entries.data());
+    return scalar::intersect_box8_groups(rays, {}, groups, masks.data(), entries.data());
+}
+
+void intersect_box8_nested(std::span<const Ray> rays, std::span<const Box8> supers, std::span<const Box8> groups,
+                           std::span<std::uint8_t> masks, std::span<float> entries, Isa isa) {
+    require(isa);
+    if (groups.size() > 8 * supers.size())
+        throw Error("simdbvh: " + std::to_string(groups.size()) + " groups need " +
+                    std::to_string((groups.size() + 7) / 8) + " supers, got " + std::to_string(supers.size()));
+    check_size(masks.size(), groups.size() * rays.size(), "masks");
+    check_size(entries.size(), 8 * groups.size() * rays.size(), "entries");
+    if (supers.empty()) return;  // no groups
+    switch (isa) {
+    case Isa::avx512: return avx512::intersect_box8_groups(rays, supers, groups, masks.data(), entries.data());
+    case Isa::avx2: return avx2::intersect_box8_groups(rays, supers, groups, masks.data(), entries.data());
+    case Isa::scalar: break;
+    }
+    return scalar::intersect_box8_groups(rays, supers, groups, masks.data(), entries.data());
 }
 
 std::uint64_t count_box8_hits(std::span<const Ray> rays, std::span<const Box8> blocks, Isa isa) {

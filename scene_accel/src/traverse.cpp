@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <utility>
 #include <vector>
 #include <type_traits>
@@ -135,6 +136,9 @@ struct CollectLeaf {
 // AVX2, one thread, AMD EPYC Zen 3): incoherent closest 90.5-92.6 -> 53.5-64.6
 // ms, primary 26.2-27.2 -> 20.7-25.9 ms, the same hits.
 inline constexpr std::size_t kFlatTopMax = 128;
+// Above this many groups of 8 instance boxes, the flat collection tests each
+// group's union box first (kernels::intersect_box8_nested).
+inline constexpr std::size_t kFlatNestedFrom = 2;
 
 // The flat form of the collection: the instance boxes grown by the largest
 // slack of the chunk's live rays, so each ray's candidates are a superset of
@@ -148,28 +152,52 @@ template <int N>
 void collect_flat(const SceneBvhN<N>& s, std::span<const Ray> world, const std::vector<std::uint8_t>& live,
                   float slack, Isa isa, std::vector<std::pair<float, std::uint32_t>>& cand,
                   std::vector<std::uint32_t>& first) {
-    const std::size_t n = world.size(), ni = s.instances().size(), ng = (ni + 7) / 8;
+    const std::size_t n = world.size();
+    // The instances in the top tree's leaf order (depth first), so a group of 8
+    // holds neighbours and its union box (a super lane) is small.
+    std::vector<std::uint32_t> slot;
+    for (std::uint32_t inst = 0; inst < s.instances().size(); ++inst)
+        if (s.leaf_of()[inst] != kInvalidPrim) slot.push_back(inst);
+    std::sort(slot.begin(), slot.end(),
+              [&](std::uint32_t a, std::uint32_t b) { return s.leaf_of()[a] < s.leaf_of()[b]; });
+    const std::size_t ng = (slot.size() + 7) / 8;
     const SlackBox2Test grow{slack};
-    std::vector<Box8> groups(ng);
+    std::vector<Box8> groups(ng), supers((ng + 7) / 8);
+    for (Box8& g : groups) g.clear();
+    for (Box8& g : supers) g.clear();
     for (std::size_t g = 0; g < ng; ++g) {
-        groups[g].clear();
-        for (std::size_t j = 0; j < 8 && 8 * g + j < ni; ++j) {
-            const std::uint32_t leaf = s.leaf_of()[8 * g + j];
-            if (leaf != kInvalidPrim) groups[g].set(int(j), grow.grow(s.top().nodes[leaf].box));
+        Aabb u;
+        for (std::size_t j = 0; j < 8 && 8 * g + j < slot.size(); ++j) {
+            const Aabb b = grow.grow(s.top().nodes[s.leaf_of()[slot[8 * g + j]]].box);
+            groups[g].set(int(j), b);
+            u.grow(b);
         }
+        supers[g / 8].set(int(g % 8), u);
     }
-    std::vector<std::uint8_t> masks(ng * n);
-    std::vector<float> entries(ng * n * 8);
-    kernels::intersect_box8_groups(world, groups, masks, entries, isa);
-    for (std::size_t i = 0; i < n; ++i) {
-        first[i] = std::uint32_t(cand.size());
-        if (!live[i]) continue;
-        for (std::size_t g = 0; g < ng; ++g)
-            for (std::uint32_t m = masks[ng * i + g]; m != 0; m &= m - 1) {
-                const int j = __builtin_ctz(m);
-                cand.push_back({entries[8 * (ng * i + g) + std::size_t(j)], std::uint32_t(8 * g + std::size_t(j))});
-            }
-        std::sort(cand.begin() + first[i], cand.end());
+    // Up to 2 groups every ray tests both; beyond, the supers first (the
+    // same masks, kernels/batch.h). Tiles of rays keep masks and entries in cache.
+    const bool nested = ng > kFlatNestedFrom;
+    constexpr std::size_t kTile = 256;
+    const std::unique_ptr<std::uint8_t[]> mask_buf(new std::uint8_t[ng * kTile]);  // the kernel writes every
+    const std::unique_ptr<float[]> entry_buf(new float[ng * kTile * 8]);           // element: no zeroing
+    const std::span<std::uint8_t> masks(mask_buf.get(), ng * kTile);
+    const std::span<float> entries(entry_buf.get(), ng * kTile * 8);
+    for (std::size_t t0 = 0; t0 < n; t0 += kTile) {
+        const std::size_t t1 = std::min(n, t0 + kTile);
+        const std::span<const Ray> tile = world.subspan(t0, t1 - t0);
+        if (nested) kernels::intersect_box8_nested(tile, supers, groups, masks, entries, isa);
+        else kernels::intersect_box8_groups(tile, groups, masks, entries, isa);
+        for (std::size_t i = t0; i < t1; ++i) {
+            first[i] = std::uint32_t(cand.size());
+            if (!live[i]) continue;
+            const std::size_t r = i - t0;
+            for (std::size_t g = 0; g < ng; ++g)
+                for (std::uint32_t m = masks[ng * r + g]; m != 0; m &= m - 1) {
+                    const std::size_t j = std::size_t(__builtin_ctz(m));
+                    cand.push_back({entries[8 * (ng * r + g) + j], slot[8 * g + j]});
+                }
+            std::sort(cand.begin() + first[i], cand.end());
+        }
     }
 }
 

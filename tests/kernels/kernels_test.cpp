@@ -86,6 +86,72 @@ protected:
                          Error)
                 << what;
         }
+        check_nested(rays, box, what);
+    }
+
+    // The nested form: the groups above plus, per lane k, a group holding only
+    // lane k's box shrunk to its middle half, under supers whose lanes are the
+    // groups' unions (lanes 0-2) and the unshrunk boxes (the single-lane groups):
+    // masks equal the flat grouped form's, scalar and this ISA, and entries
+    // where a mask bit is set; untested groups have +inf entries.
+    void check_nested(const std::vector<Ray>& rays, const Box8& box, const char* what) {
+        const Isa isa = GetParam();
+        Box8 reversed;
+        reversed.clear();
+        for (int j = 0; j < 8; ++j) reversed.set(j, box.get(7 - j));
+        std::vector<Box8> groups = {box, reversed, box};
+        std::vector<Box8> supers(2);
+        for (Box8& s : supers) s.clear();
+        for (int g = 0; g < 3; ++g) {
+            Aabb u;
+            for (int j = 0; j < 8; ++j) u.grow(groups[std::size_t(g)].get(j));
+            supers[0].set(g, u);
+        }
+        for (int k = 0; k < 8; ++k) {
+            const Aabb b = box.get(k);
+            Aabb in = b;
+            for (int a = 0; a < 3; ++a) {
+                const float q = (b.hi[a] - b.lo[a]) * 0.25f;
+                if (std::isfinite(q) && b.lo[a] + q <= b.hi[a] - q) {
+                    in.lo[a] = b.lo[a] + q;
+                    in.hi[a] = b.hi[a] - q;
+                }
+            }
+            Box8 one;
+            one.clear();
+            one.set(k, in);
+            groups.push_back(one);
+            supers[std::size_t(3 + k) / 8].set((3 + k) % 8, b);
+        }
+        const std::size_t ng = groups.size();
+        std::vector<std::uint8_t> mf(ng * rays.size()), mn(ng * rays.size());
+        std::vector<float> ef(8 * ng * rays.size()), en(8 * ng * rays.size());
+        kernels::intersect_box8_groups(rays, groups, mf, ef, Isa::scalar);
+        for (Isa run : {Isa::scalar, isa}) {
+            kernels::intersect_box8_nested(rays, supers, groups, mn, en, run);
+            ASSERT_EQ(kernels::last_isa_used(), run);
+            for (std::size_t i = 0; i < rays.size(); ++i)
+                for (std::size_t g = 0; g < ng; ++g) {
+                    const std::size_t c = ng * i + g;
+                    ASSERT_EQ(mn[c], mf[c]) << what << ": nested, group " << g << " ray " << i;
+                    for (int j = 0; j < 8; ++j) {
+                        const float e = en[8 * c + std::size_t(j)];
+                        if ((mn[c] >> j) & 1) {
+                            ASSERT_EQ(bits_of(e), bits_of(ef[8 * c + std::size_t(j)])) << what;
+                        }
+                    }
+                }
+        }
+        // A ray that misses a super lane leaves its group untested: +inf entries.
+        std::vector<Ray> away{Ray{{1e6f, 1e6f, 1e6f}, 0, {1, 0, 0}, kInf}};
+        std::vector<std::uint8_t> m1(ng);
+        std::vector<float> e1(8 * ng, 0.0f);
+        kernels::intersect_box8_nested(away, supers, groups, m1, e1, isa);
+        for (std::size_t g = 0; g < ng; ++g)
+            if (m1[g] == 0) {
+                for (int j = 0; j < 8; ++j) ASSERT_EQ(e1[8 * g + std::size_t(j)], kInf) << what << ": group " << g;
+            }
+        EXPECT_THROW(kernels::intersect_box8_nested(rays, std::span(supers).first(1), groups, mn, en, isa), Error);
     }
 
     // Tri8: closest hit over all blocks, each block alone, and any-hit, bit for bit.

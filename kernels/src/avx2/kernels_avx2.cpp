@@ -15,10 +15,10 @@ SIMDBVH_FLATTEN void intersect_box8(std::span<const Ray> rays, const Box8& boxes
     Loops::box8(rays, boxes, masks, entries);
 }
 
-SIMDBVH_FLATTEN void intersect_box8_groups(std::span<const Ray> rays, std::span<const Box8> groups,
-                                           std::uint8_t* masks, float* entries) {
+SIMDBVH_FLATTEN void intersect_box8_groups(std::span<const Ray> rays, std::span<const Box8> supers,
+                                           std::span<const Box8> groups, std::uint8_t* masks, float* entries) {
     detail::note_isa_used(Isa::avx2);
-    Loops::box8_groups(rays, groups, masks, entries);
+    Loops::box8_groups(rays, supers, groups, masks, entries);
 }
 
 SIMDBVH_FLATTEN std::uint64_t count_box8_hits(std::span<const Ray> rays, std::span<const Box8> blocks) {

@@ -121,19 +121,26 @@ void intersect_box8(std::span<const Ray> rays, const Box8& boxes, std::uint8_t* 
     }
 }
 
-void intersect_box8_groups(std::span<const Ray> rays, std::span<const Box8> groups, std::uint8_t* masks,
-                           float* entries) {
+void intersect_box8_groups(std::span<const Ray> rays, std::span<const Box8> supers, std::span<const Box8> groups,
+                           std::uint8_t* masks, float* entries) {
     detail::note_isa_used(Isa::scalar);
     const std::size_t ng = groups.size();
     for (std::size_t i = 0; i < rays.size(); ++i) {
         const PreparedRay r = prepare(rays[i]);
+        // A group is tested when there are no supers or the ray hits its super lane.
+        auto tested = [&](std::size_t g) {
+            if (supers.empty()) return true;
+            float e = 0.0f;
+            return r.valid && intersect_box(r, supers[g / 8].get(int(g % 8)), r.tmax, &e);
+        };
         for (std::size_t g = 0; g < ng; ++g) {
             std::uint32_t m = 0;
             float* e8 = entries + 8 * (ng * i + g);
+            const bool test = tested(g);
             for (int j = 0; j < 8; ++j) {
                 float e = std::numeric_limits<float>::infinity();
-                if (r.valid && intersect_box(r, groups[g].get(j), r.tmax, &e)) m |= 1u << j;
-                e8[j] = r.valid ? to_caller_t(r, e) : e;
+                if (test && r.valid && intersect_box(r, groups[g].get(j), r.tmax, &e)) m |= 1u << j;
+                e8[j] = test && r.valid ? to_caller_t(r, e) : std::numeric_limits<float>::infinity();
             }
             masks[ng * i + g] = static_cast<std::uint8_t>(m);
         }

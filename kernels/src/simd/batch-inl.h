@@ -29,23 +29,41 @@ struct BatchLoops {
         }
     }
 
-    static SIMDBVH_FORCE_INLINE void box8_groups(std::span<const Ray> rays, std::span<const Box8> groups,
-                                                 std::uint8_t* masks, float* entries) {
+    // supers empty: every ray against every group; else against the supers,
+    // then the groups in the super lanes it hits (the others: mask 0, +inf).
+    static SIMDBVH_FORCE_INLINE void box8_groups(std::span<const Ray> rays, std::span<const Box8> supers,
+                                                 std::span<const Box8> groups, std::uint8_t* masks,
+                                                 float* entries) {
         const std::size_t ng = groups.size();
+        const Batch<Arch> inf(std::numeric_limits<float>::infinity());
         for (std::size_t i = 0; i < rays.size(); ++i) {
             const PreparedRay r = prepare(rays[i]);
             float* e = entries + 8 * ng * i;
-            if (!r.valid) {
-                for (std::size_t g = 0; g < ng; ++g) masks[ng * i + g] = 0;
-                for (std::size_t j = 0; j < 8 * ng; ++j) e[j] = std::numeric_limits<float>::infinity();
-                continue;
+            std::uint8_t* m = masks + ng * i;
+            if (!r.valid || !supers.empty()) {
+                for (std::size_t g = 0; g < ng; ++g) {
+                    m[g] = 0;
+                    inf.store_unaligned(e + 8 * g);
+                }
+                if (!r.valid) continue;
             }
             const RayPack<Arch> p = pack_ray<Arch>(r);
             const Batch<Arch> tmax(r.tmax);
-            for (std::size_t g = 0; g < ng; ++g) {
+            auto group = [&](std::size_t g) __attribute__((always_inline)) {
                 Batch<Arch> tn;
-                masks[ng * i + g] = static_cast<std::uint8_t>(intersect_box8<Arch>(p, groups[g], tmax, tn));
+                m[g] = static_cast<std::uint8_t>(intersect_box8<Arch>(p, groups[g], tmax, tn));
                 tn.store_unaligned(e + 8 * g);
+            };
+            if (supers.empty()) {
+                for (std::size_t g = 0; g < ng; ++g) group(g);
+            } else {
+                for (std::size_t s = 0; s < supers.size(); ++s) {
+                    Batch<Arch> tn;
+                    for (std::uint32_t b = intersect_box8<Arch>(p, supers[s], tmax, tn); b != 0; b &= b - 1) {
+                        const std::size_t g = 8 * s + std::size_t(__builtin_ctz(b));
+                        if (g < ng) group(g);
+                    }
+                }
             }
             if (r.t_exp != 0)
                 for (std::size_t j = 0; j < 8 * ng; ++j) e[j] = to_caller_t(r, e[j]);

@@ -35,6 +35,16 @@ void intersect_box8(std::span<const Ray> rays, const Box8& boxes, std::span<std:
 // masks and entries are those intersect_box8 gives for it, bit for bit.
 void intersect_box8_groups(std::span<const Ray> rays, std::span<const Box8> groups, std::span<std::uint8_t> masks,
                            std::span<float> entries, Isa isa = active_isa());
+// The same with a level above, for many groups: lane j of supers[s] holds every
+// box of groups[8 * s + j] (groups.size() <= 8 * supers.size()). Each ray tests
+// the supers, then only the groups of the super lanes it hits. The masks are
+// intersect_box8_groups' bit for bit: a box inside a box the conservative slab
+// test misses is missed too (each slab distance is monotone in its plane, and a
+// slab is dropped as NaN only where a plane contains the origin, which at the
+// inner box leaves a plane no looser than the outer box's). Entries: the same
+// where a mask bit is set; +inf throughout the groups a ray does not test.
+void intersect_box8_nested(std::span<const Ray> rays, std::span<const Box8> supers, std::span<const Box8> groups,
+                           std::span<std::uint8_t> masks, std::span<float> entries, Isa isa = active_isa());
 // Closest hit of each ray over all blocks (ties: lower prim id); Hit{} on a miss.
 // The SIMD loops walk the blocks in L1-sized tiles for kBruteRayTile rays at a
 // time (each block is read once per tile): callers that split rays over
