@@ -242,15 +242,16 @@ inline __attribute__((always_inline)) bool start(State& s, const Ray& ray, std::
 inline constexpr int kInFlight = SIMDBVH_BVH8_IN_FLIGHT;
 
 // The batch loop over any wide tree: `nodes` (root at 0), its bounds (nullptr:
-// an empty tree) and the leaf intersector.
-template <class K, int N, class Leaf, class Query, bool kStats>
+// an empty tree) and the leaf intersector, kFlight rays in flight (1 for a
+// tree that stays in cache, where interleaving only costs state switches).
+template <class K, int N, class Leaf, class Query, bool kStats, int kFlight = kInFlight>
 inline __attribute__((always_inline)) void trace_span(const NodeN<N>* nodes, const Aabb* root, const Leaf& leaf,
                                                       std::span<const Ray> rays, std::span<Hit> hits,
                                                       TraceStats* stats) {
     using State = RayState<K, N, typename Leaf::Keep>;
     const std::size_t n = rays.size();
-    State states[kInFlight];
-    int live[kInFlight];
+    State states[kFlight];
+    int live[kFlight];
     int nlive = 0;
     std::size_t next = 0;
     auto refill = [&](int slot) {
@@ -260,7 +261,7 @@ inline __attribute__((always_inline)) void trace_span(const NodeN<N>* nodes, con
         }
         return false;
     };
-    for (int w = 0; w < kInFlight; ++w)
+    for (int w = 0; w < kFlight; ++w)
         if (refill(w)) live[nlive++] = w;
     while (nlive > 0) {
         for (int k = 0; k < nlive;) {

@@ -276,7 +276,9 @@ void check_shape_tree(const BottomLevel<N>& b, const std::vector<Prim>& original
     for (const NodeN<N>& n : t->nodes)
         for (int i = 0; i < N; ++i) {
             const ChildN<N> c = n.children[i];
-            if (c.is_inner()) ASSERT_LT(c.index, t->nodes.size());
+            if (c.is_inner()) {
+                ASSERT_LT(c.index, t->nodes.size());
+            }
             if (!c.is_leaf()) continue;
             ++leaves;
             ASSERT_LE(c.blocks(), 4u);
@@ -359,6 +361,29 @@ TEST(SceneShapes, GrazingRaysAtSpheres) {
     for (const SceneHit& h : want) hits += h.hit();
     EXPECT_GT(hits, rays.size() / 3);  // the inner and tangent rays hit
     EXPECT_LT(hits, rays.size());      // the outer ones miss
+    check_any_and_closest(d, rays);
+}
+// A sphere set too large to stay in cache (over the 1 MiB of
+// kShapeInCacheBytes, shape_traverse-inl.h) is traced with rays in flight,
+// a small one (the tests above) one ray at a time: both give brute force's hits.
+TEST(SceneShapes, LargeSphereSetWithRaysInFlight) {
+    SceneDesc d;
+    SphereSet set;
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    for (int i = 0; i < 60000; ++i) set.spheres.push_back({{u(rng) * 40, u(rng) * 40, u(rng) * 40}, 0.05f + 0.2f * u(rng)});
+    d.geometries.push_back(set);
+    d.instances.push_back({0, Affine3{}});
+    const auto s4 = SceneBvhN<4>::build(d, SceneOptions{});
+    const auto* t = std::get_if<ShapeTree<4>>(&s4.bottoms()[0].tree);
+    ASSERT_NE(t, nullptr);
+    EXPECT_GT(t->nodes.size() * sizeof(NodeN<4>) + t->prim_ids.size() * (sizeof(Sphere) + 4), std::size_t(1) << 20);
+    const auto rays = rays_in({0, 0, 0}, {40, 40, 40}, {-1, -1, -1}, {1, 1, 1}, 200);
+    std::vector<SceneHit> want(rays.size());
+    brute_force_intersect(d, rays, want);
+    std::size_t hits = 0;
+    for (const SceneHit& h : want) hits += h.hit();
+    EXPECT_GT(hits, rays.size() / 4);
     check_any_and_closest(d, rays);
 }
 TEST(SceneBuiltins, Room) {
