@@ -233,14 +233,6 @@ inline __attribute__((always_inline)) bool start(State& s, const Ray& ray, std::
     return true;
 }
 
-// Rays in flight per batch loop: each step ends with its next node or leaf
-// prefetched, and the other rays' steps run while those lines arrive (the
-// traversal of incoherent rays is bound by the latency of those misses).
-#ifndef SIMDBVH_BVH8_IN_FLIGHT
-#define SIMDBVH_BVH8_IN_FLIGHT 8
-#endif
-inline constexpr int kInFlight = SIMDBVH_BVH8_IN_FLIGHT;
-
 // The batch loop over any wide tree: `nodes` (root at 0), its bounds (nullptr:
 // an empty tree) and the leaf intersector, kFlight rays in flight (1 for a
 // tree that stays in cache, where interleaving only costs state switches).
@@ -281,15 +273,15 @@ inline __attribute__((always_inline)) void trace_span(const NodeN<N>* nodes, con
 }
 
 // A BvhN: its nodes, bounds and Tri8 blocks.
-template <class K, int N, class Leaf, class Query, bool kStats>
+template <class K, int N, class Leaf, class Query, bool kStats, int kFlight = kInFlight>
 inline __attribute__((always_inline)) void trace_span(const BvhN<N>& bvh, std::span<const Ray> rays,
                                                       std::span<Hit> hits, TraceStats* stats) {
     const Aabb bounds = bvh.bounds();
-    trace_span<K, N, Leaf, Query, kStats>(bvh.nodes().data(), bvh.nodes().empty() ? nullptr : &bounds,
-                                          Leaf{bvh.blocks().data()}, rays, hits, stats);
+    trace_span<K, N, Leaf, Query, kStats, kFlight>(bvh.nodes().data(), bvh.nodes().empty() ? nullptr : &bounds,
+                                                   Leaf{bvh.blocks().data()}, rays, hits, stats);
 }
 
-// Triangle test and stats chosen once per batch.
+// Triangle test, stats and rays in flight chosen once per batch (stats: 8).
 template <class K, int N, class Query>
 inline __attribute__((always_inline)) void trace(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits,
                                                  const TraceOptions& o) {
@@ -297,6 +289,9 @@ inline __attribute__((always_inline)) void trace(const BvhN<N>& bvh, std::span<c
     if (o.stats) {
         if (o.test == watertight) trace_span<K, N, Tri8Leaf<K, watertight, true>, Query, true>(bvh, rays, hits, o.stats);
         else trace_span<K, N, Tri8Leaf<K, moller, true>, Query, true>(bvh, rays, hits, o.stats);
+    } else if (one_in_flight(bvh.nodes().size() * sizeof(NodeN<N>) + bvh.blocks().size() * sizeof(Tri8), o.in_flight)) {
+        if (o.test == watertight) trace_span<K, N, Tri8Leaf<K, watertight, false>, Query, false, 1>(bvh, rays, hits, nullptr);
+        else trace_span<K, N, Tri8Leaf<K, moller, false>, Query, false, 1>(bvh, rays, hits, nullptr);
     } else {
         if (o.test == watertight) trace_span<K, N, Tri8Leaf<K, watertight, false>, Query, false>(bvh, rays, hits, nullptr);
         else trace_span<K, N, Tri8Leaf<K, moller, false>, Query, false>(bvh, rays, hits, nullptr);

@@ -1,5 +1,7 @@
 // Wide BVH batched entry points (N = 4, 8, 16): the only place that chooses
 // an ISA for them (explicitly, or by speed: isa_choice.h).
+#include <string>
+
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/kernels/parallel.h"
 #include "isa_choice.h"
@@ -20,6 +22,9 @@ constexpr TraceFn<N> entry() {
 template <int N, bool kAnyHit>
 void run(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o, Isa isa) {
     if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
+    if (o.in_flight != 0 && o.in_flight != 1 && o.in_flight != bvh8::detail::kInFlight)
+        throw Error("TraceOptions::in_flight must be 0 (by tree size), 1 or " +
+                    std::to_string(bvh8::detail::kInFlight) + ", got " + std::to_string(o.in_flight));
     require(isa);
     TraceFn<N> fn = nullptr;
     switch (isa) {

@@ -123,15 +123,8 @@ struct WideShapeLeaf<Sphere> {
     }
 };
 
-// A shape tree of at most this many bytes (nodes, primitives, ids) is traced
-// one ray at a time: it stays in cache, so interleaving rays to hide misses
-// only costs state switches. spheres-N, 100k primary + 100k incoherent rays,
-// AVX2, BVH8, one thread, AMD EPYC Zen 3, medians of 3-6 alternating runs, 1
-// against 8 in flight: N = 1000 (about 40 KB) 20% faster primary, 10-21%
-// incoherent; N = 20000 (about 0.6 MB) level primary, 10-19% faster
-// incoherent; N = 200000 (about 6 MB) 4-12% slower primary, 52-60% slower incoherent.
-inline constexpr std::size_t kShapeInCacheBytes = std::size_t(1) << 20;
-
+// Rays in flight by the tree's size (nodes, primitives, ids), as the meshes'
+// (bvh8::detail::one_in_flight, with the measurements).
 template <class K, int N, class Prim, class Query>
 inline __attribute__((always_inline)) void trace_shapes(const ShapeTree<N>& tree, const Prim* prims,
                                                         const Aabb& bounds, std::span<const Ray> rays,
@@ -141,7 +134,7 @@ inline __attribute__((always_inline)) void trace_shapes(const ShapeTree<N>& tree
     const std::size_t bytes =
         tree.nodes.size() * sizeof(NodeN<N>) + tree.prim_ids.size() * (sizeof(Prim) + sizeof(std::uint32_t));
     using bvh8::detail::trace_span;
-    if (bytes <= kShapeInCacheBytes)
+    if (bvh8::detail::one_in_flight(bytes, 0))
         trace_span<K, N, WideShapeLeaf<Prim>, Query, false, 1>(tree.nodes.data(), root, leaf, rays, hits, nullptr);
     else
         trace_span<K, N, WideShapeLeaf<Prim>, Query, false>(tree.nodes.data(), root, leaf, rays, hits, nullptr);

@@ -68,7 +68,9 @@ void check(const Mesh& mesh, const char* what, bool expect_pruning = true) {
     closest_point(wide, pts, got, o);
     EXPECT_EQ(st.points, pts.size());
     EXPECT_GT(st.exact_tests, 0u);
-    if (expect_pruning) EXPECT_LT(st.exact_tests, st.triangle_tests) << "the triangle boxes reject some triangles";
+    if (expect_pruning) {
+        EXPECT_LT(st.exact_tests, st.triangle_tests) << "the triangle boxes reject some triangles";
+    }
 }
 
 TEST(WideClosestPoint, SoupOfOverlappingTriangles) {

@@ -363,21 +363,22 @@ TEST(SceneShapes, GrazingRaysAtSpheres) {
     EXPECT_LT(hits, rays.size());      // the outer ones miss
     check_any_and_closest(d, rays);
 }
-// A sphere set too large to stay in cache (over the 1 MiB of
-// kShapeInCacheBytes, shape_traverse-inl.h) is traced with rays in flight,
-// a small one (the tests above) one ray at a time: both give brute force's hits.
+// A sphere set too large to stay in cache (over the 2 MiB of
+// bvh8::detail::kInCacheBytes, bvh8/src/traverse.h) is traced with rays in
+// flight, a small one (the tests above) one ray at a time: both give brute
+// force's hits.
 TEST(SceneShapes, LargeSphereSetWithRaysInFlight) {
     SceneDesc d;
     SphereSet set;
     std::mt19937 rng(17);
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
-    for (int i = 0; i < 60000; ++i) set.spheres.push_back({{u(rng) * 40, u(rng) * 40, u(rng) * 40}, 0.05f + 0.2f * u(rng)});
+    for (int i = 0; i < 120000; ++i) set.spheres.push_back({{u(rng) * 40, u(rng) * 40, u(rng) * 40}, 0.05f + 0.2f * u(rng)});
     d.geometries.push_back(set);
     d.instances.push_back({0, Affine3{}});
     const auto s4 = SceneBvhN<4>::build(d, SceneOptions{});
     const auto* t = std::get_if<ShapeTree<4>>(&s4.bottoms()[0].tree);
     ASSERT_NE(t, nullptr);
-    EXPECT_GT(t->nodes.size() * sizeof(NodeN<4>) + t->prim_ids.size() * (sizeof(Sphere) + 4), std::size_t(1) << 20);
+    EXPECT_GT(t->nodes.size() * sizeof(NodeN<4>) + t->prim_ids.size() * (sizeof(Sphere) + 4), std::size_t(2) << 20);
     const auto rays = rays_in({0, 0, 0}, {40, 40, 40}, {-1, -1, -1}, {1, 1, 1}, 200);
     std::vector<SceneHit> want(rays.size());
     brute_force_intersect(d, rays, want);
