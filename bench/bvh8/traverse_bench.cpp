@@ -1,5 +1,6 @@
 // Wide BVH traversal per ISA (scalar reference loops, AVX2, AVX-512): BVH8
-// with SAH and greedy collapse, BVH4 and BVH16 (SAH) from the same BVH2.
+// with SAH and greedy collapse, BVH4 and BVH16 (SAH) from the same BVH2, BVH8
+// with the rays in flight forced (BM_Bvh8InFlight: 1 or 8 against the size rule).
 // rays/s as the rate counter, wide nodes visited per ray; box and triangle
 // counters count lanes (N per node, 8 per Tri8 block).
 #include <benchmark/benchmark.h>
@@ -17,7 +18,8 @@ using simdbvh::Isa;
 using simdbvh::scene::RayKind;
 
 template <int N>
-void run_wide(benchmark::State& st, const simdbvh::BvhN<N>& bvh, Isa isa, Collapse collapse, RayKind kind, bool any) {
+void run_wide(benchmark::State& st, const simdbvh::BvhN<N>& bvh, Isa isa, Collapse collapse, RayKind kind, bool any,
+              const simdbvh::TraceOptions& timed = {}) {
     if (!simdbvh::supported(isa)) {
         st.SkipWithError("CPU lacks the ISA");
         return;
@@ -30,8 +32,8 @@ void run_wide(benchmark::State& st, const simdbvh::BvhN<N>& bvh, Isa isa, Collap
     if (any) simdbvh::occluded(bvh, rays, hits, counted, isa);
     else simdbvh::intersect(bvh, rays, hits, counted, isa);
     for (auto _ : st) {
-        if (any) simdbvh::occluded(bvh, rays, hits, {}, isa);
-        else simdbvh::intersect(bvh, rays, hits, {}, isa);
+        if (any) simdbvh::occluded(bvh, rays, hits, timed, isa);
+        else simdbvh::intersect(bvh, rays, hits, timed, isa);
         benchmark::DoNotOptimize(hits.data());
     }
     const double n = double(rays.size());
@@ -41,7 +43,8 @@ void run_wide(benchmark::State& st, const simdbvh::BvhN<N>& bvh, Isa isa, Collap
     st.counters["tris/ray"] = double(ts.triangle_tests) / n;
     st.SetLabel("bvh" + std::to_string(N) + " " + std::string(simdbvh::name(isa)) + " " +
                 std::string(simdbvh::name(collapse)) + " " + std::string(simdbvh::scene::name(kind)) +
-                (any ? " any" : " closest"));
+                (any ? " any" : " closest") +
+                (timed.in_flight != 0 ? " in_flight " + std::to_string(timed.in_flight) : std::string()));
 }
 
 void BM_Bvh8(benchmark::State& st, Isa isa, Collapse collapse, RayKind kind, bool any) {
@@ -54,6 +57,31 @@ void BM_Bvh4(benchmark::State& st, Isa isa, Collapse collapse, RayKind kind, boo
 void BM_Bvh16(benchmark::State& st, Isa isa, Collapse collapse, RayKind kind, bool any) {
     run_wide<16>(st, bench::traversal_scene().bvh16, isa, collapse, kind, any);
 }
+
+// BVH8 (SAH) with the rays in flight forced (TraceOptions::in_flight: by
+// default 1 for trees of at most 2 MiB, else 8), beside BM_Bvh8's default.
+void BM_Bvh8InFlight(benchmark::State& st, Isa isa, int flight, RayKind kind, bool any) {
+    simdbvh::TraceOptions o;
+    o.in_flight = flight;
+    run_wide<8>(st, bench::traversal_scene().bvh8, isa, Collapse::sah, kind, any, o);
+}
+#define SIMDBVH_FLIGHT_BENCH(isa, flight)                                                                           \
+    BENCHMARK_CAPTURE(BM_Bvh8InFlight, isa##_in_flight##flight##_primary_closest, Isa::isa, flight, RayKind::primary,  \
+                      false)                                                                                        \
+        ->Unit(benchmark::kMillisecond);                                                                            \
+    BENCHMARK_CAPTURE(BM_Bvh8InFlight, isa##_in_flight##flight##_incoherent_closest, Isa::isa, flight,                 \
+                      RayKind::incoherent, false)                                                                   \
+        ->Unit(benchmark::kMillisecond);                                                                            \
+    BENCHMARK_CAPTURE(BM_Bvh8InFlight, isa##_in_flight##flight##_diffuse_closest, Isa::isa, flight, RayKind::diffuse,  \
+                      false)                                                                                        \
+        ->Unit(benchmark::kMillisecond);                                                                            \
+    BENCHMARK_CAPTURE(BM_Bvh8InFlight, isa##_in_flight##flight##_primary_any, Isa::isa, flight, RayKind::primary, true) \
+        ->Unit(benchmark::kMillisecond);                                                                            \
+    BENCHMARK_CAPTURE(BM_Bvh8InFlight, isa##_in_flight##flight##_incoherent_any, Isa::isa, flight,                     \
+                      RayKind::incoherent, true)                                                                    \
+        ->Unit(benchmark::kMillisecond);                                                                            \
+    BENCHMARK_CAPTURE(BM_Bvh8InFlight, isa##_in_flight##flight##_diffuse_any, Isa::isa, flight, RayKind::diffuse, true) \
+        ->Unit(benchmark::kMillisecond)
 
 #define SIMDBVH_WIDE_BENCH(fn, isa, collapse)                                                                      \
     BENCHMARK_CAPTURE(fn, isa##_##collapse##_primary_closest, Isa::isa, Collapse::collapse, RayKind::primary, false)    \
@@ -105,6 +133,10 @@ SIMDBVH_WIDE_BENCH(BM_Bvh8, scalar, sah);
 SIMDBVH_WIDE_BENCH(BM_Bvh8, avx2, sah);
 SIMDBVH_WIDE_BENCH(BM_Bvh8, avx512, sah);
 SIMDBVH_WIDE_BENCH(BM_Bvh8, avx2, greedy);
+SIMDBVH_FLIGHT_BENCH(avx2, 1);
+SIMDBVH_FLIGHT_BENCH(avx2, 8);
+SIMDBVH_FLIGHT_BENCH(avx512, 1);
+SIMDBVH_FLIGHT_BENCH(avx512, 8);
 // The same BVH2 collapsed 4 and 16 wide (SAH), beside BM_Bvh8.
 SIMDBVH_WIDE_BENCH(BM_Bvh4, scalar, sah);
 SIMDBVH_WIDE_BENCH(BM_Bvh4, avx2, sah);

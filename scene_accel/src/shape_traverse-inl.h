@@ -8,6 +8,7 @@
 // a time, the spheres hit_sphere would reject at its discriminant. Included only by the per-ISA
 // translation units (src/scalar, src/avx2, src/avx512).
 #include <cstring>
+#include <type_traits>
 
 #include "scene_trace-inl.h"
 #include "shape_traverse.h"
@@ -26,27 +27,6 @@ inline __attribute__((always_inline)) void prefetch_shape_child(const NodeN<N>* 
         __builtin_prefetch(prims + c.index);
     }
 }
-
-// Leaf intersector of a ShapeTree: the leaf s.cur is s.cur.blocks()
-// primitives from prims[s.cur.index], tested with the ray's PreparedRay
-// (boxes; spheres: the specialization below).
-template <class Prim>
-struct WideShapeLeaf {
-    using Keep = PreparedRay;
-    ShapeLeaf<Prim> leaf;
-    template <class State>
-    inline __attribute__((always_inline)) void closest(const State& s, Hit& best, TraceStats* stats) const {
-        leaf.closest(s.pr, s.cur.index, s.cur.blocks(), best, stats);
-    }
-    template <class State>
-    inline __attribute__((always_inline)) bool any(const State& s, Hit& best, TraceStats* stats) const {
-        return leaf.any(s.pr, s.cur.index, s.cur.blocks(), best, stats);
-    }
-    template <int N>
-    inline __attribute__((always_inline)) void prefetch(const NodeN<N>* nodes, ChildN<N> c) const {
-        prefetch_shape_child(nodes, leaf.prims, c);
-    }
-};
 
 // Spheres, four at a time: the discriminant of hit_sphere (shapes.cpp) for
 // four spheres in one pass of double-precision vector arithmetic, the same
@@ -85,20 +65,27 @@ inline __attribute__((always_inline)) std::uint32_t sphere_candidates(const Prep
     return m;
 }
 
-template <>
-struct WideShapeLeaf<Sphere> {
+// Leaf intersector of a ShapeTree: the leaf s.cur is s.cur.blocks()
+// primitives from prims[s.cur.index], tested in order with the ray's
+// PreparedRay through shapes.h (hit_prim); spheres four at a time first
+// through sphere_candidates(), which drops exactly those hit_sphere rejects
+// at its discriminant.
+template <class Prim>
+struct WideShapeLeaf {
     using Keep = PreparedRay;
-    ShapeLeaf<Sphere> leaf;
-    // The leaf's spheres in order; kAny: true at the first hit (written to best), else best shrinks.
+    ShapeLeaf<Prim> leaf;
+    // kAny: true at the first hit (written to best), else best shrinks.
     template <bool kAny, class State>
     inline __attribute__((always_inline)) bool visit(const State& s, Hit& best) const {
         const std::uint32_t first = s.cur.index, count = s.cur.blocks();
         for (std::uint32_t g = 0; g < count; g += 4) {
             const std::uint32_t n = count - g < 4 ? count - g : 4;
-            for (std::uint32_t m = sphere_candidates(s.pr, leaf.prims + first + g, n); m != 0; m &= m - 1) {
+            std::uint32_t m = (1u << n) - 1;
+            if constexpr (std::is_same_v<Prim, Sphere>) m = sphere_candidates(s.pr, leaf.prims + first + g, n);
+            for (; m != 0; m &= m - 1) {
                 const std::uint32_t i = first + g + std::uint32_t(__builtin_ctz(m));
                 float t, u, v;
-                if (!hit_sphere(s.pr, leaf.prims[i], best.t, &t, &u, &v)) continue;
+                if (!hit_prim(s.pr, leaf.prims[i], best.t, &t, &u, &v)) continue;
                 if constexpr (kAny) {
                     best = {t, u, v, leaf.id(i)};
                     return true;
