@@ -259,7 +259,7 @@ inline __attribute__((always_inline)) void trace_span(const NodeN<N>* nodes, con
         for (int k = 0; k < nlive;) {
             State& s = states[live[k]];
             if (!step<K, N, Leaf, Query, kStats>(nodes, leaf, s, stats)) {
-                leaf.prefetch(nodes, s.cur);
+                if constexpr (kFlight > 1) leaf.prefetch(nodes, s.cur);  // one in flight: nothing to overlap
             } else {
                 Query::finish(s.best, s.t_exp, hits[s.ray]);
                 if (!refill(live[k])) {
