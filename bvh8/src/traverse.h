@@ -27,8 +27,9 @@ inline constexpr int kInFlight = SIMDBVH_BVH8_IN_FLIGHT;
 // 20000 triangles (about 1.2 MB) 1.22-1.64x faster on primary and incoherent
 // rays; 80000 (about 5 MB) 1.37-1.41x on primary rays but 0.73x on incoherent
 // closest; 300000: primary 1.26-1.29x, incoherent 0.47-0.49x; the dragon
-// (about 50 MB) 0.78-0.96x on primary and diffuse rays, the terrain 1.00-1.17x
-// (in_flight = 1 forces it). Sphere trees: 1000 spheres 1.11-1.26x, 20000
+// (about 50 MB) 0.78-0.96x on primary and diffuse rays; the terrain 1.00-1.17x
+// on primary and diffuse rays in one run, 0.48-0.90x on every ray kind in a
+// later one (BM_Bvh8InFlight). Sphere trees: 1000 spheres 1.11-1.26x, 20000
 // (about 0.6 MB) 1.0-1.2x, 200000 (about 6 MB) 0.63-0.66x on incoherent rays.
 inline constexpr std::size_t kInCacheBytes = std::size_t(2) << 20;
 inline bool one_in_flight(std::size_t tree_bytes, int requested) {
