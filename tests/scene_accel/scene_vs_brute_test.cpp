@@ -337,6 +337,14 @@ TEST(SceneShapes, CoincidentSpheresAtEveryWidth) {
     const auto rays = rays_in({-1, -1, -1}, {2, 2, 2}, {0.3f, 0.3f, 0.3f}, {0.7f, 0.7f, 0.7f}, 300);
     check_any_and_closest(d, rays);
 }
+// How many of the rays hit something, by the scene brute force.
+std::size_t brute_hit_count(const SceneDesc& d, const std::vector<Ray>& rays) {
+    std::vector<SceneHit> want(rays.size());
+    brute_force_intersect(d, rays, want);
+    std::size_t hits = 0;
+    for (const SceneHit& h : want) hits += h.hit();
+    return hits;
+}
 // Rays tangent to spheres (discriminant at or within a few ulps of 0): the
 // leaves' four-at-a-time discriminant (shape_traverse-inl.h) must reject
 // exactly the spheres hit_sphere rejects, at every width and ISA.
@@ -355,10 +363,7 @@ TEST(SceneShapes, GrazingRaysAtSpheres) {
         }
     d.geometries.push_back(set);
     d.instances.push_back({0, Affine3{}});
-    std::vector<SceneHit> want(rays.size());
-    brute_force_intersect(d, rays, want);
-    std::size_t hits = 0;
-    for (const SceneHit& h : want) hits += h.hit();
+    const std::size_t hits = brute_hit_count(d, rays);
     EXPECT_GT(hits, rays.size() / 3);  // the inner and tangent rays hit
     EXPECT_LT(hits, rays.size());      // the outer ones miss
     check_any_and_closest(d, rays);
@@ -380,10 +385,7 @@ TEST(SceneShapes, LargeSphereSetWithRaysInFlight) {
     ASSERT_NE(t, nullptr);
     EXPECT_GT(t->nodes.size() * sizeof(NodeN<4>) + t->prim_ids.size() * (sizeof(Sphere) + 4), std::size_t(2) << 20);
     const auto rays = rays_in({0, 0, 0}, {40, 40, 40}, {-1, -1, -1}, {1, 1, 1}, 200);
-    std::vector<SceneHit> want(rays.size());
-    brute_force_intersect(d, rays, want);
-    std::size_t hits = 0;
-    for (const SceneHit& h : want) hits += h.hit();
+    const std::size_t hits = brute_hit_count(d, rays);
     EXPECT_GT(hits, rays.size() / 4);
     check_any_and_closest(d, rays);
 }
