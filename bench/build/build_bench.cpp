@@ -12,11 +12,16 @@
 // refit (RTC_BUILD_QUALITY_REFIT, update_vertices) of a structure built once,
 // each repetition alternating between the mesh twisted by 1 rad and the mesh
 // itself (scene::twist), so every timed refit moves every vertex.
+// Peak memory: the warm-up build's peak resident bytes above the process's
+// resident bytes before it, per triangle (peak_B_per_tri; Linux /proc).
 // One-thread figures: run pinned, e.g. taskset -c 1 simdbvh_bench_build --benchmark_filter=/t1.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <map>
 #include <memory>
 #include <string>
@@ -45,11 +50,33 @@ const simdbvh::Mesh& mesh_of(const std::string& name) {
 
 int all_threads() { return int(std::max(1u, std::thread::hardware_concurrency())); }
 
+// Resident memory from /proc/self/status (kB fields VmRSS, VmHWM), in bytes;
+// 0 when unreadable. reset_peak() sets VmHWM back to VmRSS (clear_refs 5,
+// Linux >= 4.0), so the peak after a build is that build's own.
+std::size_t status_bytes(const char* field) {
+    std::FILE* f = std::fopen("/proc/self/status", "r");
+    if (!f) return 0;
+    char line[256];
+    std::size_t kb = 0;
+    const std::size_t n = std::strlen(field);
+    while (std::fgets(line, sizeof line, f))
+        if (std::strncmp(line, field, n) == 0 && line[n] == ':') kb = std::strtoull(line + n + 1, nullptr, 10);
+    std::fclose(f);
+    return kb * 1024;
+}
+bool reset_peak() {
+    std::FILE* f = std::fopen("/proc/self/clear_refs", "w");
+    if (!f) return false;
+    const bool ok = std::fputs("5", f) >= 0;
+    return std::fclose(f) == 0 && ok;
+}
+
 enum class Row { bvh2, collapse_pack, bvh8, embree_medium };
 
 // One build of `row`; returns its wall time in ms and the SAH cost (0 for Embree).
 struct Timed {
     double ms = 0, sah = 0;
+    double final_bytes = 0;  // our trees: nodes + triangle blocks (WideStats::bytes_per_triangle); 0 for Embree
 };
 Timed build_once(Row row, const simdbvh::Mesh& mesh, int threads, const simdbvh::Bvh2* bvh2) {
     simdbvh::BuildOptions bo;
@@ -75,6 +102,7 @@ Timed build_once(Row row, const simdbvh::Mesh& mesh, int threads, const simdbvh:
         const simdbvh::Bvh8 b = simdbvh::Bvh8::build(mesh, bo, wo);
         t.ms = ms_since(t0);
         t.sah = b.stats().sah_cost;
+        t.final_bytes = b.stats().bytes_per_triangle * double(mesh.size());
         break;
     }
     case Row::embree_medium: {
@@ -107,14 +135,30 @@ void BM_Build(benchmark::State& st, Row row, std::string scene, bool all, std::s
         bvh2 = std::make_unique<simdbvh::Bvh2>(simdbvh::Bvh2::build(*mesh, bo));
     }
     // The untimed warm-up, once per row (not per repetition): its time is the cold build.
-    static std::map<std::string, double> cold;
-    if (!cold.count(key)) cold[key] = build_once(row, *mesh, threads, bvh2.get()).ms;
+    // Its peak resident memory above what was resident before it (the mesh and
+    // anything earlier rows keep), as bytes per triangle: peak_B_per_tri. With
+    // the mesh's own bytes (mesh_B_per_tri) and, for Bvh8::build(mesh), the
+    // finished tree's (final_B_per_tri), issue 12's bound reads
+    // mesh + peak <= 1.5 x (mesh + final).
+    static std::map<std::string, double> cold, peak;
+    if (!cold.count(key)) {
+        const bool reset = reset_peak();
+        const std::size_t before = status_bytes("VmRSS");
+        cold[key] = build_once(row, *mesh, threads, bvh2.get()).ms;
+        const std::size_t hwm = status_bytes("VmHWM");
+        peak[key] = reset && before > 0 && hwm >= before ? double(hwm - before) : -1.0;
+    }
     Timed t;
     for (auto _ : st) {
         t = build_once(row, *mesh, threads, bvh2.get());
         st.SetIterationTime(t.ms / 1000.0);
     }
     st.counters["cold_ms"] = cold[key];
+    const double tris = double(std::max<std::size_t>(1, mesh->size()));
+    if (peak[key] >= 0) st.counters["peak_B_per_tri"] = peak[key] / tris;
+    st.counters["mesh_B_per_tri"] = double(mesh->positions.size() * sizeof(simdbvh::Vec3) +
+                                           mesh->triangles.size() * sizeof(simdbvh::Triangle)) / tris;
+    if (t.final_bytes > 0) st.counters["final_B_per_tri"] = t.final_bytes / tris;
     st.counters["threads"] = threads;
     st.counters["Mtri/s"] = benchmark::Counter(double(mesh->size()) * 1e-6, benchmark::Counter::kIsIterationInvariantRate);
     if (t.sah > 0) st.counters["sah"] = t.sah;
