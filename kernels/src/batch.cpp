@@ -82,6 +82,31 @@ void intersect_box8_nested(std::span<const Ray> rays, std::span<const Box8> supe
     return scalar::intersect_box8_groups(rays, supers, groups, masks.data(), entries.data());
 }
 
+void collect_box8_tree(std::span<const Ray> rays, std::span<const std::uint8_t> live, std::span<const Box8> nodes,
+                       std::span<const std::uint32_t> children, std::vector<std::pair<float, std::uint32_t>>& out,
+                       std::span<std::uint32_t> first, Isa isa) {
+    require(isa);
+    check_size(children.size(), 8 * nodes.size(), "children");
+    check_size(first.size(), rays.size() + 1, "first");
+    if (!live.empty()) check_size(live.size(), rays.size(), "live");
+    // A tree: inner children after their parent, each reached from one lane
+    // (so every walk ends and its stack holds at most nodes.size() entries).
+    std::vector<std::uint8_t> reached(nodes.size(), 0);
+    for (std::size_t k = 0; k < children.size(); ++k) {
+        const std::uint32_t c = children[k];
+        if (c == kBoxTreeEmpty || (c & kBoxTreeLeaf) != 0) continue;
+        if (c <= k / 8 || c >= nodes.size() || reached[c]++ != 0)
+            throw Error("simdbvh: box tree: lane " + std::to_string(k % 8) + " of node " + std::to_string(k / 8) +
+                        " names node " + std::to_string(c) + ", which is not a later node reached once");
+    }
+    switch (isa) {
+    case Isa::avx512: return avx512::collect_box8_tree(rays, live, nodes, children, out, first.data());
+    case Isa::avx2: return avx2::collect_box8_tree(rays, live, nodes, children, out, first.data());
+    case Isa::scalar: break;
+    }
+    return scalar::collect_box8_tree(rays, live, nodes, children, out, first.data());
+}
+
 std::uint64_t count_box8_hits(std::span<const Ray> rays, std::span<const Box8> blocks, Isa isa) {
     require(isa);
     switch (isa) {

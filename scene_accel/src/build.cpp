@@ -2,11 +2,15 @@
 // ShapeTree for sphere and box sets), the instance records and world boxes,
 // and the top-level BVH2 over the instance boxes.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <cstring>
+#include <map>
 #include <numeric>
 #include <string>
 
+#include "simdbvh/kernels/batch.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/scene_accel/scene.h"
 #include "collapse.h"  // bvh8/src
@@ -128,6 +132,57 @@ float max_abs(const Aabb& b) {
 
 }  // namespace
 
+namespace {
+
+// The top BVH2 collapsed to 8 children per node (TopWide in scene.h): the
+// collapse of the wide trees with one BVH2 leaf per wide leaf.
+TopWide wide_top(const Bvh2Topology& top) {
+    TopWide w;
+    if (top.nodes.empty()) return w;
+    WideOptions o;
+    o.max_leaf_size = 1;  // a BVH2 leaf (one instance, or more with equal boxes) is one lane
+    o.threads = 1;
+    const bvh8::WideTopology<8> t = bvh8::collapse<8>(std::span<const Node2>(top.nodes), top.prim_ids.size(), o);
+    // A BVH2 leaf's position range in prim_ids -> its node (every wide leaf is one BVH2 leaf).
+    std::vector<std::uint32_t> leaf_at(top.prim_ids.size(), kInvalidPrim);
+    for (std::size_t j = 0; j < top.nodes.size(); ++j)
+        if (top.nodes[j].is_leaf() && top.nodes[j].count > 0) leaf_at[top.nodes[j].first] = std::uint32_t(j);
+    auto bits = [](const Aabb& b) {
+        std::array<std::uint32_t, 6> k;
+        std::memcpy(k.data(), &b.lo.x, 12);
+        std::memcpy(k.data() + 3, &b.hi.x, 12);
+        return k;
+    };
+    std::map<std::array<std::uint32_t, 6>, std::uint32_t> by_box;
+    for (std::size_t j = 0; j < top.nodes.size(); ++j) by_box.emplace(bits(top.nodes[j].box), std::uint32_t(j));
+    w.children.assign(8 * t.nodes.size(), kernels::kBoxTreeEmpty);
+    w.node_of.assign(t.nodes.size(), 0);
+    // The BVH2 node each wide node came from: the one whose box it holds (the root: node 0).
+    for (std::size_t n = 0; n < t.nodes.size(); ++n) {
+        const bvh8::WideNode<8>& wn = t.nodes[n];
+        for (int c = 0; c < wn.child_count; ++c) {
+            const bvh8::WideChild& ch = wn.children[std::size_t(c)];
+            std::uint32_t code;
+            if (ch.is_leaf()) {
+                const std::uint32_t leaf = leaf_at[t.prims[ch.index]];
+                if (leaf == kInvalidPrim || top.nodes[leaf].count != ch.count)
+                    throw Error("scene: the top level's wide collapse split a BVH2 leaf");
+                code = kernels::kBoxTreeLeaf | leaf;
+            } else {
+                code = ch.index;
+                // The collapse copies the box of the BVH2 node it opened: any node with those exact bits serves.
+                const auto it = by_box.find(bits(ch.box));
+                if (it == by_box.end()) throw Error("scene: the top level's wide node has no BVH2 box");
+                w.node_of[ch.index] = it->second;
+            }
+            w.children[8 * n + std::size_t(c)] = code;
+        }
+    }
+    return w;
+}
+
+}  // namespace
+
 template <int N>
 SceneBvhN<N> SceneBvhN<N>::build(const SceneDesc& scene, const SceneOptions& opts) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -168,19 +223,15 @@ SceneBvhN<N> SceneBvhN<N>::build(const SceneDesc& scene, const SceneOptions& opt
     top.max_leaf_size = 1;
     top.min_leaf_size = 1;
     s.top_ = build_topology(boxes, centroids, top);
-    s.leaf_of_.assign(ni, kInvalidPrim);
-    for (std::size_t j = 0; j < s.top_.nodes.size(); ++j) {
-        const Node2& nd = s.top_.nodes[j];
-        if (nd.is_leaf())
-            for (std::uint32_t k = nd.first; k < nd.first + nd.count; ++k) s.leaf_of_[s.top_.prim_ids[k]] = std::uint32_t(j);
-    }
+    s.top_wide_ = wide_top(s.top_);
     s.planes_ = scene.planes;
     s.slack_scale_ = static_cast<float>(0x1p-16 * max_cond);
     s.magnitude_ = magnitude;
 
-    const std::size_t top_bytes = topo_bytes(s.top_);
-    st.bytes += top_bytes + ni * (sizeof(InstanceRecord) + sizeof(std::uint32_t)) + s.planes_.size() * sizeof(Plane);
-    st.bytes_per_instance = sizeof(InstanceRecord) + sizeof(std::uint32_t) + (ni ? (top_bytes + ni - 1) / ni : 0);
+    const std::size_t top_bytes = topo_bytes(s.top_) +
+                                  (s.top_wide_.children.size() + s.top_wide_.node_of.size()) * sizeof(std::uint32_t);
+    st.bytes += top_bytes + ni * sizeof(InstanceRecord) + s.planes_.size() * sizeof(Plane);
+    st.bytes_per_instance = sizeof(InstanceRecord) + (ni ? (top_bytes + ni - 1) / ni : 0);
     st.geometries = scene.geometries.size();
     st.instances = ni;
     st.planes = scene.planes.size();

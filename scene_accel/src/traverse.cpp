@@ -100,25 +100,6 @@ SceneHit trace(const SceneBvhN<N>& s, const Ray& ray, Isa isa) {
     return leaf.hit;
 }
 
-// Collects the instances whose (slack-grown) boxes a ray enters, with their
-// entry distance in the caller's parameter, without touching the ray.
-template <int N>
-struct CollectLeaf {
-    const SceneBvhN<N>* scene;
-    SlackBox2Test test;
-    std::vector<std::pair<float, std::uint32_t>>* out;
-    void closest(const PreparedRay& r, std::uint32_t first, std::uint32_t count, Hit& best, TraceStats*) const {
-        const std::uint32_t* ids = scene->top().prim_ids.data();
-        for (std::uint32_t i = first; i < first + count; ++i) {
-            float entry = r.tmin;
-            const std::uint32_t leaf = scene->leaf_of()[ids[i]];
-            if (!intersect_box(r, test.grow(scene->top().nodes[leaf].box), best.t, &entry)) continue;
-            out->push_back({to_caller_t(r, entry), ids[i]});
-        }
-    }
-    bool any(const PreparedRay&, std::uint32_t, std::uint32_t, Hit&, TraceStats*) const { return false; }
-};
-
 // Batches: a wavefront over rounds instead of one ray at a time, so each
 // bottom-level mesh is traced by the batched wide traversal (its rays in
 // flight interleaved) rather than one call per instance visit. Per chunk of
@@ -153,13 +134,17 @@ void collect_flat(const SceneBvhN<N>& s, std::span<const Ray> world, const std::
                   float slack, Isa isa, std::vector<std::pair<float, std::uint32_t>>& cand,
                   std::vector<std::uint32_t>& first) {
     const std::size_t n = world.size();
-    // The instances in the top tree's leaf order (depth first), so a group of 8
-    // holds neighbours and its union box (a super lane) is small.
-    std::vector<std::uint32_t> slot;
-    for (std::uint32_t inst = 0; inst < s.instances().size(); ++inst)
-        if (s.leaf_of()[inst] != kInvalidPrim) slot.push_back(inst);
-    std::sort(slot.begin(), slot.end(),
-              [&](std::uint32_t a, std::uint32_t b) { return s.leaf_of()[a] < s.leaf_of()[b]; });
+    // The instances in the top tree's leaf order (its node order, depth first),
+    // each with its leaf's box, so a group of 8 holds neighbours and its union
+    // box (a super lane) is small. Instances with empty boxes are in no leaf.
+    std::vector<std::uint32_t> slot, slot_leaf;
+    const Bvh2Topology& top = s.top();
+    for (std::uint32_t j = 0; j < top.nodes.size(); ++j)
+        if (top.nodes[j].is_leaf())
+            for (std::uint32_t k = top.nodes[j].first; k < top.nodes[j].first + top.nodes[j].count; ++k) {
+                slot.push_back(top.prim_ids[k]);
+                slot_leaf.push_back(j);
+            }
     const std::size_t ng = (slot.size() + 7) / 8;
     const SlackBox2Test grow{slack};
     std::vector<Box8> groups(ng), supers((ng + 7) / 8);
@@ -168,7 +153,7 @@ void collect_flat(const SceneBvhN<N>& s, std::span<const Ray> world, const std::
     for (std::size_t g = 0; g < ng; ++g) {
         Aabb u;
         for (std::size_t j = 0; j < 8 && 8 * g + j < slot.size(); ++j) {
-            const Aabb b = grow.grow(s.top().nodes[s.leaf_of()[slot[8 * g + j]]].box);
+            const Aabb b = grow.grow(top.nodes[slot_leaf[8 * g + j]].box);
             groups[g].set(int(j), b);
             u.grow(b);
         }
@@ -198,6 +183,46 @@ void collect_flat(const SceneBvhN<N>& s, std::span<const Ray> world, const std::
                 }
             std::sort(cand.begin() + first[i], cand.end());
         }
+    }
+}
+
+// The tree form of the collection, for scenes of more than kFlatTopMax
+// instances: the chunk's live rays walk the wide top level (TopWide, boxes
+// grown by the chunk's largest slack like the flat form's) in one batched
+// kernel call (kernels::collect_box8_tree), which reports each ray's leaves
+// with their entry distances; a leaf's instances share its entry. Each lane's
+// grown box holds the grown boxes below it, so a ray reaches exactly the
+// leaves whose grown boxes it enters: the candidates of the per-ray BVH2
+// walk with each ray's own slack, or more (the same argument as the flat form).
+template <int N>
+void collect_tree(const SceneBvhN<N>& s, std::span<const Ray> world, const std::vector<std::uint8_t>& live,
+                  float slack, Isa isa, std::vector<std::pair<float, std::uint32_t>>& cand,
+                  std::vector<std::uint32_t>& first) {
+    const std::size_t n = world.size();
+    const TopWide& w = s.top_wide();
+    const Bvh2Topology& top = s.top();
+    const SlackBox2Test grow{slack};
+    std::vector<Box8> nodes(w.node_of.size());
+    for (std::size_t m = 0; m < nodes.size(); ++m) {
+        nodes[m].clear();
+        for (int j = 0; j < 8; ++j) {
+            const std::uint32_t c = w.children[8 * m + std::size_t(j)];
+            if (c == kernels::kBoxTreeEmpty) continue;
+            const std::uint32_t node = (c & kernels::kBoxTreeLeaf) != 0 ? c & ~kernels::kBoxTreeLeaf : w.node_of[c];
+            nodes[m].set(j, grow.grow(top.nodes[node].box));
+        }
+    }
+    std::vector<std::pair<float, std::uint32_t>> leaves;
+    std::vector<std::uint32_t> at(n + 1);
+    kernels::collect_box8_tree(world, live, nodes, w.children, leaves, at, isa);
+    for (std::size_t i = 0; i < n; ++i) {
+        first[i] = std::uint32_t(cand.size());
+        for (std::uint32_t k = at[i]; k < at[i + 1]; ++k) {
+            const auto [entry, leaf] = leaves[k];
+            const Node2& nd = top.nodes[leaf];
+            for (std::uint32_t p = nd.first; p < nd.first + nd.count; ++p) cand.push_back({entry, top.prim_ids[p]});
+        }
+        std::sort(cand.begin() + first[i], cand.end());
     }
 }
 
@@ -293,20 +318,15 @@ void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Sce
         if (s.top().nodes.empty()) continue;
         const float o = std::max({std::fabs(rays[i].org.x), std::fabs(rays[i].org.y), std::fabs(rays[i].org.z)});
         const SlackBox2Test test{s.slack_scale() * (o + s.scene_magnitude())};
-        if (flat) {
-            live[i] = 1;
-            max_slack = std::max(max_slack, test.slack);
-            continue;
-        }
-        const CollectLeaf<N> leaf{&s, test, &cand};
-        bvh2::traverse_binary<SlackBox2Test, query::ClosestHit, false>(s.top().nodes, leaf, world[i], nullptr, test);
-        std::sort(cand.begin() + first[i], cand.end());
+        live[i] = 1;
+        max_slack = std::max(max_slack, test.slack);
     }
     if (ni == 1) {
         trace_one_instance(s, world, live, hits, bottom);
         return;
     }
     if (flat) collect_flat(s, world, live, max_slack, isa, cand, first);
+    else collect_tree(s, world, live, max_slack, isa, cand, first);
     first[n] = std::uint32_t(cand.size());
     std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs, sorted;  // (instance, ray)
     std::vector<std::uint32_t> count;

@@ -1,6 +1,7 @@
 // Every 8-wide kernel in every ISA the CPU has equals the scalar reference bit
 // for bit: masks, entry distances, and Hit (t, u, v, prim), on randomized and
 // edge-case inputs. Unsupported ISAs are skipped, not passed.
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -87,6 +88,98 @@ protected:
                 << what;
         }
         check_nested(rays, box, what);
+        check_tree(rays, box, what);
+    }
+
+    // The box tree: a root whose lanes hold node 1 (the box's 8 lanes, leaves
+    // 0-7), node 2 (their middle halves, leaves 8-15), leaf 100 (lane 3's box)
+    // and node 3 (lane 0's box over one leaf, 200: its middle half), each lane's
+    // box holding the boxes below it. Each ray must reach exactly the leaves
+    // whose own lane the scalar single-node kernel hits, with those entries,
+    // for scalar and this ISA; rays not live reach none; malformed trees throw.
+    void check_tree(const std::vector<Ray>& rays, const Box8& box, const char* what) {
+        const Isa isa = GetParam();
+        std::vector<Box8> nodes(4);
+        for (Box8& b : nodes) b.clear();
+        std::vector<std::uint32_t> children(32, kernels::kBoxTreeEmpty);
+        Aabb all, halves;
+        for (int j = 0; j < 8; ++j) {
+            nodes[1].set(j, box.get(j));
+            nodes[2].set(j, middle_half(box.get(j)));
+            children[8 + std::size_t(j)] = kernels::kBoxTreeLeaf | std::uint32_t(j);
+            children[16 + std::size_t(j)] = kernels::kBoxTreeLeaf | std::uint32_t(8 + j);
+            all.grow(box.get(j));
+            halves.grow(middle_half(box.get(j)));
+        }
+        nodes[0].set(0, all);
+        nodes[0].set(1, halves);
+        nodes[0].set(2, box.get(3));
+        nodes[0].set(3, box.get(0));
+        nodes[3].set(0, middle_half(box.get(0)));
+        children[0] = 1;
+        children[1] = 2;
+        children[2] = kernels::kBoxTreeLeaf | 100u;
+        children[3] = 3;
+        children[24] = kernels::kBoxTreeLeaf | 200u;
+        // The expected leaves: each leaf's own node tested alone (scalar).
+        using Found = std::vector<std::pair<float, std::uint32_t>>;
+        std::vector<Found> want(rays.size());
+        for (std::size_t node = 0; node < nodes.size(); ++node) {
+            std::vector<std::uint8_t> m(rays.size());
+            std::vector<float> e(8 * rays.size());
+            kernels::intersect_box8(rays, nodes[node], m, e, Isa::scalar);
+            for (std::size_t i = 0; i < rays.size(); ++i)
+                for (int j = 0; j < 8; ++j) {
+                    const std::uint32_t c = children[8 * node + std::size_t(j)];
+                    if (((m[i] >> j) & 1) && c != kernels::kBoxTreeEmpty && (c & kernels::kBoxTreeLeaf))
+                        want[i].push_back({e[8 * i + std::size_t(j)], c & ~kernels::kBoxTreeLeaf});
+                }
+        }
+        auto same = [](Found a, Found b) {
+            std::sort(a.begin(), a.end());
+            std::sort(b.begin(), b.end());
+            if (a.size() != b.size()) return false;
+            for (std::size_t k = 0; k < a.size(); ++k)
+                if (bits_of(a[k].first) != bits_of(b[k].first) || a[k].second != b[k].second) return false;
+            return true;
+        };
+        std::vector<std::uint8_t> live(rays.size());
+        for (std::size_t i = 0; i < rays.size(); ++i) live[i] = std::uint8_t(i % 3 != 1);
+        for (Isa run : {Isa::scalar, isa})
+            for (const bool all_live : {true, false}) {
+                Found out{{-1.0f, 7u}};  // appended to: what was there stays
+                std::vector<std::uint32_t> first(rays.size() + 1);
+                kernels::collect_box8_tree(rays, all_live ? std::span<const std::uint8_t>() : live, nodes, children,
+                                           out, first, run);
+                ASSERT_EQ(kernels::last_isa_used(), run);
+                ASSERT_EQ(out.size(), first.back()) << what;
+                ASSERT_EQ(first[0], 1u) << what;
+                for (std::size_t i = 0; i < rays.size(); ++i) {
+                    const Found got(out.begin() + first[i], out.begin() + first[i + 1]);
+                    if (!all_live && !live[i]) {
+                        ASSERT_TRUE(got.empty()) << what << ": ray " << i << " is not live";
+                        continue;
+                    }
+                    ASSERT_TRUE(same(got, want[i])) << what << ": " << name(run) << " ray " << i << ": "
+                                                    << got.size() << " leaves, want " << want[i].size();
+                }
+            }
+        Found out;
+        std::vector<std::uint32_t> first(rays.size() + 1);
+        auto bad = children;
+        bad[3] = 0;  // the root as its own child
+        EXPECT_THROW(kernels::collect_box8_tree(rays, {}, nodes, bad, out, first, isa), Error) << what;
+        bad = children;
+        bad[4] = 3;  // node 3 reached from two lanes
+        EXPECT_THROW(kernels::collect_box8_tree(rays, {}, nodes, bad, out, first, isa), Error) << what;
+        bad = children;
+        bad[9] = 4;  // past the last node
+        EXPECT_THROW(kernels::collect_box8_tree(rays, {}, nodes, bad, out, first, isa), Error) << what;
+        EXPECT_THROW(kernels::collect_box8_tree(rays, {}, nodes, std::span(children).first(31), out, first, isa),
+                     Error);
+        EXPECT_THROW(kernels::collect_box8_tree(rays, {}, nodes, children, out, std::span(first).first(rays.size()),
+                                                isa),
+                     Error);
     }
 
     // The nested form: the groups above plus, per lane k, a group holding only
@@ -94,6 +187,19 @@ protected:
     // groups' unions (lanes 0-2) and the unshrunk boxes (the single-lane groups):
     // masks equal the flat grouped form's, scalar and this ISA, and entries
     // where a mask bit is set; untested groups have +inf entries.
+    // b's middle half on each axis where that is a box (else b's extent there).
+    static Aabb middle_half(const Aabb& b) {
+        Aabb in = b;
+        for (int a = 0; a < 3; ++a) {
+            const float q = (b.hi[a] - b.lo[a]) * 0.25f;
+            if (std::isfinite(q) && b.lo[a] + q <= b.hi[a] - q) {
+                in.lo[a] = b.lo[a] + q;
+                in.hi[a] = b.hi[a] - q;
+            }
+        }
+        return in;
+    }
+
     void check_nested(const std::vector<Ray>& rays, const Box8& box, const char* what) {
         const Isa isa = GetParam();
         Box8 reversed;
@@ -109,17 +215,9 @@ protected:
         }
         for (int k = 0; k < 8; ++k) {
             const Aabb b = box.get(k);
-            Aabb in = b;
-            for (int a = 0; a < 3; ++a) {
-                const float q = (b.hi[a] - b.lo[a]) * 0.25f;
-                if (std::isfinite(q) && b.lo[a] + q <= b.hi[a] - q) {
-                    in.lo[a] = b.lo[a] + q;
-                    in.hi[a] = b.hi[a] - q;
-                }
-            }
             Box8 one;
             one.clear();
-            one.set(k, in);
+            one.set(k, middle_half(b));
             groups.push_back(one);
             supers[std::size_t(3 + k) / 8].set((3 + k) % 8, b);
         }

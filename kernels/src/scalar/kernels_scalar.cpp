@@ -5,6 +5,7 @@
 #endif
 #include <limits>
 
+#include "box_tree_walk-inl.h"
 #include "simd/dispatch.h"
 #include "simdbvh/kernels/box.h"
 
@@ -145,6 +146,27 @@ void intersect_box8_groups(std::span<const Ray> rays, std::span<const Box8> supe
             masks[ng * i + g] = static_cast<std::uint8_t>(m);
         }
     }
+}
+
+namespace {
+// The reference box test (box.h) on each lane.
+struct ScalarTreeTest {
+    const Box8* nodes;
+    const PreparedRay* ray(const PreparedRay& r) const { return &r; }
+    std::uint32_t mask(const PreparedRay* r, std::uint32_t n, float* e) const {
+        std::uint32_t m = 0;
+        for (int j = 0; j < 8; ++j)
+            if (intersect_box(*r, nodes[n].get(j), r->tmax, &e[j])) m |= 1u << j;
+        return m;
+    }
+};
+}  // namespace
+
+void collect_box8_tree(std::span<const Ray> rays, std::span<const std::uint8_t> live, std::span<const Box8> nodes,
+                       std::span<const std::uint32_t> children, std::vector<std::pair<float, std::uint32_t>>& out,
+                       std::uint32_t* first) {
+    detail::note_isa_used(Isa::scalar);
+    kernels::detail::walk_box_tree(rays, live, nodes.size(), children, out, first, ScalarTreeTest{nodes.data()});
 }
 
 std::uint64_t count_box8_hits(std::span<const Ray> rays, std::span<const Box8> blocks) {

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <limits>
 
+#include "box_tree_walk-inl.h"
 #include "simd/box8-inl.h"
 #include "simdbvh/kernels/batch.h"
 #include "simd/dispatch.h"
@@ -68,6 +69,25 @@ struct BatchLoops {
             if (r.t_exp != 0)
                 for (std::size_t j = 0; j < 8 * ng; ++j) e[j] = to_caller_t(r, e[j]);
         }
+    }
+
+    // batch.h's collect_box8_tree: the shared walk with this Arch's node test.
+    struct TreeTest {
+        const Box8* nodes;
+        struct State {
+            RayPack<Arch> p;
+            float tmax;
+        };
+        SIMDBVH_FORCE_INLINE State ray(const PreparedRay& r) const { return {pack_ray<Arch>(r), r.tmax}; }
+        SIMDBVH_FORCE_INLINE std::uint32_t mask(const State& s, std::uint32_t n, float* e) const {
+            return intersect_box8<Arch>(s.p, nodes[n], s.tmax, e);
+        }
+    };
+    static SIMDBVH_FORCE_INLINE void box8_tree(std::span<const Ray> rays, std::span<const std::uint8_t> live,
+                                               std::span<const Box8> nodes, std::span<const std::uint32_t> children,
+                                               std::vector<std::pair<float, std::uint32_t>>& out,
+                                               std::uint32_t* first) {
+        kernels::detail::walk_box_tree(rays, live, nodes.size(), children, out, first, TreeTest{nodes.data()});
     }
 
     static SIMDBVH_FORCE_INLINE std::uint64_t count_box8(std::span<const Ray> rays, std::span<const Box8> blocks) {

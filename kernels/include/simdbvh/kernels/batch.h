@@ -13,6 +13,8 @@
 // kernels/testing (simdbvh/kernels/testing.h), not installed.
 #include <cstdint>
 #include <span>
+#include <utility>
+#include <vector>
 
 #include "simdbvh/kernels/aabb.h"
 #include "simdbvh/kernels/hit.h"
@@ -45,6 +47,23 @@ void intersect_box8_groups(std::span<const Ray> rays, std::span<const Box8> grou
 // where a mask bit is set; +inf throughout the groups a ray does not test.
 void intersect_box8_nested(std::span<const Ray> rays, std::span<const Box8> supers, std::span<const Box8> groups,
                            std::span<std::uint8_t> masks, std::span<float> entries, Isa isa = active_isa());
+// A tree of Box8 nodes, nodes[0] the root: lane j of node n bounds everything
+// under children[8 * n + j], which is kBoxTreeEmpty (an unused lane: never
+// reported), an inner node's index m (n < m < nodes.size(), each node the child
+// of one lane only), or kBoxTreeLeaf | id (a leaf, id < 2^31). Each ray (with
+// live[i] != 0, when `live` is not empty) walks the tree from the root and
+// appends to `out` every leaf it reaches, as (entry distance in the caller's t,
+// id): ray i's are out[first[i] .. first[i + 1]) (first: rays.size() + 1 values),
+// in no particular order. A leaf is reached when the ray hits its lane and the
+// lane of every ancestor: with each lane's box holding the boxes below it, that
+// is exactly when it hits the leaf's own lane (the argument of _nested above), and
+// the entries are those intersect_box8 gives for the leaf's node. Throws
+// simdbvh::Error for a malformed tree (sizes, indices, a node reached twice).
+inline constexpr std::uint32_t kBoxTreeLeaf = 0x80000000u;
+inline constexpr std::uint32_t kBoxTreeEmpty = 0xFFFFFFFFu;
+void collect_box8_tree(std::span<const Ray> rays, std::span<const std::uint8_t> live, std::span<const Box8> nodes,
+                       std::span<const std::uint32_t> children, std::vector<std::pair<float, std::uint32_t>>& out,
+                       std::span<std::uint32_t> first, Isa isa = active_isa());
 // Closest hit of each ray over all blocks (ties: lower prim id); Hit{} on a miss.
 // The SIMD loops walk the blocks in L1-sized tiles for kBruteRayTile rays at a
 // time (each block is read once per tile): callers that split rays over

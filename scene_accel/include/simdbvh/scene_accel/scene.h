@@ -105,6 +105,17 @@ struct InstanceRecord {  // what a trace reads per instance visit (52 bytes)
 };
 static_assert(sizeof(InstanceRecord) == 52);
 
+// The top level collapsed to 8 children per node (the SAH collapse of the wide
+// trees, over the top BVH2), walked by batches (kernels::collect_box8_tree).
+// Lane j of wide node n: children[8 n + j] is kernels::kBoxTreeEmpty (unused),
+// a wide node m > n (its box: top().nodes[node_of[m]].box), or
+// kernels::kBoxTreeLeaf | k for the top BVH2's leaf node k (its box and its
+// instances, top().prim_ids[first, first + count)). 36 bytes per wide node.
+struct TopWide {
+    std::vector<std::uint32_t> children;  // 8 per wide node
+    std::vector<std::uint32_t> node_of;   // per wide node: the top BVH2 node it was collapsed from
+};
+
 template <int N>
 class SceneBvhN {
     static_assert(kValidWidth<N>, "widths: 4, 8, 16");
@@ -117,9 +128,7 @@ public:
     const std::vector<BottomLevel<N>>& bottoms() const { return bottoms_; }
     const std::vector<InstanceRecord>& instances() const { return instances_; }
     const Bvh2Topology& top() const { return top_; }
-    // The top-level leaf node holding each instance (its box is the instance's world box); kInvalidPrim for an
-    // instance left out of the tree (empty box).
-    const std::vector<std::uint32_t>& leaf_of() const { return leaf_of_; }
+    const TopWide& top_wide() const { return top_wide_; }
     const std::vector<Plane>& planes() const { return planes_; }
     const SceneStats& stats() const { return stats_; }
     float slack_scale() const { return slack_scale_; }  // 2^-16 * max cond
@@ -129,7 +138,7 @@ private:
     std::vector<BottomLevel<N>> bottoms_;
     std::vector<InstanceRecord> instances_;
     Bvh2Topology top_;
-    std::vector<std::uint32_t> leaf_of_;
+    TopWide top_wide_;
     std::vector<Plane> planes_;
     SceneStats stats_;
     float slack_scale_ = 0.0f;
