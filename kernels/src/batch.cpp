@@ -3,7 +3,9 @@
 #include "simdbvh/kernels/batch.h"
 #include "simdbvh/kernels/testing.h"
 
+#include <algorithm>
 #include <string>
+#include <vector>
 
 #include "simd/dispatch.h"
 #include "simdbvh/kernels/error.h"
@@ -99,12 +101,40 @@ void collect_box8_tree(std::span<const Ray> rays, std::span<const std::uint8_t> 
             throw Error("simdbvh: box tree: lane " + std::to_string(k % 8) + " of node " + std::to_string(k / 8) +
                         " names node " + std::to_string(c) + ", which is not a later node reached once");
     }
-    switch (isa) {
-    case Isa::avx512: return avx512::collect_box8_tree(rays, live, nodes, children, out, first.data());
-    case Isa::avx2: return avx2::collect_box8_tree(rays, live, nodes, children, out, first.data());
-    case Isa::scalar: break;
+    // Each ray reaches at most every leaf lane once: the walk stops before a
+    // ray that might not fit, and the output grows (by half) for the rest.
+    std::size_t leaf_lanes = 0;
+    for (const std::uint32_t c : children) leaf_lanes += c != kBoxTreeEmpty && (c & kBoxTreeLeaf) != 0;
+    std::vector<std::uint32_t> stack(std::max<std::size_t>(nodes.size(), 1));
+    std::size_t used = out.size(), done = 0;
+    constexpr std::size_t kMaxOut = 0xFFFFFFFFu;  // first[] holds 32-bit offsets
+    for (;;) {
+        const std::size_t cap = std::max(used + leaf_lanes, used + used / 2 + 1024);
+        if (cap > kMaxOut) throw Error("simdbvh: box tree: more than 2^32 - 1 results");
+        out.resize(cap);
+        const std::span<const Ray> rest = rays.subspan(done);
+        const std::span<const std::uint8_t> rest_live = live.empty() ? live : live.subspan(done);
+        detail::TreeWalk w;
+        switch (isa) {
+        case Isa::avx512:
+            w = avx512::collect_box8_tree(rest, rest_live, nodes, children, leaf_lanes, stack.data(), out.data(), used,
+                                          cap, first.data() + done);
+            break;
+        case Isa::avx2:
+            w = avx2::collect_box8_tree(rest, rest_live, nodes, children, leaf_lanes, stack.data(), out.data(), used,
+                                        cap, first.data() + done);
+            break;
+        case Isa::scalar:
+            w = scalar::collect_box8_tree(rest, rest_live, nodes, children, leaf_lanes, stack.data(), out.data(), used,
+                                          cap, first.data() + done);
+            break;
+        }
+        used = w.used;
+        done += w.rays_done;
+        if (done == rays.size()) break;
     }
-    return scalar::collect_box8_tree(rays, live, nodes, children, out, first.data());
+    out.resize(used);
+    first[rays.size()] = std::uint32_t(used);
 }
 
 std::uint64_t count_box8_hits(std::span<const Ray> rays, std::span<const Box8> blocks, Isa isa) {

@@ -4,29 +4,39 @@
 // mask(state, n, e) tests the 8 lanes of node n, writing their entries to e
 // (in the ray's prepared parameter) and returning the lanes hit. The tree is
 // checked before (batch.cpp): every inner child comes after its parent and is
-// reached from one lane only, so a ray pushes each node at most once and the
-// stack holds at most nodes.size() entries. No intrinsics here.
+// reached from one lane only, so a ray pushes each node at most once (the
+// stack holds nodes.size() entries) and reaches at most `leaf_lanes` leaves.
+// Nothing here allocates or throws (the per-ISA objects must not define the
+// library's shared inline functions, tests/kernels/check_isa_objects.cmake):
+// the walk stops before a ray that might not fit the output, and batch.cpp
+// grows it and calls again. No intrinsics here.
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <utility>
-#include <vector>
 
 #include "simdbvh/kernels/batch.h"
-#include "simdbvh/kernels/error.h"
 #include "simdbvh/kernels/ray.h"
 
 namespace simdbvh::kernels::detail {
 
+struct TreeWalk {
+    std::size_t rays_done = 0;  // rays [0, rays_done) have their results and first[]
+    std::size_t used = 0;       // entries of `out` in use
+};
+
 template <class Test>
-inline void walk_box_tree(std::span<const Ray> rays, std::span<const std::uint8_t> live, std::size_t nodes,
-                          std::span<const std::uint32_t> children, std::vector<std::pair<float, std::uint32_t>>& out,
-                          std::uint32_t* first, const Test& test) {
-    std::vector<std::uint32_t> stack(nodes);
-    constexpr std::size_t kMaxResults = 0xFFFFFFFFu;  // first[] holds 32-bit offsets
-    for (std::size_t i = 0; i < rays.size(); ++i) {
-        if (out.size() > kMaxResults) throw Error("simdbvh: box tree: more than 2^32 - 1 results");
-        first[i] = std::uint32_t(out.size());
-        if (nodes == 0 || (!live.empty() && live[i] == 0)) continue;
+__attribute__((always_inline)) inline TreeWalk walk_box_tree(std::span<const Ray> rays,
+                                                             std::span<const std::uint8_t> live, bool has_nodes,
+                                                             std::span<const std::uint32_t> children,
+                                                             std::size_t leaf_lanes, std::uint32_t* stack,
+                                                             std::pair<float, std::uint32_t>* out, std::size_t used,
+                                                             std::size_t cap, std::uint32_t* first, const Test& test) {
+    std::size_t i = 0;
+    for (; i < rays.size(); ++i) {
+        if (cap - used < leaf_lanes) break;
+        first[i] = std::uint32_t(used);
+        if (!has_nodes || (!live.empty() && live[i] == 0)) continue;
         const PreparedRay r = prepare(rays[i]);
         if (!r.valid) continue;
         const auto state = test.ray(r);
@@ -39,13 +49,12 @@ inline void walk_box_tree(std::span<const Ray> rays, std::span<const std::uint8_
                 const int j = __builtin_ctz(m);
                 const std::uint32_t c = children[8 * std::size_t(n) + std::size_t(j)];
                 if (c == kBoxTreeEmpty) continue;
-                if ((c & kBoxTreeLeaf) != 0) out.push_back({to_caller_t(r, e[j]), c & ~kBoxTreeLeaf});
+                if ((c & kBoxTreeLeaf) != 0) out[used++] = {to_caller_t(r, e[j]), c & ~kBoxTreeLeaf};
                 else stack[sp++] = c;
             }
         }
     }
-    if (out.size() > kMaxResults) throw Error("simdbvh: box tree: more than 2^32 - 1 results");
-    first[rays.size()] = std::uint32_t(out.size());
+    return {i, used};
 }
 
 }  // namespace simdbvh::kernels::detail

@@ -2,11 +2,8 @@
 // ShapeTree for sphere and box sets), the instance records and world boxes,
 // and the top-level BVH2 over the instance boxes.
 #include <algorithm>
-#include <array>
 #include <chrono>
 #include <cmath>
-#include <cstring>
-#include <map>
 #include <numeric>
 #include <string>
 
@@ -147,17 +144,7 @@ TopWide wide_top(const Bvh2Topology& top) {
     std::vector<std::uint32_t> leaf_at(top.prim_ids.size(), kInvalidPrim);
     for (std::size_t j = 0; j < top.nodes.size(); ++j)
         if (top.nodes[j].is_leaf() && top.nodes[j].count > 0) leaf_at[top.nodes[j].first] = std::uint32_t(j);
-    auto bits = [](const Aabb& b) {
-        std::array<std::uint32_t, 6> k;
-        std::memcpy(k.data(), &b.lo.x, 12);
-        std::memcpy(k.data() + 3, &b.hi.x, 12);
-        return k;
-    };
-    std::map<std::array<std::uint32_t, 6>, std::uint32_t> by_box;
-    for (std::size_t j = 0; j < top.nodes.size(); ++j) by_box.emplace(bits(top.nodes[j].box), std::uint32_t(j));
     w.children.assign(8 * t.nodes.size(), kernels::kBoxTreeEmpty);
-    w.node_of.assign(t.nodes.size(), 0);
-    // The BVH2 node each wide node came from: the one whose box it holds (the root: node 0).
     for (std::size_t n = 0; n < t.nodes.size(); ++n) {
         const bvh8::WideNode<8>& wn = t.nodes[n];
         for (int c = 0; c < wn.child_count; ++c) {
@@ -170,10 +157,6 @@ TopWide wide_top(const Bvh2Topology& top) {
                 code = kernels::kBoxTreeLeaf | leaf;
             } else {
                 code = ch.index;
-                // The collapse copies the box of the BVH2 node it opened: any node with those exact bits serves.
-                const auto it = by_box.find(bits(ch.box));
-                if (it == by_box.end()) throw Error("scene: the top level's wide node has no BVH2 box");
-                w.node_of[ch.index] = it->second;
             }
             w.children[8 * n + std::size_t(c)] = code;
         }
@@ -228,8 +211,7 @@ SceneBvhN<N> SceneBvhN<N>::build(const SceneDesc& scene, const SceneOptions& opt
     s.slack_scale_ = static_cast<float>(0x1p-16 * max_cond);
     s.magnitude_ = magnitude;
 
-    const std::size_t top_bytes = topo_bytes(s.top_) +
-                                  (s.top_wide_.children.size() + s.top_wide_.node_of.size()) * sizeof(std::uint32_t);
+    const std::size_t top_bytes = topo_bytes(s.top_) + s.top_wide_.children.size() * sizeof(std::uint32_t);
     st.bytes += top_bytes + ni * sizeof(InstanceRecord) + s.planes_.size() * sizeof(Plane);
     st.bytes_per_instance = sizeof(InstanceRecord) + (ni ? (top_bytes + ni - 1) / ni : 0);
     st.geometries = scene.geometries.size();

@@ -1,7 +1,9 @@
-// Scene traversal: planes first (they clamp the ray), then the top-level
-// BVH2 by the binary loop (bvh2/src/traverse_binary-inl.h) with the slack box
-// test and the instance leaf below, which maps the world ray into each visited
-// instance and runs that geometry's bottom level.
+// Scene traversal: planes first (they clamp the ray), then the top level. A
+// single ray walks the top-level BVH2 by the binary loop
+// (bvh2/src/traverse_binary-inl.h) with the slack box test and the instance
+// leaf below, which maps the world ray into each visited instance and runs
+// that geometry's bottom level; batches collect candidates from the 8-wide top
+// level and trace them in rounds (below).
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -110,90 +112,22 @@ SceneHit trace(const SceneBvhN<N>& s, const Ray& ray, Isa isa) {
 // cull_bound culling as the loop). Every candidate that can hold the closest
 // hit is tested with a tmax at least its t (tests are inclusive) and merged by
 // closer(), so the hits are those of trace() and of the brute force.
-// Scenes of at most this many instances skip the top-level tree when they
-// collect candidates: every instance box is tested against the chunk's rays by
-// the grouped SIMD box kernel (kernels/batch.h), each ray prepared once. At 100
-// instances of the dragon this beat the tree's scalar walk (100k rays, BVH8
-// AVX2, one thread, AMD EPYC Zen 3): incoherent closest 90.5-92.6 -> 53.5-64.6
-// ms, primary 26.2-27.2 -> 20.7-25.9 ms, the same hits.
-inline constexpr std::size_t kFlatTopMax = 128;
-// Above this many groups of 8 instance boxes, the flat collection tests each
-// group's union box first (kernels::intersect_box8_nested).
-inline constexpr std::size_t kFlatNestedFrom = 2;
-
-// The flat form of the collection: the instance boxes grown by the largest
-// slack of the chunk's live rays, so each ray's candidates are a superset of
-// those the tree gives it (a larger box, the same conservative slab test).
-// Extra candidates only add exact bottom-level tests whose hits are real, and
-// hits are merged by closer(), so the results are the tree's and the brute
-// force's bit for bit. One grouped kernel call for the chunk: each ray is
-// prepared once for all the groups of 8 boxes, its masks and entries
-// adjacent (ray-major), where one call per group prepared it once per group.
-template <int N>
-void collect_flat(const SceneBvhN<N>& s, std::span<const Ray> world, const std::vector<std::uint8_t>& live,
-                  float slack, Isa isa, std::vector<std::pair<float, std::uint32_t>>& cand,
-                  std::vector<std::uint32_t>& first) {
-    const std::size_t n = world.size();
-    // The instances in the top tree's leaf order (its node order, depth first),
-    // each with its leaf's box, so a group of 8 holds neighbours and its union
-    // box (a super lane) is small. Instances with empty boxes are in no leaf.
-    std::vector<std::uint32_t> slot, slot_leaf;
-    const Bvh2Topology& top = s.top();
-    for (std::uint32_t j = 0; j < top.nodes.size(); ++j)
-        if (top.nodes[j].is_leaf())
-            for (std::uint32_t k = top.nodes[j].first; k < top.nodes[j].first + top.nodes[j].count; ++k) {
-                slot.push_back(top.prim_ids[k]);
-                slot_leaf.push_back(j);
-            }
-    const std::size_t ng = (slot.size() + 7) / 8;
-    const SlackBox2Test grow{slack};
-    std::vector<Box8> groups(ng), supers((ng + 7) / 8);
-    for (Box8& g : groups) g.clear();
-    for (Box8& g : supers) g.clear();
-    for (std::size_t g = 0; g < ng; ++g) {
-        Aabb u;
-        for (std::size_t j = 0; j < 8 && 8 * g + j < slot.size(); ++j) {
-            const Aabb b = grow.grow(top.nodes[slot_leaf[8 * g + j]].box);
-            groups[g].set(int(j), b);
-            u.grow(b);
-        }
-        supers[g / 8].set(int(g % 8), u);
-    }
-    // Up to 2 groups every ray tests both; beyond, the supers first (the
-    // same masks, kernels/batch.h). Tiles of rays keep masks and entries in cache.
-    const bool nested = ng > kFlatNestedFrom;
-    constexpr std::size_t kTile = 256;
-    const std::unique_ptr<std::uint8_t[]> mask_buf(new std::uint8_t[ng * kTile]);  // the kernel writes every
-    const std::unique_ptr<float[]> entry_buf(new float[ng * kTile * 8]);           // element: no zeroing
-    const std::span<std::uint8_t> masks(mask_buf.get(), ng * kTile);
-    const std::span<float> entries(entry_buf.get(), ng * kTile * 8);
-    for (std::size_t t0 = 0; t0 < n; t0 += kTile) {
-        const std::size_t t1 = std::min(n, t0 + kTile);
-        const std::span<const Ray> tile = world.subspan(t0, t1 - t0);
-        if (nested) kernels::intersect_box8_nested(tile, supers, groups, masks, entries, isa);
-        else kernels::intersect_box8_groups(tile, groups, masks, entries, isa);
-        for (std::size_t i = t0; i < t1; ++i) {
-            first[i] = std::uint32_t(cand.size());
-            if (!live[i]) continue;
-            const std::size_t r = i - t0;
-            for (std::size_t g = 0; g < ng; ++g)
-                for (std::uint32_t m = masks[ng * r + g]; m != 0; m &= m - 1) {
-                    const std::size_t j = std::size_t(__builtin_ctz(m));
-                    cand.push_back({entries[8 * (ng * r + g) + j], slot[8 * g + j]});
-                }
-            std::sort(cand.begin() + first[i], cand.end());
-        }
-    }
-}
-
-// The tree form of the collection, for scenes of more than kFlatTopMax
-// instances: the chunk's live rays walk the wide top level (TopWide, boxes
-// grown by the chunk's largest slack like the flat form's) in one batched
-// kernel call (kernels::collect_box8_tree), which reports each ray's leaves
-// with their entry distances; a leaf's instances share its entry. Each lane's
-// grown box holds the grown boxes below it, so a ray reaches exactly the
-// leaves whose grown boxes it enters: the candidates of the per-ray BVH2
-// walk with each ray's own slack, or more (the same argument as the flat form).
+// The candidates: the chunk's live rays walk the wide top level (TopWide)
+// in one batched kernel call (kernels::collect_box8_tree), which reports each
+// ray's leaves with their entry distances; a leaf's instances share its entry.
+// The leaf boxes are grown by the largest slack of the chunk's live rays, and
+// each inner lane's box is the union of the lanes below it, so a ray reaches exactly the
+// leaves whose grown boxes it enters: a superset of what the per-ray walk with
+// its own slack gives (a larger box, the same conservative slab test). Extra
+// candidates only add exact bottom-level tests whose hits are real, and hits
+// are merged by closer(), so the results are trace()'s and the brute force's
+// bit for bit. Against the earlier forms, one scalar BVH2 walk per ray (above
+// 128 instances) and every instance box tested per ray in SIMD groups under
+// union boxes (up to 128), callgrind over the batch trace (262,144 rays,
+// closest + any, AVX2, BVH8): instances-1000 incoherent 3,263M -> 1,254M
+// instructions and primary 1,946M -> 813M (walk -> this); instances-100
+// 711M -> 654M and 553M -> 489M, room 572M -> 568M and 340M -> 319M (groups ->
+// this); the same hits.
 template <int N>
 void collect_tree(const SceneBvhN<N>& s, std::span<const Ray> world, const std::vector<std::uint8_t>& live,
                   float slack, Isa isa, std::vector<std::pair<float, std::uint32_t>>& cand,
@@ -202,14 +136,19 @@ void collect_tree(const SceneBvhN<N>& s, std::span<const Ray> world, const std::
     const TopWide& w = s.top_wide();
     const Bvh2Topology& top = s.top();
     const SlackBox2Test grow{slack};
-    std::vector<Box8> nodes(w.node_of.size());
-    for (std::size_t m = 0; m < nodes.size(); ++m) {
+    // Bottom up (children come after their parents): a leaf lane's box is its
+    // BVH2 leaf's, grown; an inner lane's the union of its node's lanes.
+    const std::size_t nw = w.children.size() / 8;
+    std::vector<Box8> nodes(nw);
+    std::vector<Aabb> unions(nw);
+    for (std::size_t m = nw; m-- > 0;) {
         nodes[m].clear();
         for (int j = 0; j < 8; ++j) {
             const std::uint32_t c = w.children[8 * m + std::size_t(j)];
             if (c == kernels::kBoxTreeEmpty) continue;
-            const std::uint32_t node = (c & kernels::kBoxTreeLeaf) != 0 ? c & ~kernels::kBoxTreeLeaf : w.node_of[c];
-            nodes[m].set(j, grow.grow(top.nodes[node].box));
+            const Aabb b = (c & kernels::kBoxTreeLeaf) != 0 ? grow.grow(top.nodes[c & ~kernels::kBoxTreeLeaf].box) : unions[c];
+            nodes[m].set(j, b);
+            unions[m].grow(b);
         }
     }
     std::vector<std::pair<float, std::uint32_t>> leaves;
@@ -279,7 +218,6 @@ void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Sce
     constexpr bool kAny = Query::kAnyHit;
     const std::size_t n = rays.size();
     const std::uint32_t ni = std::uint32_t(s.instances().size());
-    const bool flat = ni <= kFlatTopMax;
     // The world rays: the caller's, or with planes a copy whose tmax the
     // planes' hits clamp. Without planes a ray needs no prepare here (the
     // validity test is prepare's own; the kernels prepare what they trace).
@@ -325,8 +263,7 @@ void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Sce
         trace_one_instance(s, world, live, hits, bottom);
         return;
     }
-    if (flat) collect_flat(s, world, live, max_slack, isa, cand, first);
-    else collect_tree(s, world, live, max_slack, isa, cand, first);
+    collect_tree(s, world, live, max_slack, isa, cand, first);
     first[n] = std::uint32_t(cand.size());
     std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs, sorted;  // (instance, ray)
     std::vector<std::uint32_t> count;

@@ -225,10 +225,9 @@ TEST(SceneBuiltins, InstancesOfAnIcosphere) {
     const SceneDesc d = scene::instances_scene(scene::icosphere(3), 40);
     check_builtin(d, rays_in({-20, -20, -20}, {20, 20, 20}, {-4, -4, -4}, {4, 4, 4}, 600), 100);
 }
-// More instances than the flat candidate collection takes (kFlatTopMax = 128 in traverse.cpp): the batches
-// collect candidates through the top-level tree. Closest hits bit for bit, any hits the same hit/miss, at every
-// width and ISA (150 instances); and the same for 40 and 100 instances (the flat collection) and for one
-// instance (no top-level box test: its bottom level's own bounds test).
+// The batches collect candidates by walking the 8-wide top level (collect_tree in traverse.cpp, the SIMD
+// kernels::collect_box8_tree): closest hits bit for bit, any hits the same hit/miss, at every width and ISA, for
+// 40, 100 and 150 instances; and for one instance (no top-level box test: its bottom level's own bounds test).
 template <int N>
 void check_width(const SceneDesc& d, const std::vector<Ray>& rays, const std::vector<SceneHit>& want,
                  const std::vector<SceneHit>& want_any) {

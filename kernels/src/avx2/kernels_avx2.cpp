@@ -21,11 +21,13 @@ SIMDBVH_FLATTEN void intersect_box8_groups(std::span<const Ray> rays, std::span<
     Loops::box8_groups(rays, supers, groups, masks, entries);
 }
 
-SIMDBVH_FLATTEN void collect_box8_tree(std::span<const Ray> rays, std::span<const std::uint8_t> live,
-                                       std::span<const Box8> nodes, std::span<const std::uint32_t> children,
-                                       std::vector<std::pair<float, std::uint32_t>>& out, std::uint32_t* first) {
+SIMDBVH_FLATTEN detail::TreeWalk collect_box8_tree(std::span<const Ray> rays, std::span<const std::uint8_t> live,
+                                                   std::span<const Box8> nodes,
+                                                   std::span<const std::uint32_t> children, std::size_t leaf_lanes,
+                                                   std::uint32_t* stack, std::pair<float, std::uint32_t>* out,
+                                                   std::size_t used, std::size_t cap, std::uint32_t* first) {
     detail::note_isa_used(Isa::avx2);
-    Loops::box8_tree(rays, live, nodes, children, out, first);
+    return Loops::box8_tree(rays, live, nodes, children, leaf_lanes, stack, out, used, cap, first);
 }
 
 SIMDBVH_FLATTEN std::uint64_t count_box8_hits(std::span<const Ray> rays, std::span<const Box8> blocks) {

@@ -5,7 +5,6 @@
 #endif
 #include <limits>
 
-#include "box_tree_walk-inl.h"
 #include "simd/dispatch.h"
 #include "simdbvh/kernels/box.h"
 
@@ -162,11 +161,13 @@ struct ScalarTreeTest {
 };
 }  // namespace
 
-void collect_box8_tree(std::span<const Ray> rays, std::span<const std::uint8_t> live, std::span<const Box8> nodes,
-                       std::span<const std::uint32_t> children, std::vector<std::pair<float, std::uint32_t>>& out,
-                       std::uint32_t* first) {
+detail::TreeWalk collect_box8_tree(std::span<const Ray> rays, std::span<const std::uint8_t> live,
+                                   std::span<const Box8> nodes, std::span<const std::uint32_t> children,
+                                   std::size_t leaf_lanes, std::uint32_t* stack, std::pair<float, std::uint32_t>* out,
+                                   std::size_t used, std::size_t cap, std::uint32_t* first) {
     detail::note_isa_used(Isa::scalar);
-    kernels::detail::walk_box_tree(rays, live, nodes.size(), children, out, first, ScalarTreeTest{nodes.data()});
+    return kernels::detail::walk_box_tree(rays, live, !nodes.empty(), children, leaf_lanes, stack, out, used, cap,
+                                          first, ScalarTreeTest{nodes.data()});
 }
 
 std::uint64_t count_box8_hits(std::span<const Ray> rays, std::span<const Box8> blocks) {

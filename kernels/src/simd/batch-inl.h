@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <limits>
 
-#include "box_tree_walk-inl.h"
 #include "simd/box8-inl.h"
 #include "simdbvh/kernels/batch.h"
 #include "simd/dispatch.h"
@@ -83,11 +82,12 @@ struct BatchLoops {
             return intersect_box8<Arch>(s.p, nodes[n], s.tmax, e);
         }
     };
-    static SIMDBVH_FORCE_INLINE void box8_tree(std::span<const Ray> rays, std::span<const std::uint8_t> live,
-                                               std::span<const Box8> nodes, std::span<const std::uint32_t> children,
-                                               std::vector<std::pair<float, std::uint32_t>>& out,
-                                               std::uint32_t* first) {
-        kernels::detail::walk_box_tree(rays, live, nodes.size(), children, out, first, TreeTest{nodes.data()});
+    static SIMDBVH_FORCE_INLINE kernels::detail::TreeWalk box8_tree(
+        std::span<const Ray> rays, std::span<const std::uint8_t> live, std::span<const Box8> nodes,
+        std::span<const std::uint32_t> children, std::size_t leaf_lanes, std::uint32_t* stack,
+        std::pair<float, std::uint32_t>* out, std::size_t used, std::size_t cap, std::uint32_t* first) {
+        return kernels::detail::walk_box_tree(rays, live, !nodes.empty(), children, leaf_lanes, stack, out, used, cap,
+                                              first, TreeTest{nodes.data()});
     }
 
     static SIMDBVH_FORCE_INLINE std::uint64_t count_box8(std::span<const Ray> rays, std::span<const Box8> blocks) {

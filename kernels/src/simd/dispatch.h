@@ -7,6 +7,7 @@
 
 #include "simdbvh/kernels/batch.h"
 #include "simdbvh/kernels/testing.h"
+#include "box_tree_walk-inl.h"
 
 namespace simdbvh::kernels {
 

@@ -108,12 +108,12 @@ static_assert(sizeof(InstanceRecord) == 52);
 // The top level collapsed to 8 children per node (the SAH collapse of the wide
 // trees, over the top BVH2), walked by batches (kernels::collect_box8_tree).
 // Lane j of wide node n: children[8 n + j] is kernels::kBoxTreeEmpty (unused),
-// a wide node m > n (its box: top().nodes[node_of[m]].box), or
-// kernels::kBoxTreeLeaf | k for the top BVH2's leaf node k (its box and its
-// instances, top().prim_ids[first, first + count)). 36 bytes per wide node.
+// a wide node m > n, or kernels::kBoxTreeLeaf | k for the top BVH2's leaf node
+// k (its box and its instances, top().prim_ids[first, first + count)). An
+// inner lane's box is the union of its node's lanes (computed per batch, with
+// the rays' slack). 32 bytes per wide node.
 struct TopWide {
     std::vector<std::uint32_t> children;  // 8 per wide node
-    std::vector<std::uint32_t> node_of;   // per wide node: the top BVH2 node it was collapsed from
 };
 
 template <int N>
