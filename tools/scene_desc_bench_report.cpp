@@ -186,14 +186,15 @@ std::string summary(const std::vector<SpherePrecisionRow>& rows) {
 }
 
 const char* kNote =
-    "One thread; the same rays for every method: primary = one ray per pixel of the render's camera (inside a room's "
-    "walls), incoherent = origins uniform in the scene's bounds and directions uniform on the sphere. Mrays/s: "
-    "median of the timed traces after an untimed warm-up, the methods interleaved; builds: median of the builds after "
-    "an untimed first one. Ours: the two-level scene (BVH8 bottom levels, a BVH2 over the instances, planes outside "
-    "the tree), active ISA. Embree: one RTC_GEOMETRY_TYPE_INSTANCE per instance, spheres as "
-    "RTC_GEOMETRY_TYPE_SPHERE_POINT, boxes as six quads, planes through the same per-ray loop as ours (Embree has no "
-    "plane primitive); its bytes are its device memory (buffers and BVHs), ours our structures (which hold their own "
-    "triangle copies). In parentheses: the ratio to Embree's instanced scene in the same run.";
+    "One thread; the same rays for every method: primary = one ray per pixel of the render's camera (inside a "
+    "room's walls), incoherent = origins uniform in the scene's bounds and directions uniform on the sphere. "
+    "Mrays/s: median of the timed traces after an untimed warm-up, the methods interleaved; builds: median of the "
+    "builds after an untimed first one. Ours: the two-level scene (BVH8 bottom levels, an 8-wide top level over "
+    "the instances for batches (a BVH2 for single rays), planes outside the tree), active ISA. Embree: one "
+    "RTC_GEOMETRY_TYPE_INSTANCE per instance, spheres as RTC_GEOMETRY_TYPE_SPHERE_POINT, boxes as six quads, "
+    "planes through the same per-ray loop as ours (Embree has no plane primitive); its bytes are its device memory "
+    "(buffers and BVHs), ours our structures (which hold their own triangle copies). In parentheses: the ratio to "
+    "Embree's instanced scene in the same run.";
 
 // The report body; `img` prefixes chart paths (the report folder or docs/results/ from the README).
 std::string body(const SceneDescBenchResults& r, const std::string& img, bool charts, bool readme) {
