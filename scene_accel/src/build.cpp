@@ -127,10 +127,6 @@ float max_abs(const Aabb& b) {
     return m;
 }
 
-}  // namespace
-
-namespace {
-
 // The top BVH2 collapsed to 8 children per node (TopWide in scene.h): the
 // collapse of the wide trees with one BVH2 leaf per wide leaf.
 TopWide wide_top(const Bvh2Topology& top) {

@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <memory>
 #include <utility>
 #include <vector>
 #include <type_traits>
@@ -116,9 +115,10 @@ SceneHit trace(const SceneBvhN<N>& s, const Ray& ray, Isa isa) {
 // in one batched kernel call (kernels::collect_box8_tree), which reports each
 // ray's leaves with their entry distances; a leaf's instances share its entry.
 // The leaf boxes are grown by the largest slack of the chunk's live rays, and
-// each inner lane's box is the union of the lanes below it, so a ray reaches exactly the
-// leaves whose grown boxes it enters: a superset of what the per-ray walk with
-// its own slack gives (a larger box, the same conservative slab test). Extra
+// each inner lane's box is the union of the lanes below it, so a ray reaches
+// exactly the leaves whose grown boxes it enters: a superset of what the
+// per-ray walk with its own slack gives (a larger box, the same conservative
+// slab test; a box inside one the test misses is missed too). Extra
 // candidates only add exact bottom-level tests whose hits are real, and hits
 // are merged by closer(), so the results are trace()'s and the brute force's
 // bit for bit. Against the earlier forms, one scalar BVH2 walk per ray (above
@@ -146,7 +146,8 @@ void collect_tree(const SceneBvhN<N>& s, std::span<const Ray> world, const std::
         for (int j = 0; j < 8; ++j) {
             const std::uint32_t c = w.children[8 * m + std::size_t(j)];
             if (c == kernels::kBoxTreeEmpty) continue;
-            const Aabb b = (c & kernels::kBoxTreeLeaf) != 0 ? grow.grow(top.nodes[c & ~kernels::kBoxTreeLeaf].box) : unions[c];
+            const bool leaf = (c & kernels::kBoxTreeLeaf) != 0;
+            const Aabb b = leaf ? grow.grow(top.nodes[c & ~kernels::kBoxTreeLeaf].box) : unions[c];
             nodes[m].set(j, b);
             unions[m].grow(b);
         }
