@@ -106,6 +106,9 @@ void collect_box8_tree(std::span<const Ray> rays, std::span<const std::uint8_t> 
     std::size_t leaf_lanes = 0;
     for (const std::uint32_t c : children) leaf_lanes += c != kBoxTreeEmpty && (c & kBoxTreeLeaf) != 0;
     std::vector<std::uint32_t> stack(std::max<std::size_t>(nodes.size(), 1));
+    const auto walk = isa == Isa::avx512 ? avx512::collect_box8_tree
+                      : isa == Isa::avx2 ? avx2::collect_box8_tree
+                                         : scalar::collect_box8_tree;
     std::size_t used = out.size(), done = 0;
     constexpr std::size_t kMaxOut = 0xFFFFFFFFu;  // first[] holds 32-bit offsets
     for (;;) {
@@ -114,21 +117,8 @@ void collect_box8_tree(std::span<const Ray> rays, std::span<const std::uint8_t> 
         out.resize(cap);
         const std::span<const Ray> rest = rays.subspan(done);
         const std::span<const std::uint8_t> rest_live = live.empty() ? live : live.subspan(done);
-        detail::TreeWalk w;
-        switch (isa) {
-        case Isa::avx512:
-            w = avx512::collect_box8_tree(rest, rest_live, nodes, children, leaf_lanes, stack.data(), out.data(), used,
-                                          cap, first.data() + done);
-            break;
-        case Isa::avx2:
-            w = avx2::collect_box8_tree(rest, rest_live, nodes, children, leaf_lanes, stack.data(), out.data(), used,
+        const detail::TreeWalk w = walk(rest, rest_live, nodes, children, leaf_lanes, stack.data(), out.data(), used,
                                         cap, first.data() + done);
-            break;
-        case Isa::scalar:
-            w = scalar::collect_box8_tree(rest, rest_live, nodes, children, leaf_lanes, stack.data(), out.data(), used,
-                                          cap, first.data() + done);
-            break;
-        }
         used = w.used;
         done += w.rays_done;
         if (done == rays.size()) break;
