@@ -22,7 +22,8 @@ int MethodSpec::width() const {
 
 std::string MethodSpec::label() const {
     if (is_wide(method) || method == "brute8")
-        return method + "/" + std::string(name(isa)) + (test == TriangleTest::moller ? "/moller" : "");
+        return method + (bvh8.quantized_nodes ? "q" : "") + "/" + std::string(name(isa)) +
+               (test == TriangleTest::moller ? "/moller" : "");
     if (method == "auto") return "auto/" + std::string(name(isa));
     if (method == "embree") return "embree/" + quality + (robust ? "/robust" : "/default");
     // Non-default variants are named: bvh2/moller, bvh2/plain-box, brute/moller.
@@ -46,7 +47,8 @@ std::string MethodSpec::builder_name() const {
 }
 
 void add_method_options(std::set<std::string>& valued, std::set<std::string>& flags) {
-    for (const char* k : {"method", "isa", "builder", "bins", "collapse", "test", "box", "quality", "threads"}) valued.insert(k);
+    for (const char* k : {"method", "isa", "builder", "bins", "collapse", "nodes", "test", "box", "quality", "threads"})
+        valued.insert(k);
     flags.insert("robust");
 }
 
@@ -77,6 +79,11 @@ MethodSpec parse_method(const Options& o, const std::string& fallback) {
         if (!c) throw UsageError("unknown --collapse '" + o.get("collapse") + "' (sah, greedy)");
         s.bvh8.collapse = *c;
     }
+    const std::string nodes = o.get("nodes", "full");
+    if (nodes == "quantized") s.bvh8.quantized_nodes = true;
+    else if (nodes != "full") throw UsageError("unknown --nodes '" + nodes + "' (full, quantized)");
+    if (s.bvh8.quantized_nodes && !is_wide(s.method))
+        throw UsageError("--nodes quantized is a bvh4 / bvh8 / bvh16 variant only (not " + s.method + ")");
     const std::string test = o.get("test", "watertight");
     if (test == "watertight") s.test = TriangleTest::watertight;
     else if (test == "moller") s.test = TriangleTest::moller;

@@ -17,7 +17,7 @@ struct MethodSpec {
     Isa isa = Isa::scalar;        // the wide BVHs only (bvh2 and brute are scalar)
     bool isa_auto = false;        // no --isa: the wide BVHs choose by speed (bvh8.h, traversal_isa_choice)
     BuildOptions build;
-    WideOptions bvh8;             // collapse options of bvh4, bvh8, bvh16
+    WideOptions bvh8;             // collapse options of bvh4, bvh8, bvh16 (--nodes quantized: label bvh8q/...)
     TriangleTest test = TriangleTest::watertight;
     BoxTest box = BoxTest::conservative;  // bvh2 only (bvh8 always conservative)
     std::string quality = "medium";  // embree: medium | high
@@ -48,7 +48,7 @@ inline constexpr const char* kWideMethods[] = {"bvh4", "bvh8", "bvh16"};
 bool is_wide(const std::string& method);
 
 // Options every tracing command accepts: --method --isa --builder --bins
-// --collapse --test --box --quality --robust --threads.
+// --collapse --nodes --test --box --quality --robust --threads.
 void add_method_options(std::set<std::string>& valued, std::set<std::string>& flags);
 // `fallback`: the method without --method (trace: auto).
 MethodSpec parse_method(const Options& o, const std::string& fallback = "bvh2");

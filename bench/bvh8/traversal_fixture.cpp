@@ -25,6 +25,10 @@ const TraversalScene& traversal_scene() {
         t.bvh8_greedy = Bvh8::build(t.bvh2, g);
         t.bvh4 = Bvh4::build(t.bvh2);
         t.bvh16 = Bvh16::build(t.bvh2);
+        Bvh8Options q;
+        q.quantized_nodes = true;
+        t.bvh8q = Bvh8::build(t.bvh2, q);
+        t.bvh16q = Bvh16::build(t.bvh2, q);
         const char* n = std::getenv("SIMDBVH_BENCH_RAYS");
         const std::size_t count = n && *n ? std::strtoull(n, nullptr, 10) : 100000;
         for (scene::RayKind k : {scene::RayKind::primary, scene::RayKind::incoherent, scene::RayKind::diffuse})
@@ -56,7 +60,9 @@ int main(int argc, char** argv) {
     const std::pair<const char*, const simdbvh::WideStats*> wide[] = {{"bvh4_sah", &s.bvh4.stats()},
                                                                       {"bvh8_sah", &s.bvh8.stats()},
                                                                       {"bvh8_greedy", &s.bvh8_greedy.stats()},
-                                                                      {"bvh16_sah", &s.bvh16.stats()}};
+                                                                      {"bvh16_sah", &s.bvh16.stats()},
+                                                                      {"bvh8_quantized", &s.bvh8q.stats()},
+                                                                      {"bvh16_quantized", &s.bvh16q.stats()}};
     for (const auto& [label, stats] : wide) {
         const auto& st = *stats;
         benchmark::AddCustomContext(label,

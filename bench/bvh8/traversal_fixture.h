@@ -1,6 +1,7 @@
 #pragma once
 // Shared by bench/bvh2 and bench/bvh8 traversal benchmarks: one scene, its
-// BVH2, the BVH4, BVH8 and BVH16 collapsed from it, and the rays of each kind,
+// BVH2, the BVH4, BVH8 and BVH16 collapsed from it (BVH8 and BVH16 also with
+// quantized nodes), and the rays of each kind,
 // built once per run (untimed).
 // Scene: $SIMDBVH_BENCH_SCENE, default dragon when cached, else terrain.
 // Rays per kind: $SIMDBVH_BENCH_RAYS (default 100000).
@@ -21,6 +22,8 @@ struct TraversalScene {
     simdbvh::Bvh8 bvh8_greedy;  // greedy collapse
     simdbvh::Bvh4 bvh4;         // SAH collapse of the same BVH2, 4 and 16 wide
     simdbvh::Bvh16 bvh16;
+    simdbvh::Bvh8 bvh8q;  // bvh8 and bvh16 with quantized nodes (WideOptions::quantized_nodes)
+    simdbvh::Bvh16 bvh16q;
     std::vector<simdbvh::Ray> rays[3];  // indexed by RayKind
 };
 

@@ -1,5 +1,6 @@
 // Wide BVH traversal per ISA (scalar reference loops, AVX2, AVX-512): BVH8
-// with SAH and greedy collapse, BVH4 and BVH16 (SAH) from the same BVH2, BVH8
+// with SAH and greedy collapse, BVH4 and BVH16 (SAH) from the same BVH2, BVH8 and BVH16 with quantized nodes
+// (BM_Bvh8Quantized, BM_Bvh16Quantized), BVH8
 // with the rays in flight forced (BM_Bvh8InFlight: 1 or 8 against the size rule).
 // rays/s as the rate counter, wide nodes visited per ray; box and triangle
 // counters count lanes (N per node, 8 per Tri8 block).
@@ -41,7 +42,8 @@ void run_wide(benchmark::State& st, const simdbvh::BvhN<N>& bvh, Isa isa, Collap
     st.counters["nodes/ray"] = double(ts.nodes_visited) / n;
     st.counters["boxes/ray"] = double(ts.box_tests) / n;
     st.counters["tris/ray"] = double(ts.triangle_tests) / n;
-    st.SetLabel("bvh" + std::to_string(N) + " " + std::string(simdbvh::name(isa)) + " " +
+    st.SetLabel("bvh" + std::to_string(N) + (bvh.qnodes().empty() ? "" : " quantized") + " " +
+                std::string(simdbvh::name(isa)) + " " +
                 std::string(simdbvh::name(collapse)) + " " + std::string(simdbvh::scene::name(kind)) +
                 (any ? " any" : " closest") +
                 (timed.in_flight != 0 ? " in_flight " + std::to_string(timed.in_flight) : std::string()));
@@ -56,6 +58,14 @@ void BM_Bvh4(benchmark::State& st, Isa isa, Collapse collapse, RayKind kind, boo
 }
 void BM_Bvh16(benchmark::State& st, Isa isa, Collapse collapse, RayKind kind, bool any) {
     run_wide<16>(st, bench::traversal_scene().bvh16, isa, collapse, kind, any);
+}
+
+// The same trees with quantized nodes (qnode.h), beside BM_Bvh8 and BM_Bvh16.
+void BM_Bvh8Quantized(benchmark::State& st, Isa isa, Collapse collapse, RayKind kind, bool any) {
+    run_wide<8>(st, bench::traversal_scene().bvh8q, isa, collapse, kind, any);
+}
+void BM_Bvh16Quantized(benchmark::State& st, Isa isa, Collapse collapse, RayKind kind, bool any) {
+    run_wide<16>(st, bench::traversal_scene().bvh16q, isa, collapse, kind, any);
 }
 
 // BVH8 (SAH) with the rays in flight forced (TraceOptions::in_flight: by
@@ -144,5 +154,10 @@ SIMDBVH_WIDE_BENCH(BM_Bvh4, avx512, sah);
 SIMDBVH_WIDE_BENCH(BM_Bvh16, scalar, sah);
 SIMDBVH_WIDE_BENCH(BM_Bvh16, avx2, sah);
 SIMDBVH_WIDE_BENCH(BM_Bvh16, avx512, sah);
+SIMDBVH_WIDE_BENCH(BM_Bvh8Quantized, scalar, sah);
+SIMDBVH_WIDE_BENCH(BM_Bvh8Quantized, avx2, sah);
+SIMDBVH_WIDE_BENCH(BM_Bvh8Quantized, avx512, sah);
+SIMDBVH_WIDE_BENCH(BM_Bvh16Quantized, avx2, sah);
+SIMDBVH_WIDE_BENCH(BM_Bvh16Quantized, avx512, sah);
 
 }  // namespace

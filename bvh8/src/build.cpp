@@ -2,6 +2,7 @@
 #include <chrono>
 
 #include "collapse.h"
+#include "quantize.h"
 #include "simdbvh/bvh8/bvh8.h"
 
 namespace simdbvh {
@@ -30,6 +31,7 @@ struct WideAccess {
         b.stats_.sah_cost = bvh8::sah_cost(topo, opts);
         b.bounds_ = bvh2.bounds();
         b.opts_ = opts;
+        b.quantize();
         b.stats_.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         return b;
     }
@@ -50,10 +52,20 @@ struct WideAccess {
         bvh8::pack<N>(mesh, topo2.prim_ids, topo, b.nodes_, b.blocks_, b.stats_, opts.threads);
         b.stats_.sah_cost = bvh8::sah_cost(topo, opts);
         b.opts_ = opts;
+        b.quantize();
         b.stats_.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         return b;
     }
 };
+
+template <int N>
+void BvhN<N>::quantize() {
+    std::vector<QNode>().swap(qnodes_);
+    if (!opts_.quantized_nodes) return;
+    qnodes_ = bvh8::quantize<N>(nodes_, opts_.threads);
+    if (stats_.triangles)
+        stats_.bytes_per_triangle += double(qnodes_.size() * sizeof(QNode)) / double(stats_.triangles);
+}
 
 template <int N>
 BvhN<N> BvhN<N>::build(const Bvh2& bvh2, const WideOptions& opts) {

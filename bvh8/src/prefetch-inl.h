@@ -7,11 +7,11 @@
 namespace simdbvh::bvh8::detail {
 
 // Prefetch the lines of the next node or leaf a query will visit (a NodeN:
-// N / 2 lines; a leaf: its first Tri8 block, 320 bytes at 64-byte alignment:
+// N / 2 lines, a QNodeN N / 4 (N = 8, 16); a leaf: its first Tri8 block, 320 bytes at 64-byte alignment:
 // 5 lines) at the end of its step, so the miss overlaps the other queries' steps.
-template <int N>
-inline __attribute__((always_inline)) void prefetch_child(const NodeN<N>* nodes, const Tri8* blocks, ChildN<N> c) {
-    constexpr int kNodeLines = int(sizeof(NodeN<N>) / 64), kBlockLines = int((sizeof(Tri8) + 63) / 64);
+template <class Node, class Child>
+inline __attribute__((always_inline)) void prefetch_child(const Node* nodes, const Tri8* blocks, Child c) {
+    constexpr int kNodeLines = int(sizeof(Node) / 64), kBlockLines = int((sizeof(Tri8) + 63) / 64);
     constexpr int kBoth = kNodeLines < kBlockLines ? kNodeLines : kBlockLines;
     const char* p = c.is_inner() ? reinterpret_cast<const char*>(nodes + c.index)
                                  : reinterpret_cast<const char*>(blocks + c.index);

@@ -2,12 +2,14 @@
 // block packing. Blocks are re-gathered and leaf slots re-bounded in
 // parallel; inner slots are then bounded in reverse node order (the collapse
 // allocates a node's inner children after it).
+#include <atomic>
 #include <cmath>
 #include <string>
 
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/kernels/parallel.h"
+#include "quantize.h"
 #include "tri8_lanes-inl.h"
 
 namespace simdbvh {
@@ -112,6 +114,14 @@ void BvhN<N>::refit(const Mesh& mesh, int threads) {
     }
     bounds_ = n ? union_of_slots(nodes_[0]) : Aabb{};
     stats_.sah_cost = wide_sah(nodes_, bounds_, opts_);
+    if (!qnodes_.empty()) {  // requantized in place: the same node count, so no allocation
+        std::atomic<bool> ok{true};
+        parallel_for(n, threads, [&](std::size_t b, std::size_t e) {
+            for (std::size_t i = b; i < e; ++i)
+                if (!bvh8::quantize_box<N>(nodes_[i].boxes, nodes_[i].children, qnodes_[i].boxes)) ok.store(false);
+        }, po);
+        if (!ok.load()) std::vector<QNode>().swap(qnodes_);  // an extent no grid spans: traversal reads the full nodes
+    }
 }
 
 template void BvhN<4>::refit(const Mesh&, int);

@@ -2,6 +2,7 @@
 // The xsimd kernels (kernels/src/simd) behind traverse-inl.h's K interface:
 // the N-wide node test and the 8-wide Tri8 tests. Include only from src/avx2
 // and src/avx512 translation units.
+#include "qbox-inl.h"
 #include "simd/box8-inl.h"
 #include "simd/tri8-inl.h"
 
@@ -16,6 +17,10 @@ struct SimdKernels {
     template <int N>
     static SIMDBVH_FORCE_INLINE std::uint32_t box(const RayData& r, const BoxN<N>& b, float tmax, float* entries) {
         return simd::intersect_boxn<Arch, N>(r, b, tmax, entries);
+    }
+    template <int N>
+    static SIMDBVH_FORCE_INLINE std::uint32_t box(const RayData& r, const QBoxN<N>& b, float tmax, float* entries) {
+        return simd::intersect_qboxn<Arch, N>(r, b, tmax, entries);
     }
     template <TriangleTest kTest>
     static SIMDBVH_FORCE_INLINE void closest(const RayData& r, const Tri8& b, Hit& best) {

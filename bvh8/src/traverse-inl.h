@@ -72,8 +72,8 @@ struct Tri8Leaf {
         }
         return false;
     }
-    template <int N>
-    SIMDBVH_TRAVERSE_INLINE void prefetch(const NodeN<N>* nodes, ChildN<N> c) const {
+    template <class Node, class Child>
+    SIMDBVH_TRAVERSE_INLINE void prefetch(const Node* nodes, Child c) const {
         prefetch_child(nodes, blocks, c);
     }
 };
@@ -95,8 +95,8 @@ struct StackEntry {
 // Hit leaf siblings sharing one Tri8 block (ChildN::sharing_slots) are merged
 // into the lowest hit slot at the nearest of their entry distances, so the
 // block is tested once. Called with two or more hits in `mask`.
-template <int N>
-inline __attribute__((always_inline)) std::uint32_t merge_shared(const NodeN<N>& n, std::uint32_t mask,
+template <class Node>
+inline __attribute__((always_inline)) std::uint32_t merge_shared(const Node& n, std::uint32_t mask,
                                                                  float* entries) {
     for (std::uint32_t m = mask; m != 0;) {
         const int i = __builtin_ctz(m);
@@ -127,18 +127,18 @@ struct RayState {
     StackEntry stack[kStackSize<N>];
 };
 
-// One traversal step of ray `s`: visits s.cur (one NodeN or one leaf), then
+// One traversal step of ray `s`: visits s.cur (one NodeN or QNodeN, or one leaf), then
 // sets s.cur to the next node or leaf to visit. Returns true when the ray is
 // finished, its result in s.best (Query::finish turns it into the Hit).
-template <class K, int N, class Leaf, class Query, bool kStats, class State>
-inline __attribute__((always_inline)) bool step(const NodeN<N>* nodes, const Leaf& leaf, State& s,
+template <class K, int N, class Leaf, class Query, bool kStats, class Node, class State>
+inline __attribute__((always_inline)) bool step(const Node* nodes, const Leaf& leaf, State& s,
                                                 TraceStats* stats) {
     using Child = ChildN<N>;
     const typename K::RayData& rd = s.rd;
     Hit& best = s.best;
     StackEntry* stack = s.stack;
     if (s.cur.count == 0) {
-        const NodeN<N>& n = nodes[s.cur.index];
+        const Node& n = nodes[s.cur.index];
         if constexpr (kStats) {
             stats->nodes_visited++;
             stats->box_tests += N;
@@ -233,11 +233,11 @@ inline __attribute__((always_inline)) bool start(State& s, const Ray& ray, std::
     return true;
 }
 
-// The batch loop over any wide tree: `nodes` (root at 0), its bounds (nullptr:
+// The batch loop over any wide tree: `nodes` (NodeN or QNodeN, root at 0), its bounds (nullptr:
 // an empty tree) and the leaf intersector, kFlight rays in flight (1 for a
 // tree that stays in cache, where interleaving only costs state switches).
-template <class K, int N, class Leaf, class Query, bool kStats, int kFlight = kInFlight>
-inline __attribute__((always_inline)) void trace_span(const NodeN<N>* nodes, const Aabb* root, const Leaf& leaf,
+template <class K, int N, class Leaf, class Query, bool kStats, int kFlight = kInFlight, class Node>
+inline __attribute__((always_inline)) void trace_span(const Node* nodes, const Aabb* root, const Leaf& leaf,
                                                       std::span<const Ray> rays, std::span<Hit> hits,
                                                       TraceStats* stats) {
     using State = RayState<K, N, typename Leaf::Keep>;
@@ -272,13 +272,18 @@ inline __attribute__((always_inline)) void trace_span(const NodeN<N>* nodes, con
     }
 }
 
-// A BvhN: its nodes, bounds and Tri8 blocks.
+// A BvhN: its nodes (the quantized ones when it has them), bounds and Tri8 blocks.
 template <class K, int N, class Leaf, class Query, bool kStats, int kFlight = kInFlight>
 inline __attribute__((always_inline)) void trace_span(const BvhN<N>& bvh, std::span<const Ray> rays,
                                                       std::span<Hit> hits, TraceStats* stats) {
     const Aabb bounds = bvh.bounds();
-    trace_span<K, N, Leaf, Query, kStats, kFlight>(bvh.nodes().data(), bvh.nodes().empty() ? nullptr : &bounds,
-                                                   Leaf{bvh.blocks().data()}, rays, hits, stats);
+    const Aabb* root = bvh.nodes().empty() ? nullptr : &bounds;
+    if (!bvh.qnodes().empty())
+        trace_span<K, N, Leaf, Query, kStats, kFlight>(bvh.qnodes().data(), root, Leaf{bvh.blocks().data()}, rays,
+                                                       hits, stats);
+    else
+        trace_span<K, N, Leaf, Query, kStats, kFlight>(bvh.nodes().data(), root, Leaf{bvh.blocks().data()}, rays,
+                                                       hits, stats);
 }
 
 // Triangle test, stats and rays in flight chosen once per batch (stats: 8).
@@ -289,7 +294,10 @@ inline __attribute__((always_inline)) void trace(const BvhN<N>& bvh, std::span<c
     if (o.stats) {
         if (o.test == watertight) trace_span<K, N, Tri8Leaf<K, watertight, true>, Query, true>(bvh, rays, hits, o.stats);
         else trace_span<K, N, Tri8Leaf<K, moller, true>, Query, true>(bvh, rays, hits, o.stats);
-    } else if (one_in_flight(bvh.nodes().size() * sizeof(NodeN<N>) + bvh.blocks().size() * sizeof(Tri8), o.in_flight)) {
+    } else if (one_in_flight((bvh.qnodes().empty() ? bvh.nodes().size() * sizeof(NodeN<N>)
+                                                   : bvh.qnodes().size() * sizeof(QNodeN<N>)) +
+                                 bvh.blocks().size() * sizeof(Tri8),
+                             o.in_flight)) {
         if (o.test == watertight) trace_span<K, N, Tri8Leaf<K, watertight, false>, Query, false, 1>(bvh, rays, hits, nullptr);
         else trace_span<K, N, Tri8Leaf<K, moller, false>, Query, false, 1>(bvh, rays, hits, nullptr);
     } else {

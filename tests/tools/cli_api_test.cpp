@@ -9,6 +9,7 @@
 #include <unistd.h>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include "simdbvh/bvh2/bvh2.h"
@@ -98,6 +99,27 @@ TEST_F(Cli, UnknownOptionAndCommandExit2) {
     CliRun d = run_cli("trace --scene icosphere-2 --rays x --out y --method bvh32");
     EXPECT_EQ(d.status, 2);
     EXPECT_NE(d.output.find("bvh32"), std::string::npos) << d.output;
+}
+
+// --nodes quantized: the label ends in q, the hit file is byte for byte the
+// full nodes' one; an unknown value, or quantized nodes for a non-wide method, exit 2.
+TEST_F(Cli, QuantizedNodesSameHitFile) {
+    const std::string rays = path("r.bin"), full = path("full.hits"), quant = path("q.hits"), bad = path("bad.hits");
+    ASSERT_EQ(run_cli("gen-rays --scene soup-2000 --kind incoherent --count 3000 --out " + rays).status, 0);
+    ASSERT_EQ(run_cli("trace --scene soup-2000 --method bvh16 --rays " + rays + " --out " + full).status, 0);
+    CliRun q = run_cli("trace --scene soup-2000 --method bvh16 --nodes quantized --rays " + rays + " --out " + quant);
+    ASSERT_EQ(q.status, 0) << q.output;
+    EXPECT_NE(q.output.find("method bvh16q/"), std::string::npos) << q.output;
+    std::ifstream a(full, std::ios::binary), b(quant, std::ios::binary);
+    const std::string fa((std::istreambuf_iterator<char>(a)), {}), fb((std::istreambuf_iterator<char>(b)), {});
+    EXPECT_GT(fa.size(), 3000u);
+    EXPECT_EQ(fa, fb);
+    CliRun u = run_cli("trace --scene soup-2000 --method bvh8 --nodes tiny --rays " + rays + " --out " + bad);
+    EXPECT_EQ(u.status, 2);
+    EXPECT_NE(u.output.find("tiny"), std::string::npos) << u.output;
+    CliRun w = run_cli("trace --scene soup-2000 --method bvh2 --nodes quantized --rays " + rays + " --out " + bad);
+    EXPECT_EQ(w.status, 2);
+    EXPECT_FALSE(fs::exists(bad));
 }
 
 // --method bvh4|bvh8|bvh16 at every ISA the CPU has: the label names width and

@@ -6,6 +6,7 @@
 #include "simdbvh/kernels/box.h"
 #include "simdbvh/kernels/triangle.h"
 #include "simdbvh/bvh8/node.h"
+#include "simdbvh/bvh8/qnode.h"
 
 namespace simdbvh::bvh8 {
 
@@ -18,6 +19,13 @@ struct Kernels {
     static std::uint32_t box(const PreparedRay& r, const BoxN<N>& b, float tmax, float* entries) {
         std::uint32_t m = 0;
         for (int i = 0; i < N; ++i) m |= std::uint32_t(intersect_box(r, b.get(i), tmax, &entries[i])) << i;
+        return m;
+    }
+    template <int N>
+    static std::uint32_t box(const PreparedRay& r, const QBoxN<N>& b, float tmax, float* entries) {
+        std::uint32_t m = 0;
+        for (int i = 0; i < N; ++i)
+            if (b.valid >> i & 1u) m |= std::uint32_t(intersect_box(r, b.get(i), tmax, &entries[i])) << i;
         return m;
     }
     // Lanes in order with a shrinking tmax: the same result as the 8-wide

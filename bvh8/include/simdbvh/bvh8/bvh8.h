@@ -12,6 +12,7 @@
 
 #include "simdbvh/bvh2/bvh2.h"
 #include "simdbvh/bvh8/node.h"
+#include "simdbvh/bvh8/qnode.h"
 #include "simdbvh/kernels/isa.h"
 #include "simdbvh/kernels/soa.h"
 
@@ -45,6 +46,10 @@ struct WideOptions {
     // BvhN::build(mesh, bvh2_opts, opts) builds its BVH2 topology with this
     // intersection cost in place of bvh2_opts.intersection_cost.
     float bvh2_intersection_cost = kWideIntersectionCost;
+    // Also keep the nodes quantized (qnode.h: 8-bit child boxes, half the
+    // bytes per node for N = 8, 16), which traversal then reads instead of the
+    // full nodes (kept for refit, the point queries and the scenes). Same hits.
+    bool quantized_nodes = false;
 };
 using Bvh8Options = WideOptions;
 
@@ -55,7 +60,7 @@ struct WideStats {
     int width = 0;                 // N: child slots per node
     int depth = 0;
     double sah_cost = 0;           // sum of cost * A(n)/A(root) (as the BVH2), node_cost / block_cost model
-    double bytes_per_triangle = 0; // nodes + triangle blocks
+    double bytes_per_triangle = 0; // nodes (and quantized nodes) + triangle blocks
     double fill_rate = 0;          // used child slots / (N * nodes)
     double block_fill = 0;         // used triangle lanes: triangles / (kBlockWidth * blocks)
 };
@@ -71,6 +76,7 @@ public:
     static constexpr int kWidth = N;
     using Node = NodeN<N>;
     using Child = ChildN<N>;
+    using QNode = QNodeN<N>;
 
     BvhN() = default;
     static BvhN build(const Bvh2& bvh2, const WideOptions& opts = {});
@@ -91,14 +97,18 @@ public:
 
     const std::vector<Node>& nodes() const { return nodes_; }
     const Tri8Blocks& blocks() const { return blocks_; }
+    // The quantized nodes (WideOptions::quantized_nodes; else empty), one per node.
+    const std::vector<QNode>& qnodes() const { return qnodes_; }
     const WideOptions& options() const { return opts_; }
     const WideStats& stats() const { return stats_; }
     Aabb bounds() const { return bounds_; }
 
 private:
     friend struct WideAccess;
+    void quantize();  // qnodes_ from nodes_ when opts_.quantized_nodes (build.cpp)
     std::vector<Node> nodes_;  // root at 0 (when the mesh is not empty)
     Tri8Blocks blocks_;
+    std::vector<QNode> qnodes_;
     WideStats stats_;
     Aabb bounds_;
     WideOptions opts_;
