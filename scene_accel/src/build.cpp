@@ -160,6 +160,17 @@ TopWide wide_top(const Bvh2Topology& top) {
     return w;
 }
 
+// Every leaf of one instance (all of them, unless the depth cap forced a
+// larger leaf): each leaf's `first` becomes its instance id and the leaf-order
+// id array (4 bytes per instance) is dropped. Otherwise the ids stay as built.
+void fold_instance_ids(Bvh2Topology& top) {
+    for (const Node2& n : top.nodes)
+        if (n.is_leaf() && n.count != 1) return;
+    for (Node2& n : top.nodes)
+        if (n.is_leaf()) n.first = top.prim_ids[n.first];
+    std::vector<std::uint32_t>().swap(top.prim_ids);
+}
+
 }  // namespace
 
 template <int N>
@@ -203,6 +214,7 @@ SceneBvhN<N> SceneBvhN<N>::build(const SceneDesc& scene, const SceneOptions& opt
     top.min_leaf_size = 1;
     s.top_ = build_topology(boxes, centroids, top);
     s.top_wide_ = wide_top(s.top_);
+    fold_instance_ids(s.top_);
     s.planes_ = scene.planes;
     s.slack_scale_ = static_cast<float>(0x1p-16 * max_cond);
     s.magnitude_ = magnitude;

@@ -51,8 +51,7 @@ struct Bottom {
     }
 };
 
-// Leaf intersector of the top level: the leaf's instances (ids = the top
-// tree's prim_ids). The scene hit is kept here in the caller's parameter;
+// Leaf intersector of the top level: the leaf's instances (top_instance). The scene hit is kept here in the caller's parameter;
 // the loop's `best` only carries the culling distance in its own.
 template <class Query, int N>
 struct InstanceLeaf {
@@ -73,13 +72,11 @@ struct InstanceLeaf {
         return true;
     }
     void closest(const PreparedRay& r, std::uint32_t first, std::uint32_t count, Hit& best, TraceStats*) const {
-        const std::uint32_t* ids = scene->top().prim_ids.data();
-        for (std::uint32_t i = first; i < first + count; ++i) visit(r, ids[i], best);
+        for (std::uint32_t k = 0; k < count; ++k) visit(r, scene->top_instance(first, k), best);
     }
     bool any(const PreparedRay& r, std::uint32_t first, std::uint32_t count, Hit& best, TraceStats*) const {
-        const std::uint32_t* ids = scene->top().prim_ids.data();
-        for (std::uint32_t i = first; i < first + count; ++i)
-            if (visit(r, ids[i], best)) return true;
+        for (std::uint32_t k = 0; k < count; ++k)
+            if (visit(r, scene->top_instance(first, k), best)) return true;
         return false;
     }
 };
@@ -160,7 +157,7 @@ void collect_tree(const SceneBvhN<N>& s, std::span<const Ray> world, const std::
         for (std::uint32_t k = at[i]; k < at[i + 1]; ++k) {
             const auto [entry, leaf] = leaves[k];
             const Node2& nd = top.nodes[leaf];
-            for (std::uint32_t p = nd.first; p < nd.first + nd.count; ++p) cand.push_back({entry, top.prim_ids[p]});
+            for (std::uint32_t k = 0; k < nd.count; ++k) cand.push_back({entry, s.top_instance(nd.first, k)});
         }
         std::sort(cand.begin() + first[i], cand.end());
     }

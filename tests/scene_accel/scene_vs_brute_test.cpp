@@ -429,6 +429,33 @@ TEST(SceneBuild, ChildCornersAreNoLargerAndStatsCount) {
     EXPECT_EQ(s.stats().primitives, 320u + 40u + 41u);
 }
 
+// Issue 14's memory bound: at most 128 bytes per instance beyond the bottom
+// levels (here 1,000 instances of one icosphere). The top BVH2's leaves of one
+// instance carry the instance id in `first` (no id array), and top_instance()
+// names every instance exactly once over the leaves.
+TEST(SceneBuild, AtMost128BytesPerInstance) {
+    const SceneDesc d = scene::instances_scene(scene::icosphere(2), 1000);
+    const SceneBvhN<8> s = SceneBvhN<8>::build(d);
+    EXPECT_LE(s.stats().bytes_per_instance, 128u);
+    EXPECT_TRUE(s.top().prim_ids.empty());
+    std::vector<int> seen(1000, 0);
+    for (const Node2& n : s.top().nodes) {
+        if (!n.is_leaf()) continue;
+        ASSERT_EQ(n.count, 1u);
+        const std::uint32_t id = s.top_instance(n.first, 0);
+        ASSERT_LT(id, 1000u);
+        seen[id]++;
+        // The leaf's box is that instance's world box: it holds the instance's transformed bottom bounds' centre.
+        const Affine3& m = d.instances[id].transform;
+        const Vec3 c = scene::icosphere(2).bounds().center();
+        const Vec3 w{m.m[0][0] * c.x + m.m[0][1] * c.y + m.m[0][2] * c.z + m.m[0][3],
+                     m.m[1][0] * c.x + m.m[1][1] * c.y + m.m[1][2] * c.z + m.m[1][3],
+                     m.m[2][0] * c.x + m.m[2][1] * c.y + m.m[2][2] * c.z + m.m[2][3]};
+        EXPECT_TRUE(Aabb(n.box).contains(Aabb{w, w})) << "instance " << id;
+    }
+    for (int k = 0; k < 1000; ++k) EXPECT_EQ(seen[k], 1) << "instance " << k;
+}
+
 // Empty geometries, a geometry no instance uses, a scene of planes only.
 TEST(SceneBuild, EmptyPartsAndPlanesOnly) {
     SceneDesc d;

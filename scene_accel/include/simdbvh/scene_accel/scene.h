@@ -73,7 +73,7 @@ struct SceneStats {
     // Sums of the instance world-box volumes by each method (both computed at every build).
     double volume_corners = 0, volume_child_corners = 0;
     std::size_t bytes = 0;                // bottom trees + top tree + instance records + planes
-    std::size_t bytes_per_instance = 0;   // instance record + leaf index + its share of the top tree (its world box lives there)
+    std::size_t bytes_per_instance = 0;   // instance record + its share of the top trees (its world box lives there)
     double max_cond = 1.0;
 };
 
@@ -109,7 +109,7 @@ static_assert(sizeof(InstanceRecord) == 52);
 // trees, over the top BVH2), walked by batches (kernels::collect_box8_tree).
 // Lane j of wide node n: children[8 n + j] is kernels::kBoxTreeEmpty (unused),
 // a wide node m > n, or kernels::kBoxTreeLeaf | k for the top BVH2's leaf node
-// k (its box and its instances, top().prim_ids[first, first + count)). An
+// k (its box and its instances, top_instance(first, 0 .. count - 1)). An
 // inner lane's box is the union of its node's lanes (computed per batch, with
 // the rays' slack). 32 bytes per wide node.
 struct TopWide {
@@ -127,7 +127,14 @@ public:
 
     const std::vector<BottomLevel<N>>& bottoms() const { return bottoms_; }
     const std::vector<InstanceRecord>& instances() const { return instances_; }
+    // The top BVH2 over the instance boxes. Its leaves hold one instance each,
+    // whose id is the leaf's `first`, and prim_ids is empty (4 bytes per
+    // instance saved), unless the depth cap forced a larger leaf: then leaf
+    // ids are prim_ids[first, first + count). top_instance() reads either.
     const Bvh2Topology& top() const { return top_; }
+    std::uint32_t top_instance(std::uint32_t first, std::uint32_t k) const {
+        return top_.prim_ids.empty() ? first : top_.prim_ids[first + k];
+    }
     const TopWide& top_wide() const { return top_wide_; }
     const std::vector<Plane>& planes() const { return planes_; }
     const SceneStats& stats() const { return stats_; }
