@@ -28,57 +28,33 @@ SIMDBVH_FORCE_INLINE Batch<L> load_u8(const std::uint8_t* p) {
     }
 }
 
-// Lanes [lane0, lane0 + W) of a QBoxN, as box_lanes for a BoxN (the valid
-// slots are masked by the caller).
+// The dequantized planes of a QBoxN's lanes from lane0: origin + q * step,
+// the product exact, so fused or not it is QBoxN::plane's value.
+template <class L, int N>
+struct QBoxPlanes {
+    const QBoxN<N>& b;
+    int lane0;
+    SIMDBVH_FORCE_INLINE Batch<L> get(std::uint32_t box8_offset) const {
+        const std::uint32_t p = box8_offset / 32u;  // RayPack addresses a Box8: planes 32 bytes apart; here N bytes
+        const int axis = int(p / 2);
+        return xsimd::fma(load_u8<L>(b.q + p * std::uint32_t(N) + std::uint32_t(lane0)), Batch<L>(b.scale(axis)),
+                          Batch<L>(b.origin[axis]));
+    }
+};
+
+// Lanes [lane0, lane0 + W) of a QBoxN: box_lanes of box8-inl.h for the
+// quantized kind (the used slots are masked by intersect_qboxn).
 template <class L, int N, class Arch>
-SIMDBVH_FORCE_INLINE std::uint32_t qbox_lanes(const RayPack<Arch>& r, const QBoxN<N>& b, int lane0,
-                                              const Batch<L>& tmax, Batch<L>& tnear) {
-    using B = Batch<L>;
-    const std::uint8_t* base = b.q + lane0;
-    const B sx(b.scale(0)), sy(b.scale(1)), sz(b.scale(2));
-    const B gx(b.origin[0]), gy(b.origin[1]), gz(b.origin[2]);
-    // RayPack's plane offsets address a Box8 (planes 32 bytes apart); a QBoxN's planes are N bytes apart.
-    auto plane = [&](std::uint32_t box8_offset, const B& step, const B& origin) {
-        return xsimd::fma(load_u8<L>(base + (box8_offset / 32u) * std::uint32_t(N)), step, origin);
-    };
-    const B t0x = (plane(r.near_x, sx, gx) - r.ox) * r.rdx, t1x = (plane(r.far_x, sx, gx) - r.ox) * r.rdx;
-    const B t0y = (plane(r.near_y, sy, gy) - r.oy) * r.rdy, t1y = (plane(r.far_y, sy, gy) - r.oy) * r.rdy;
-    const B t0z = (plane(r.near_z, sz, gz) - r.oz) * r.rdz, t1z = (plane(r.far_z, sz, gz) - r.oz) * r.rdz;
-    const B tn = max_ps<L>(t0x, max_ps<L>(t0y, max_ps<L>(t0z, B(r.tmin))));
-    const B tf = min_ps<L>(t1x, min_ps<L>(t1y, min_ps<L>(t1z, tmax))) * B(kFarWiden) + B(r.far_slack);
-    tnear = tn;
-    return bits<L>(tn <= tf);
+SIMDBVH_FORCE_INLINE std::uint32_t box_lanes(const RayPack<Arch>& r, const QBoxN<N>& b, int lane0,
+                                             const Batch<L>& tmax, Batch<L>& tnear) {
+    return slab_lanes<L>(r, QBoxPlanes<L, N>{b, lane0}, tmax, tnear);
 }
 
-// One ray against the N boxes of a quantized node, as intersect_boxn.
+// One ray against the N boxes of a quantized node, as intersect_boxn, empty slots masked.
 template <class Arch, int N>
 SIMDBVH_FORCE_INLINE std::uint32_t intersect_qboxn(const RayPack<Arch>& r, const QBoxN<N>& b, float tmax,
                                                    float* entries) {
-    using X4 = typename Lanes<Arch>::X4;
-    using X16 = typename Lanes<Arch>::X16;
-    std::uint32_t m;
-    if constexpr (N == 8) {
-        Batch<Arch> tn;
-        m = qbox_lanes<Arch, 8>(r, b, 0, Batch<Arch>(tmax), tn);
-        tn.store_aligned(entries);
-    } else if constexpr (N == 4) {
-        Batch<X4> tn;
-        m = qbox_lanes<X4, 4>(r, b, 0, Batch<X4>(tmax), tn);
-        tn.store_aligned(entries);
-    } else if constexpr (!std::is_void_v<X16>) {
-        Batch<X16> tn;
-        m = qbox_lanes<X16, 16>(r, b, 0, Batch<X16>(tmax), tn);
-        tn.store_aligned(entries);
-    } else {
-        const Batch<Arch> t(tmax);
-        Batch<Arch> lo, hi;
-        const std::uint32_t mlo = qbox_lanes<Arch, 16>(r, b, 0, t, lo);
-        const std::uint32_t mhi = qbox_lanes<Arch, 16>(r, b, 8, t, hi);
-        lo.store_aligned(entries);
-        hi.store_aligned(entries + 8);
-        m = mlo | (mhi << 8);
-    }
-    return m & b.valid;
+    return intersect_boxn<Arch, N>(r, b, tmax, entries) & b.valid;
 }
 
 }  // namespace simdbvh::simd

@@ -45,21 +45,36 @@ SIMDBVH_FORCE_INLINE Batch<L> load_plane(const void* lanes, std::uint32_t box8_o
         reinterpret_cast<const float*>(static_cast<const char*>(lanes) + plane_offset<N>(box8_offset)));
 }
 
-// Lanes [lane0, lane0 + W) of a BoxN against the ray, W = the width of
-// batch arch L (the ray pack is the Arch one). Returns W hit bits; `tnear`
-// receives the entry distances.
-template <class L, int N, class Arch>
-SIMDBVH_FORCE_INLINE std::uint32_t box_lanes(const RayPack<Arch>& r, const BoxN<N>& b, int lane0,
-                                             const Batch<L>& tmax, Batch<L>& tnear) {
+// The slab test of W lanes (W = the width of batch arch L; the ray pack is
+// the Arch one) whose planes `planes.get(box8_offset)` gives, addressed by
+// RayPack's Box8 offsets. Returns W hit bits; `tnear` receives the entry
+// distances.
+template <class L, class Arch, class Planes>
+SIMDBVH_FORCE_INLINE std::uint32_t slab_lanes(const RayPack<Arch>& r, const Planes& planes, const Batch<L>& tmax,
+                                              Batch<L>& tnear) {
     using B = Batch<L>;
-    const void* base = reinterpret_cast<const char*>(&b) + 4 * lane0;
-    const B t0x = (load_plane<L, N>(base, r.near_x) - r.ox) * r.rdx, t1x = (load_plane<L, N>(base, r.far_x) - r.ox) * r.rdx;
-    const B t0y = (load_plane<L, N>(base, r.near_y) - r.oy) * r.rdy, t1y = (load_plane<L, N>(base, r.far_y) - r.oy) * r.rdy;
-    const B t0z = (load_plane<L, N>(base, r.near_z) - r.oz) * r.rdz, t1z = (load_plane<L, N>(base, r.far_z) - r.oz) * r.rdz;
+    const B t0x = (planes.get(r.near_x) - r.ox) * r.rdx, t1x = (planes.get(r.far_x) - r.ox) * r.rdx;
+    const B t0y = (planes.get(r.near_y) - r.oy) * r.rdy, t1y = (planes.get(r.far_y) - r.oy) * r.rdy;
+    const B t0z = (planes.get(r.near_z) - r.oz) * r.rdz, t1z = (planes.get(r.far_z) - r.oz) * r.rdz;
     const B tn = max_ps<L>(t0x, max_ps<L>(t0y, max_ps<L>(t0z, B(r.tmin))));
     const B tf = min_ps<L>(t1x, min_ps<L>(t1y, min_ps<L>(t1z, tmax))) * B(kFarWiden) + B(r.far_slack);
     tnear = tn;
     return bits<L>(tn <= tf);
+}
+
+// The planes of a BoxN's lanes from `base` (the lane0-th float of the box).
+template <class L, int N>
+struct BoxPlanes {
+    const void* base;
+    SIMDBVH_FORCE_INLINE Batch<L> get(std::uint32_t box8_offset) const { return load_plane<L, N>(base, box8_offset); }
+};
+
+// Lanes [lane0, lane0 + W) of a BoxN against the ray. Overloaded per box kind
+// (qbox-inl.h: quantized nodes), for intersect_boxn below.
+template <class L, int N, class Arch>
+SIMDBVH_FORCE_INLINE std::uint32_t box_lanes(const RayPack<Arch>& r, const BoxN<N>& b, int lane0,
+                                             const Batch<L>& tmax, Batch<L>& tnear) {
+    return slab_lanes<L>(r, BoxPlanes<L, N>{reinterpret_cast<const char*>(&b) + 4 * lane0}, tmax, tnear);
 }
 
 // Returns the 8-bit hit mask (bit i: box i overlaps [tmin, tmax]); `tnear`
@@ -84,9 +99,10 @@ SIMDBVH_FORCE_INLINE std::uint32_t intersect_box8(const RayPack<Arch>& r, const 
 // wide BVHs, bit for bit the scalar intersect_box per lane: 4 lanes in one
 // xmm batch, 8 in one batch of Arch, 16 in one zmm batch on AVX-512 or two
 // 8-lane halves on AVX2. Returns the N-bit hit mask; `entries` (aligned to
-// 4 * N bytes) receives the N entry distances.
-template <class Arch, int N>
-SIMDBVH_FORCE_INLINE std::uint32_t intersect_boxn(const RayPack<Arch>& r, const BoxN<N>& b, float tmax,
+// 4 * N bytes) receives the N entry distances. `Box`: a BoxN, or any box kind
+// with a box_lanes overload (a QBoxN: qbox-inl.h).
+template <class Arch, int N, class Box>
+SIMDBVH_FORCE_INLINE std::uint32_t intersect_boxn(const RayPack<Arch>& r, const Box& b, float tmax,
                                                   float* entries) {
     static_assert(N == 4 || N == 8 || N == 16, "node widths: 4, 8, 16");
     using X4 = typename Lanes<Arch>::X4;
