@@ -34,9 +34,8 @@ template <class L, int N>
 struct QBoxPlanes {
     const QBoxN<N>& b;
     int lane0;
-    SIMDBVH_FORCE_INLINE Batch<L> get(std::uint32_t box8_offset) const {
+    SIMDBVH_FORCE_INLINE Batch<L> get(std::uint32_t box8_offset, int axis) const {
         const std::uint32_t p = box8_offset / 32u;  // RayPack addresses a Box8: planes 32 bytes apart; here N bytes
-        const int axis = int(p / 2);
         return xsimd::fma(load_u8<L>(b.q + p * std::uint32_t(N) + std::uint32_t(lane0)), Batch<L>(b.scale(axis)),
                           Batch<L>(b.origin[axis]));
     }

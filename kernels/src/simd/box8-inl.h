@@ -46,16 +46,16 @@ SIMDBVH_FORCE_INLINE Batch<L> load_plane(const void* lanes, std::uint32_t box8_o
 }
 
 // The slab test of W lanes (W = the width of batch arch L; the ray pack is
-// the Arch one) whose planes `planes.get(box8_offset)` gives, addressed by
-// RayPack's Box8 offsets. Returns W hit bits; `tnear` receives the entry
+// the Arch one) whose planes `planes.get(box8_offset, axis)` gives, addressed
+// by RayPack's Box8 offsets (the axis, 0..2, a constant at each call). Returns W hit bits; `tnear` receives the entry
 // distances.
 template <class L, class Arch, class Planes>
 SIMDBVH_FORCE_INLINE std::uint32_t slab_lanes(const RayPack<Arch>& r, const Planes& planes, const Batch<L>& tmax,
                                               Batch<L>& tnear) {
     using B = Batch<L>;
-    const B t0x = (planes.get(r.near_x) - r.ox) * r.rdx, t1x = (planes.get(r.far_x) - r.ox) * r.rdx;
-    const B t0y = (planes.get(r.near_y) - r.oy) * r.rdy, t1y = (planes.get(r.far_y) - r.oy) * r.rdy;
-    const B t0z = (planes.get(r.near_z) - r.oz) * r.rdz, t1z = (planes.get(r.far_z) - r.oz) * r.rdz;
+    const B t0x = (planes.get(r.near_x, 0) - r.ox) * r.rdx, t1x = (planes.get(r.far_x, 0) - r.ox) * r.rdx;
+    const B t0y = (planes.get(r.near_y, 1) - r.oy) * r.rdy, t1y = (planes.get(r.far_y, 1) - r.oy) * r.rdy;
+    const B t0z = (planes.get(r.near_z, 2) - r.oz) * r.rdz, t1z = (planes.get(r.far_z, 2) - r.oz) * r.rdz;
     const B tn = max_ps<L>(t0x, max_ps<L>(t0y, max_ps<L>(t0z, B(r.tmin))));
     const B tf = min_ps<L>(t1x, min_ps<L>(t1y, min_ps<L>(t1z, tmax))) * B(kFarWiden) + B(r.far_slack);
     tnear = tn;
@@ -66,7 +66,9 @@ SIMDBVH_FORCE_INLINE std::uint32_t slab_lanes(const RayPack<Arch>& r, const Plan
 template <class L, int N>
 struct BoxPlanes {
     const void* base;
-    SIMDBVH_FORCE_INLINE Batch<L> get(std::uint32_t box8_offset) const { return load_plane<L, N>(base, box8_offset); }
+    SIMDBVH_FORCE_INLINE Batch<L> get(std::uint32_t box8_offset, int) const {
+        return load_plane<L, N>(base, box8_offset);
+    }
 };
 
 // Lanes [lane0, lane0 + W) of a BoxN against the ray. Overloaded per box kind
