@@ -30,24 +30,7 @@ static_assert(sizeof(PrimRef) == 48);
 // each reference it allocates, on the build threads, so the pages are first
 // touched there rather than by a serial memset.
 template <class T>
-struct NoFillAllocator : std::allocator<T> {
-    template <class U>
-    struct rebind {
-        using other = NoFillAllocator<U>;
-    };
-    NoFillAllocator() = default;
-    template <class U>
-    NoFillAllocator(const NoFillAllocator<U>&) noexcept {}
-    // Large arrays on huge pages (large_alloc.h).
-    T* allocate(std::size_t n) { return static_cast<T*>(large_alloc(n * sizeof(T), alignof(T))); }
-    void deallocate(T* p, std::size_t n) noexcept { large_free(p, n * sizeof(T), alignof(T)); }
-    template <class U>
-    void construct(U*) noexcept {}  // PrimRef: trivially copyable, written before it is read
-    template <class U, class... Args>
-    void construct(U* p, Args&&... args) {
-        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-    }
-};
+using NoFillAllocator = LargeAllocator<T>;  // default-initialized: PrimRef is written before it is read
 static_assert(std::is_trivially_copyable_v<PrimRef> && std::is_trivially_destructible_v<PrimRef>);
 
 struct BuildContext {

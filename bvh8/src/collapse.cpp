@@ -43,14 +43,14 @@ struct Collapser {
     std::size_t prims;  // triangles in the BVH2's leaves
     const WideOptions& opts;
     std::span<const Node2> n2;
-    std::vector<std::uint32_t> prim_count;  // triangles under each BVH2 node
+    LargeVector<std::uint32_t> prim_count;  // triangles under each BVH2 node
     // SAH tables (index i - 1 for i = 1..N). The costs C(n, i) live only on
     // the recursion (a parent needs its children's), not in a table per node.
     using Costs = std::array<double, N>;
     Costs root_left{}, root_right{};                 // C(left(0), .), C(right(0), .): the root's leaf test
-    std::vector<std::array<std::uint8_t, N>> from;   // i >= 2: 0 = same as i - 1, k = C_dist split (k left slots)
-    std::vector<std::uint8_t> distn;                 // split of C_dist(n, N) (the children of an inner node)
-    std::vector<std::uint8_t> leaf1;                 // C(n, 1) is a leaf
+    LargeVector<std::array<std::uint8_t, N>> from;   // i >= 2: 0 = same as i - 1, k = C_dist split (k left slots)
+    LargeVector<std::uint8_t> distn;                 // split of C_dist(n, N) (the children of an inner node)
+    LargeVector<std::uint8_t> leaf1;                 // C(n, 1) is a leaf
     WideTopology<N> topo;
 
     Collapser(std::span<const Node2> nodes, std::size_t p, const WideOptions& o) : prims(p), opts(o), n2(nodes) {}
@@ -207,12 +207,10 @@ struct Collapser {
         return c;
     }
 
-    // Sized (value-initialized) on huge pages when large (large_alloc.h).
+    // Sized and zeroed, on huge pages when large (large_alloc.h).
     template <class V>
     static void sized(V& v, std::size_t n) {
-        v.reserve(n);
-        advise_huge_pages(v.data(), n * sizeof(typename V::value_type));
-        v.resize(n);
+        v.resize(n, typename V::value_type{});
     }
 
     void build() {
@@ -229,9 +227,7 @@ struct Collapser {
             solve_sah(0, opts.threads > 1 ? spawn : 0, leaves);
         }
         topo.nodes.reserve(n2.size() / 4 + 1);
-        advise_huge_pages(topo.nodes.data(), topo.nodes.capacity() * sizeof(WideNode<N>));
         topo.prims.reserve(prims);
-        advise_huge_pages(topo.prims.data(), topo.prims.capacity() * sizeof(std::uint32_t));
         topo.nodes.emplace_back();
         topo.nodes[0].box = n2[0].box;
         // The root is always a wide node; over a single leaf when that is cheaper (or the BVH2 is one leaf).

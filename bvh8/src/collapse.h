@@ -10,6 +10,7 @@
 
 #include "simdbvh/bvh2/bvh2.h"
 #include "simdbvh/bvh8/bvh8.h"
+#include "simdbvh/kernels/large_alloc.h"
 
 namespace simdbvh::bvh8 {
 
@@ -29,8 +30,8 @@ struct WideNode {
 
 template <int N>
 struct WideTopology {
-    std::vector<WideNode<N>> nodes;        // root at 0; a node's inner children are allocated together
-    std::vector<std::uint32_t> prims;   // leaf ranges: positions in the BVH2 leaf order (Bvh2::prim_ids())
+    LargeVector<WideNode<N>> nodes;        // root at 0; a node's inner children are allocated together
+    LargeVector<std::uint32_t> prims;   // leaf ranges: positions in the BVH2 leaf order (Bvh2::prim_ids())
     int depth = 0;                      // node levels (root = 1); leaves are not nodes
 };
 
@@ -52,12 +53,12 @@ double sah_cost(const WideTopology<N>& topo, const WideOptions& opts);
 // (all but build_ms and sah_cost). Nodes are packed on `threads` threads
 // (each node's blocks are placed first, so the result does not depend on it).
 template <int N>
-void pack(const Bvh2& bvh2, const WideTopology<N>& topo, std::vector<NodeN<N>>& nodes, Tri8Blocks& blocks,
+void pack(const Bvh2& bvh2, const WideTopology<N>& topo, NodesN<N>& nodes, Tri8Blocks& blocks,
           WideStats& stats, int threads = 1);
 // The same from the mesh and the BVH2's leaf order (prim_ids), for a BVH2
 // that never gathered its triangles (BvhN::build(mesh)).
 template <int N>
 void pack(const Mesh& mesh, std::span<const std::uint32_t> prim_ids, const WideTopology<N>& topo,
-          std::vector<NodeN<N>>& nodes, Tri8Blocks& blocks, WideStats& stats, int threads = 1);
+          NodesN<N>& nodes, Tri8Blocks& blocks, WideStats& stats, int threads = 1);
 
 }  // namespace simdbvh::bvh8

@@ -70,7 +70,7 @@ std::uint32_t own_blocks(const WideChild& c) { return (c.count + kLanes - 1u) / 
 
 // `tri(pos, blk, lane)` writes the triangle at BVH2 leaf position pos.
 template <int N, class SetTri>
-void pack_with(const WideTopology<N>& topo, std::vector<NodeN<N>>& nodes, Tri8Blocks& blocks, WideStats& stats,
+void pack_with(const WideTopology<N>& topo, NodesN<N>& nodes, Tri8Blocks& blocks, WideStats& stats,
                int threads, SetTri set_tri) {
     using Child = ChildN<N>;
     ParallelOptions po;
@@ -79,7 +79,7 @@ void pack_with(const WideTopology<N>& topo, std::vector<NodeN<N>>& nodes, Tri8Bl
     // Each node's packing (independent), then a sequential pass: its first
     // block (a prefix sum), the checks and the counts. The nodes are then
     // independent.
-    std::vector<NodePacking<N>> packing(topo.nodes.size());
+    LargeVector<NodePacking<N>> packing(topo.nodes.size());  // each written below
     parallel_for(topo.nodes.size(), threads, [&](std::size_t b, std::size_t e) {
         for (std::size_t i = b; i < e; ++i) packing[i] = pack_node(topo.nodes[i]);
     }, po);
@@ -106,9 +106,7 @@ void pack_with(const WideTopology<N>& topo, std::vector<NodeN<N>>& nodes, Tri8Bl
     }
     first_block.back() = std::uint32_t(blocks_needed);
     nodes.clear();
-    nodes.reserve(topo.nodes.size());
-    advise_huge_pages(nodes.data(), topo.nodes.size() * sizeof(NodeN<N>));
-    nodes.assign(topo.nodes.size(), NodeN<N>{});
+    nodes.resize(topo.nodes.size());  // each written by pack_one
     blocks.clear();
     blocks.resize(blocks_needed);
     auto fill = [&](Tri8& blk, int lane0, const WideChild& wc, std::uint32_t from, std::uint32_t n) {
@@ -164,7 +162,7 @@ void pack_with(const WideTopology<N>& topo, std::vector<NodeN<N>>& nodes, Tri8Bl
 }
 
 template <int N>
-void pack(const Bvh2& bvh2, const WideTopology<N>& topo, std::vector<NodeN<N>>& nodes, Tri8Blocks& blocks,
+void pack(const Bvh2& bvh2, const WideTopology<N>& topo, NodesN<N>& nodes, Tri8Blocks& blocks,
           WideStats& stats, int threads) {
     const auto& tris = bvh2.triangles();
     const auto& ids = bvh2.prim_ids();
@@ -176,7 +174,7 @@ void pack(const Bvh2& bvh2, const WideTopology<N>& topo, std::vector<NodeN<N>>& 
 
 template <int N>
 void pack(const Mesh& mesh, std::span<const std::uint32_t> prim_ids, const WideTopology<N>& topo,
-          std::vector<NodeN<N>>& nodes, Tri8Blocks& blocks, WideStats& stats, int threads) {
+          NodesN<N>& nodes, Tri8Blocks& blocks, WideStats& stats, int threads) {
     pack_with(topo, nodes, blocks, stats, threads, [&](std::uint32_t pos, Tri8& blk, int lane) {
         const std::uint32_t p = prim_ids[pos];
         blk.set(lane, mesh.vertex(p, 0), mesh.vertex(p, 1), mesh.vertex(p, 2), p);
@@ -184,8 +182,8 @@ void pack(const Mesh& mesh, std::span<const std::uint32_t> prim_ids, const WideT
 }
 
 #define SIMDBVH_WIDTH(N)                                                                                          \
-    template void pack<N>(const Bvh2&, const WideTopology<N>&, std::vector<NodeN<N>>&, Tri8Blocks&, WideStats&, int); \
-    template void pack<N>(const Mesh&, std::span<const std::uint32_t>, const WideTopology<N>&, std::vector<NodeN<N>>&, \
+    template void pack<N>(const Bvh2&, const WideTopology<N>&, NodesN<N>&, Tri8Blocks&, WideStats&, int); \
+    template void pack<N>(const Mesh&, std::span<const std::uint32_t>, const WideTopology<N>&, NodesN<N>&, \
                           Tri8Blocks&, WideStats&, int);
 SIMDBVH_WIDTH(4)
 SIMDBVH_WIDTH(8)

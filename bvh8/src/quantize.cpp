@@ -78,7 +78,7 @@ bool quantize_box(const BoxN<N>& box, const ChildN<N>* children, QBoxN<N>& out) 
 }
 
 template <int N>
-std::vector<QNodeN<N>> quantize(const std::vector<NodeN<N>>& nodes, int threads) {
+std::vector<QNodeN<N>> quantize(const NodesN<N>& nodes, int threads) {
     std::vector<QNodeN<N>> q(nodes.size());
     std::atomic<bool> ok{true};
     ParallelOptions po;
@@ -96,7 +96,7 @@ std::vector<QNodeN<N>> quantize(const std::vector<NodeN<N>>& nodes, int threads)
 
 #define SIMDBVH_QUANTIZE(N)                                                                                    \
     template bool quantize_box<N>(const BoxN<N>&, const ChildN<N>*, QBoxN<N>&);                               \
-    template std::vector<QNodeN<N>> quantize<N>(const std::vector<NodeN<N>>&, int);
+    template std::vector<QNodeN<N>> quantize<N>(const NodesN<N>&, int);
 SIMDBVH_QUANTIZE(4)
 SIMDBVH_QUANTIZE(8)
 SIMDBVH_QUANTIZE(16)

@@ -13,7 +13,7 @@ namespace simdbvh::bvh8 {
 // cannot be quantized (an axis wider than 255 * 2^119, beyond any finite
 // mesh's); traversal then reads the full nodes. `threads` as the pack's.
 template <int N>
-std::vector<QNodeN<N>> quantize(const std::vector<NodeN<N>>& nodes, int threads);
+std::vector<QNodeN<N>> quantize(const NodesN<N>& nodes, int threads);
 
 // One box: false when it cannot be quantized. Exposed for the tests.
 template <int N>

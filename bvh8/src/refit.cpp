@@ -47,7 +47,7 @@ Aabb leaf_box(const ChildN<N>& c, const Tri8Blocks& blocks) {
 // The collapse's cost (collapse.h sah_cost), summed in the same node order
 // from the packed nodes, so an unchanged mesh gives the same number.
 template <int N>
-double wide_sah(const std::vector<NodeN<N>>& nodes, const Aabb& root_box, const WideOptions& opts) {
+double wide_sah(const NodesN<N>& nodes, const Aabb& root_box, const WideOptions& opts) {
     if (nodes.empty()) return 0.0;
     const bool fa = std::isfinite(root_box.half_area_float());
     auto area = [&](const Aabb& b) { return fa ? double(b.half_area_float()) : b.half_area(); };

@@ -16,11 +16,11 @@ namespace simdbvh {
 
 namespace {
 
-template <int N>
-std::vector<Aabb> root_children(const std::vector<NodeN<N>>& nodes) {
+template <class Nodes>  // a BvhN's NodesN or a scene's top-level std::vector of NodeN
+std::vector<Aabb> root_children(const Nodes& nodes) {
     std::vector<Aabb> out;
     if (nodes.empty()) return out;
-    for (int i = 0; i < N; ++i)
+    for (int i = 0; i < Nodes::value_type::kWidth; ++i)
         if (!nodes[0].children[i].is_empty()) out.push_back(nodes[0].boxes.get(i));
     return out;
 }

@@ -95,7 +95,7 @@ public:
     // of range or a non-finite vertex throws simdbvh::Error, tree unchanged.
     void refit(const Mesh& mesh, int threads = 1);
 
-    const std::vector<Node>& nodes() const { return nodes_; }
+    const NodesN<N>& nodes() const { return nodes_; }
     const Tri8Blocks& blocks() const { return blocks_; }
     // The quantized nodes (WideOptions::quantized_nodes; else empty), one per node.
     const std::vector<QNode>& qnodes() const { return qnodes_; }
@@ -106,7 +106,7 @@ public:
 private:
     friend struct WideAccess;
     void quantize();  // qnodes_ from nodes_ when opts_.quantized_nodes (build.cpp)
-    std::vector<Node> nodes_;  // root at 0 (when the mesh is not empty)
+    NodesN<N> nodes_;  // root at 0 (when the mesh is not empty)
     Tri8Blocks blocks_;
     std::vector<QNode> qnodes_;
     WideStats stats_;

@@ -71,34 +71,10 @@ using Child8 = ChildN<8>;
 static_assert(sizeof(ChildN<16>) == 8);
 
 // Tri8 blocks start on 64-byte boundaries (a 320-byte block spans 5 cache
-// lines instead of 6).
+// lines instead of 6); large arrays on huge pages, no zero fill (every writer
+// of Tri8 blocks clears or sets each block it allocates: pack, BruteForce8).
 template <class T, std::size_t kAlign>
-struct AlignedAllocator {
-    using value_type = T;
-    template <class U>
-    struct rebind {
-        using other = AlignedAllocator<U, kAlign>;
-    };
-    AlignedAllocator() = default;
-    template <class U>
-    AlignedAllocator(const AlignedAllocator<U, kAlign>&) noexcept {}
-    // Large arrays on huge pages (large_alloc.h).
-    T* allocate(std::size_t n) { return static_cast<T*>(large_alloc(n * sizeof(T), kAlign)); }
-    void deallocate(T* p, std::size_t n) noexcept { large_free(p, n * sizeof(T), kAlign); }
-    // resize() default-initializes (no zero fill): every writer of Tri8 blocks
-    // clears or sets each block it allocates (pack, BruteForce8), so a zero
-    // fill would be a wasted pass over the memory.
-    template <class U>
-    void construct(U* p) noexcept(std::is_nothrow_default_constructible_v<U>) {
-        ::new (static_cast<void*>(p)) U;
-    }
-    template <class U, class... Args>
-    void construct(U* p, Args&&... args) {
-        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-    }
-    template <class U>
-    bool operator==(const AlignedAllocator<U, kAlign>&) const noexcept { return true; }
-};
+using AlignedAllocator = LargeAllocator<T, kAlign>;
 using Tri8Blocks = std::vector<Tri8, AlignedAllocator<Tri8, 64>>;
 
 // Child boxes first (empty slots +inf/-inf, at the end), then the references.
@@ -115,5 +91,11 @@ static_assert(sizeof(Node4) == 128 && alignof(Node4) == 64);   // 2 cache lines
 static_assert(sizeof(Node8) == 256 && alignof(Node8) == 64);   // 4
 static_assert(sizeof(Node16) == 512 && alignof(Node16) == 64); // 8
 static_assert(offsetof(Node8, children) == sizeof(Box8));
+
+// A wide tree's nodes, on huge pages like its blocks (large_alloc.h): a
+// std::allocator array is not 2 MiB aligned, and its unaligned ends fault in
+// 4 KiB pages (about 470 faults for the dragon's BVH8 nodes, measured).
+template <int N>
+using NodesN = std::vector<NodeN<N>, AlignedAllocator<NodeN<N>, 64>>;
 
 }  // namespace simdbvh

@@ -6,10 +6,14 @@
 // 12,800 page faults on first touch). Smaller ones: `align`-aligned new.
 // Free with large_free(p, bytes, align), the same bytes and align.
 #include <cstddef>
+#include <new>
+#include <type_traits>
+#include <utility>
+#include <vector>
 
 namespace simdbvh {
 
-inline constexpr std::size_t kLargeBytes = std::size_t(4) << 20;
+inline constexpr std::size_t kLargeBytes = std::size_t(2) << 20;
 
 void* large_alloc(std::size_t bytes, std::size_t align);
 void large_free(void* p, std::size_t bytes, std::size_t align) noexcept;
@@ -17,5 +21,39 @@ void large_free(void* p, std::size_t bytes, std::size_t align) noexcept;
 // The same advice for memory allocated elsewhere (a std::vector's reserve()
 // before its first write): the whole 2 MiB pages inside [p, p + bytes).
 void advise_huge_pages(const void* p, std::size_t bytes) noexcept;
+
+// A std::vector allocator over large_alloc, kAlign-aligned (at least
+// alignof(T)). resize(n) default-initializes (no zero fill: the builds write
+// every element they allocate, on the threads that use them); resize(n, v)
+// and assign(n, v) fill as usual. On this repository's 2-vCPU PVM guests a
+// first-touched 4 KiB page costs about 12 us and a 2 MiB one about 0.26 ms
+// (the per-page figures behind kLargeBytes' huge-page threshold).
+template <class T, std::size_t kAlign = alignof(T)>
+struct LargeAllocator {
+    static_assert(kAlign >= alignof(T));
+    using value_type = T;
+    template <class U>
+    struct rebind {
+        using other = LargeAllocator<U, (kAlign > alignof(U) ? kAlign : alignof(U))>;
+    };
+    LargeAllocator() = default;
+    template <class U, std::size_t A>
+    LargeAllocator(const LargeAllocator<U, A>&) noexcept {}
+    T* allocate(std::size_t n) { return static_cast<T*>(large_alloc(n * sizeof(T), kAlign)); }
+    void deallocate(T* p, std::size_t n) noexcept { large_free(p, n * sizeof(T), kAlign); }
+    template <class U>
+    void construct(U* p) noexcept(std::is_nothrow_default_constructible_v<U>) {
+        ::new (static_cast<void*>(p)) U;
+    }
+    template <class U, class... Args>
+    void construct(U* p, Args&&... args) {
+        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
+    template <class U, std::size_t A>
+    bool operator==(const LargeAllocator<U, A>&) const noexcept { return true; }
+};
+
+template <class T, std::size_t kAlign = alignof(T)>
+using LargeVector = std::vector<T, LargeAllocator<T, kAlign>>;
 
 }  // namespace simdbvh
