@@ -25,7 +25,7 @@ struct Builder {
     // Builds the subtree of ids[begin, end) with its root at nodes[0] (already
     // allocated). Children of a node are allocated as a pair at the end of
     // `nodes`, after the parent's whole left subtree is complete.
-    void build(std::vector<Node2>& nodes, std::uint32_t at, std::uint32_t begin, std::uint32_t end, int depth,
+    void build(Nodes2& nodes, std::uint32_t at, std::uint32_t begin, std::uint32_t end, int depth,
                const Bounds& bounds) {
         const Aabb& box = bounds.box;
         const Aabb& cbox = bounds.cbox;
@@ -56,9 +56,8 @@ struct Builder {
             // after both sides are done. The task returns its thread when it
             // ends (not when the parent joins it), so a thread that finished
             // a small side of an uneven split picks up work in the larger side.
-            std::vector<Node2> right_nodes;
+            Nodes2 right_nodes;
             right_nodes.reserve(2 * std::size_t(end - mid));  // address space only: no copies while it grows
-            advise_huge_pages(right_nodes.data(), right_nodes.capacity() * sizeof(Node2));
             right_nodes.resize(1);
             run_tasks(2, [&](std::size_t k) {
                 if (k == 0) return build(nodes, left, begin, mid, depth + 1, r.left);
@@ -77,7 +76,7 @@ struct Builder {
     }
 
     // Puts sub[0] at nodes[at] and sub[1..] at the end of nodes.
-    static void splice(std::vector<Node2>& nodes, std::uint32_t at, const std::vector<Node2>& sub) {
+    static void splice(Nodes2& nodes, std::uint32_t at, const Nodes2& sub) {
         const std::uint32_t offset = std::uint32_t(nodes.size()) - 1;
         auto fix = [&](Node2 n) {
             if (!n.is_leaf()) n.first += offset;
@@ -115,7 +114,6 @@ Bvh2Topology build_top_down(BuildContext& ctx, SplitFn split, std::uint32_t leaf
     if (ctx.refs.empty()) return topo;
     ctx.spare_threads = std::max(0, ctx.opts.threads - 1);
     topo.nodes.reserve(2 * ctx.refs.size());
-    advise_huge_pages(topo.nodes.data(), topo.nodes.capacity() * sizeof(Node2));
     topo.nodes.resize(1);
     Builder b{ctx, split, std::max<std::uint32_t>(1, leaf_size)};
     const auto n = std::uint32_t(ctx.refs.size());

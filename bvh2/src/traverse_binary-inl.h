@@ -63,8 +63,8 @@ struct TriangleLeaf {
 };
 
 // One ray through a binary hierarchy (nodes: root at 0, children adjacent).
-template <class NodeTest, class Query, bool kStats, class Node, class Leaf>
-SIMDBVH_BINARY_INLINE Hit traverse_binary(const std::vector<Node>& nodes, const Leaf& leaf, const Ray& ray,
+template <class NodeTest, class Query, bool kStats, class Node, class Alloc, class Leaf>
+SIMDBVH_BINARY_INLINE Hit traverse_binary(const std::vector<Node, Alloc>& nodes, const Leaf& leaf, const Ray& ray,
                                           TraceStats* stats, const NodeTest& test = NodeTest{}) {
     Hit out;
     const PreparedRay r = prepare(ray);

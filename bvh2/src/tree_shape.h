@@ -13,8 +13,8 @@ struct TreeShape {
     std::size_t leaves = 0;
 };
 
-template <class Node>
-TreeShape tree_shape(const std::vector<Node>& nodes) {
+template <class Node, class Alloc>
+TreeShape tree_shape(const std::vector<Node, Alloc>& nodes) {
     TreeShape s;
     if (nodes.empty()) return s;
     // The builders put children after their parent: one pass in index order

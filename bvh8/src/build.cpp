@@ -25,6 +25,7 @@ struct WideAccess {
     template <int N>
     static BvhN<N> build(const Bvh2& bvh2, const WideOptions& opts) {
         const auto t0 = std::chrono::steady_clock::now();
+        const LargeAllocReuse reuse;  // the collapse's tables become the blocks' pages (large_alloc.h)
         const bvh8::WideTopology<N> topo = bvh8::collapse<N>(bvh2, opts);
         BvhN<N> b;
         bvh8::pack<N>(bvh2, topo, b.nodes_, b.blocks_, b.stats_, opts.threads);
@@ -41,6 +42,9 @@ struct WideAccess {
     template <int N>
     static BvhN<N> build(const Mesh& mesh, const BuildOptions& bvh2_opts, const WideOptions& opts) {
         validate(mesh);
+        // The BVH2's references and nodes, freed before pack, become the
+        // wide nodes' and blocks' pages (large_alloc.h).
+        const LargeAllocReuse reuse;
         BuildOptions b2 = bvh2_opts;
         b2.intersection_cost = opts.bvh2_intersection_cost;
         Bvh2Topology topo2 = build_topology(mesh, b2);
@@ -48,7 +52,7 @@ struct WideAccess {
         const bvh8::WideTopology<N> topo = bvh8::collapse<N>(topo2.nodes, topo2.prim_ids.size(), opts);
         BvhN<N> b;
         b.bounds_ = topo2.nodes.empty() ? Aabb{} : topo2.nodes[0].box;
-        std::vector<Node2>().swap(topo2.nodes);  // not needed by pack: lowers the peak memory
+        Nodes2().swap(topo2.nodes);  // not needed by pack: lowers the peak memory
         bvh8::pack<N>(mesh, topo2.prim_ids, topo, b.nodes_, b.blocks_, b.stats_, opts.threads);
         b.stats_.sah_cost = bvh8::sah_cost(topo, opts);
         b.opts_ = opts;

@@ -3,8 +3,11 @@
 #include <sys/mman.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstdint>
+#include <mutex>
 #include <new>
+#include <vector>
 
 namespace simdbvh {
 
@@ -25,7 +28,60 @@ constexpr bool kOwnMappings = false;
 #else
 constexpr bool kOwnMappings = true;
 #endif
+
+// Blocks freed while a LargeAllocReuse scope is open, for the next large
+// allocations of the same build (best fit, split on 2 MiB boundaries); all
+// unmapped when the last scope closes.
+struct FreeBlock {
+    std::uintptr_t p;
+    std::size_t size;
+};
+std::mutex g_mutex;
+std::vector<FreeBlock> g_free;  // guarded by g_mutex
+std::atomic<int> g_scopes{0};
+
+void* reuse(std::size_t size) {
+    std::lock_guard<std::mutex> lock(g_mutex);
+    std::size_t best = g_free.size();
+    for (std::size_t i = 0; i < g_free.size(); ++i)
+        if (g_free[i].size >= size && (best == g_free.size() || g_free[i].size < g_free[best].size)) best = i;
+    if (best == g_free.size()) return nullptr;
+    FreeBlock& b = g_free[best];
+    const std::uintptr_t p = b.p;
+    if (b.size > size) {
+        b.p += size;
+        b.size -= size;
+    } else {
+        g_free.erase(g_free.begin() + std::ptrdiff_t(best));
+    }
+    return reinterpret_cast<void*>(p);
+}
+
+bool keep(void* p, std::size_t size) noexcept {
+    std::lock_guard<std::mutex> lock(g_mutex);
+    if (g_scopes.load() == 0) return false;  // read under the lock: release_all cannot miss it
+    try {
+        g_free.push_back({reinterpret_cast<std::uintptr_t>(p), size});
+    } catch (...) {
+        return false;
+    }
+    return true;
+}
+
+void release_all() {
+    std::vector<FreeBlock> blocks;
+    {
+        std::lock_guard<std::mutex> lock(g_mutex);
+        blocks.swap(g_free);
+    }
+    for (const FreeBlock& b : blocks) munmap(reinterpret_cast<void*>(b.p), b.size);
+}
 }  // namespace
+
+LargeAllocReuse::LargeAllocReuse() noexcept { g_scopes.fetch_add(1); }
+LargeAllocReuse::~LargeAllocReuse() {
+    if (g_scopes.fetch_sub(1) == 1) release_all();
+}
 
 void* large_alloc(std::size_t bytes, std::size_t align) {
     if (bytes < kLargeBytes || align > kHugePage) return ::operator new(bytes, std::align_val_t(align));
@@ -36,6 +92,8 @@ void* large_alloc(std::size_t bytes, std::size_t align) {
     }
     const std::size_t size = round_up(bytes);
     if (size < bytes) throw std::bad_alloc();
+    if (g_scopes.load() > 0)
+        if (void* p = reuse(size)) return p;
     void* m = mmap(nullptr, size + kHugePage, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
     if (m == MAP_FAILED) throw std::bad_alloc();
     const auto a = reinterpret_cast<std::uintptr_t>(m);
@@ -58,7 +116,7 @@ void large_free(void* p, std::size_t bytes, std::size_t align) noexcept {
     if (!p) return;
     if (bytes < kLargeBytes || align > kHugePage) ::operator delete(p, std::align_val_t(align));
     else if (!kOwnMappings) ::operator delete(p, std::align_val_t(kHugePage));
-    else munmap(p, round_up(bytes));
+    else if (!keep(p, round_up(bytes))) munmap(p, round_up(bytes));
 }
 
 }  // namespace simdbvh

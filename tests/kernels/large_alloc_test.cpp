@@ -62,6 +62,39 @@ TEST(LargeAlloc, LargeBlocksAreAlignedAdvisedAndUnmappedInFull) {
     EXPECT_FALSE(mapping_of(static_cast<char*>(p) + bytes - 1).found);
 }
 
+TEST(LargeAlloc, ReuseScopeHandsFreedBlocksToLaterAllocationsAndUnmapsTheRest) {
+#if defined(__SANITIZE_ADDRESS__)
+    GTEST_SKIP() << "under ASan large blocks stay on operator new (large_alloc.cpp)";
+#endif
+    const std::size_t big = std::size_t(12) << 20, small = std::size_t(5) << 20;
+    char* kept = nullptr;
+    {
+        const LargeAllocReuse scope;
+        char* a = static_cast<char*>(large_alloc(big, 64));
+        std::memset(a, 1, big);
+        large_free(a, big, 64);
+        EXPECT_TRUE(mapping_of(a).found);  // kept while the scope lasts
+        // Best fit, split on a 2 MiB boundary: the front of the freed block.
+        char* b = static_cast<char*>(large_alloc(small, 64));
+        EXPECT_EQ(b, a);
+        {
+            const LargeAllocReuse nested;  // scopes nest: the inner end releases nothing
+        }
+        char* c = static_cast<char*>(large_alloc(small, 64));
+        EXPECT_EQ(c, a + (std::size_t(6) << 20));  // the rest, after b's 6 MiB
+        large_free(b, small, 64);
+        large_free(c, small, 64);
+        kept = a;
+    }
+    EXPECT_FALSE(mapping_of(kept).found);  // the last scope's end unmapped every kept block
+    EXPECT_FALSE(mapping_of(kept + big - 1).found);
+    // Without a scope a freed block is unmapped at once.
+    char* d = static_cast<char*>(large_alloc(big, 64));
+    d[0] = 1;
+    large_free(d, big, 64);
+    EXPECT_FALSE(mapping_of(d).found);
+}
+
 TEST(LargeAlloc, SmallBlocksKeepTheirAlignment) {
     for (std::size_t align : {std::size_t(16), std::size_t(64), std::size_t(4096)}) {
         void* p = large_alloc(1000, align);

@@ -37,7 +37,7 @@ inline constexpr int kMaxDepth = 64;
 
 // The tree: nodes (root at 0, children adjacent) and the leaf permutation.
 struct Bvh2Topology {
-    std::vector<Node2> nodes;
+    Nodes2 nodes;
     std::vector<std::uint32_t> prim_ids;
 };
 

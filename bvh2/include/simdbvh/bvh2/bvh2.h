@@ -67,7 +67,7 @@ public:
     // byte for byte.
     void refit(const Mesh& mesh, int threads = 1);
 
-    const std::vector<Node2>& nodes() const { return nodes_; }
+    const Nodes2& nodes() const { return nodes_; }
     const std::vector<std::uint32_t>& prim_ids() const { return prim_ids_; }
     const std::vector<TriangleVerts>& triangles() const { return tris_; }  // tris_[i] is triangle prim_ids_[i]
     const BuildStats& stats() const { return stats_; }
@@ -75,7 +75,7 @@ public:
     Aabb bounds() const { return nodes_.empty() ? Aabb{} : nodes_[0].box; }
 
 private:
-    std::vector<Node2> nodes_;
+    Nodes2 nodes_;
     std::vector<std::uint32_t> prim_ids_;
     std::vector<TriangleVerts> tris_;
     BuildStats stats_;

@@ -3,6 +3,7 @@
 #include <cstdint>
 
 #include "simdbvh/kernels/aabb.h"
+#include "simdbvh/kernels/large_alloc.h"
 
 namespace simdbvh {
 
@@ -13,5 +14,8 @@ struct Node2 {
     bool is_leaf() const { return count != 0; }
 };
 static_assert(sizeof(Node2) == 32);
+
+// A BVH2's nodes: a large array (large_alloc.h), root at 0.
+using Nodes2 = LargeVector<Node2>;
 
 }  // namespace simdbvh

@@ -18,6 +18,21 @@ inline constexpr std::size_t kLargeBytes = std::size_t(2) << 20;
 void* large_alloc(std::size_t bytes, std::size_t align);
 void large_free(void* p, std::size_t bytes, std::size_t align) noexcept;
 
+// While one of these is alive (in any thread), large blocks freed are kept
+// for the next large allocations instead of being unmapped: a build's
+// temporaries (the BVH2's references and nodes, the collapse's tables) become
+// its output (wide nodes, Tri8 blocks) without the kernel clearing fresh
+// pages again (dragon BVH8: 43 MB of blocks). When the last one ends, the
+// blocks still kept are unmapped. Kept blocks are not zeroed: LargeAllocator
+// does not zero either.
+class LargeAllocReuse {
+public:
+    LargeAllocReuse() noexcept;
+    ~LargeAllocReuse();
+    LargeAllocReuse(const LargeAllocReuse&) = delete;
+    LargeAllocReuse& operator=(const LargeAllocReuse&) = delete;
+};
+
 // The same advice for memory allocated elsewhere (a std::vector's reserve()
 // before its first write): the whole 2 MiB pages inside [p, p + bytes).
 void advise_huge_pages(const void* p, std::size_t bytes) noexcept;
