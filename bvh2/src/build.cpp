@@ -70,7 +70,6 @@ ParallelOptions build_parallel() {
 Bvh2Topology build_topology(std::span<const Aabb> boxes, std::span<const Vec3> centroids, const BuildOptions& opts) {
     if (boxes.size() != centroids.size()) throw Error("build_topology: boxes and centroids differ in size");
     check_options(opts);
-    const LargeAllocReuse reuse;  // large temporaries reused within the build (large_alloc.h)
     detail::BuildContext ctx;
     ctx.opts = opts;
     ctx.refs.reserve(boxes.size());
@@ -86,7 +85,6 @@ Bvh2Topology build_topology(std::span<const Aabb> boxes, std::span<const Vec3> c
 // for bit those of one pass over all of them, for any thread count.
 Bvh2Topology build_topology(const Mesh& mesh, const BuildOptions& opts) {
     check_options(opts);
-    const LargeAllocReuse reuse;  // large temporaries reused within the build (large_alloc.h)
     const std::size_t n = mesh.triangles.size();
     constexpr std::size_t kBlock = 64 * 1024;
     const std::size_t nblocks = (n + kBlock - 1) / kBlock;
@@ -142,7 +140,6 @@ double sah_cost(const Bvh2Topology& topo, float ct, float ci) {
 
 Bvh2 Bvh2::build(const Mesh& mesh, const BuildOptions& opts) {
     const auto t0 = std::chrono::steady_clock::now();
-    const LargeAllocReuse reuse;
     validate(mesh);
     const std::size_t n = mesh.triangles.size();
     Bvh2Topology topo = build_topology(mesh, opts);

@@ -42,12 +42,14 @@ struct WideAccess {
     template <int N>
     static BvhN<N> build(const Mesh& mesh, const BuildOptions& bvh2_opts, const WideOptions& opts) {
         validate(mesh);
-        // The BVH2's references and nodes, freed before pack, become the
-        // wide nodes' and blocks' pages (large_alloc.h).
-        const LargeAllocReuse reuse;
         BuildOptions b2 = bvh2_opts;
         b2.intersection_cost = opts.bvh2_intersection_cost;
         Bvh2Topology topo2 = build_topology(mesh, b2);
+        // From here the collapse's tables and the BVH2's nodes, freed before
+        // pack, become the wide nodes' and blocks' pages (large_alloc.h). Not
+        // over the BVH2 build: a block it frees (a task's subtree nodes) would
+        // stay resident until the next large allocation, raising the peak.
+        const LargeAllocReuse reuse;
         const auto t0 = std::chrono::steady_clock::now();  // build_ms: collapse + pack, as from a Bvh2
         const bvh8::WideTopology<N> topo = bvh8::collapse<N>(topo2.nodes, topo2.prim_ids.size(), opts);
         BvhN<N> b;

@@ -24,6 +24,7 @@
 #include <limits>
 #include <span>
 #include <string>
+#include <type_traits>
 
 #include "collapse.h"
 #include "simdbvh/kernels/error.h"
@@ -43,7 +44,7 @@ struct Collapser {
     std::size_t prims;  // triangles in the BVH2's leaves
     const WideOptions& opts;
     std::span<const Node2> n2;
-    LargeVector<std::uint32_t> prim_count;  // triangles under each BVH2 node
+    LargeVector<std::uint32_t> prim_count;  // triangles under each BVH2 node (greedy only)
     // SAH tables (index i - 1 for i = 1..N). The costs C(n, i) live only on
     // the recursion (a parent needs its children's), not in a table per node.
     using Costs = std::array<double, N>;
@@ -58,7 +59,7 @@ struct Collapser {
     std::uint32_t left(std::uint32_t n) const { return n2[n].first; }
     std::uint32_t right(std::uint32_t n) const { return n2[n].first + 1; }
 
-    bool leafable(std::uint32_t n) const { return prim_count[n] <= std::uint32_t(opts.max_leaf_size); }
+    bool leafable(std::uint32_t count) const { return count <= std::uint32_t(opts.max_leaf_size); }
 
     // Areas as the float collapse computed them when the root's float area is
     // finite (every box lies inside it: the same trees, bit for bit), else in
@@ -68,8 +69,8 @@ struct Collapser {
         return float_areas ? double(n2[n].box.half_area_float()) : n2[n].box.half_area();
     }
 
-    double leaf_cost(std::uint32_t n) const {
-        return double(opts.block_cost) * blocks_of(prim_count[n]) * area(n);
+    double leaf_cost(std::uint32_t n, std::uint32_t count) const {
+        return double(opts.block_cost) * blocks_of(count) * area(n);
     }
 
     // Triangles under n (recursion depth <= the BVH2's depth <= kMaxDepth).
@@ -78,36 +79,41 @@ struct Collapser {
         return prim_count[n] = nd.is_leaf() ? nd.count : count_prims(left(n)) + count_prims(right(n));
     }
 
-    // C(n, 1..N) bottom-up; records from, distn and leaf1 for n. Subtrees
-    // of at least kTaskMin triangles, down to `spawn` levels, solve their
-    // right child on another thread: every node writes only its own entries,
-    // so the tables do not depend on the thread count.
-    static constexpr std::uint32_t kTaskMin = 32 * 1024;
+    // C(n, 1..N) bottom-up; records from, distn and leaf1 for n (every
+    // node, leaves included: the tables are not zeroed beforehand, and this
+    // pass, parallel, is their first touch). The top `spawn` levels solve
+    // their right child on another thread: every node writes only its own
+    // entries, so the tables do not depend on the thread count.
+    // `count`: triangles under n, counted on the way up.
     //
     // `leaves`: BVH2 leaves under n (L). No representation uses more than L
     // slots, so C(n, i) = C(n, L) for i >= L: C_dist(n, j) for L < j < N
     // only repeats sums of smaller budgets (never strictly smaller: the same
     // "same as i - 1" entries) and is not computed; C_dist(n, N) always is.
-    Costs solve_sah(std::uint32_t n, int spawn, std::uint32_t& leaves) {
+    Costs solve_sah(std::uint32_t n, int spawn, std::uint32_t& leaves, std::uint32_t& count) {
         Costs c;
         if (n2[n].is_leaf()) {
-            c.fill(leaf_cost(n));
+            count = n2[n].count;
+            c.fill(leaf_cost(n, count));
+            from[n] = {};
+            distn[n] = 0;
             leaf1[n] = 1;
             leaves = 1;
             return c;
         }
         Costs cl, cr;
-        std::uint32_t ll = 0, lr = 0;
-        if (spawn > 0 && prim_count[n] >= kTaskMin) {  // the two sides as tasks (the host executor's, or threads)
+        std::uint32_t ll = 0, lr = 0, nl = 0, nr = 0;
+        if (spawn > 0) {  // the two sides as tasks (the host executor's, or threads)
             run_tasks(2, [&](std::size_t k) {
-                if (k == 0) cl = solve_sah(left(n), spawn - 1, ll);
-                else cr = solve_sah(right(n), spawn - 1, lr);
+                if (k == 0) cl = solve_sah(left(n), spawn - 1, ll, nl);
+                else cr = solve_sah(right(n), spawn - 1, lr, nr);
             });
         } else {
-            cl = solve_sah(left(n), spawn - 1, ll);
-            cr = solve_sah(right(n), spawn - 1, lr);
+            cl = solve_sah(left(n), 0, ll, nl);
+            cr = solve_sah(right(n), 0, lr, nr);
         }
         leaves = ll + lr;
+        count = nl + nr;
         const int budget = int(std::min<std::uint32_t>(leaves, N));  // slots worth computing
         if (n == 0) { root_left = cl; root_right = cr; }
         // Costs are finite for finite boxes (areas in double), so a split is
@@ -126,7 +132,7 @@ struct Collapser {
                 split[j] = std::uint8_t(better ? k : split[j]);
             }
         }
-        const double c_leaf = leafable(n) ? leaf_cost(n) : kInf;
+        const double c_leaf = leafable(count) ? leaf_cost(n, count) : kInf;
         const double c_inner = dist[N] + double(opts.node_cost) * area(n);
         leaf1[n] = c_leaf <= c_inner;
         c[0] = std::min(c_leaf, c_inner);
@@ -207,15 +213,15 @@ struct Collapser {
         return c;
     }
 
-    // Sized and zeroed, on huge pages when large (large_alloc.h).
+    // Sized, not zeroed (the pass that fills a table touches it first), on
+    // huge pages when large (large_alloc.h).
     template <class V>
     static void sized(V& v, std::size_t n) {
-        v.resize(n, typename V::value_type{});
+        static_assert(std::is_trivially_default_constructible_v<typename V::value_type>);
+        v.resize(n);
     }
 
     void build() {
-        sized(prim_count, n2.size());
-        count_prims(0);
         float_areas = std::isfinite(n2[0].box.half_area_float());
         if (opts.collapse == Collapse::sah) {
             sized(from, n2.size());
@@ -223,8 +229,11 @@ struct Collapser {
             sized(leaf1, n2.size());
             int spawn = 0;  // levels with tasks: about 2 tasks per thread
             while (spawn < 6 && (1 << spawn) < 2 * opts.threads) ++spawn;
-            std::uint32_t leaves = 0;
-            solve_sah(0, opts.threads > 1 ? spawn : 0, leaves);
+            std::uint32_t leaves = 0, count = 0;
+            solve_sah(0, opts.threads > 1 ? spawn : 0, leaves, count);
+        } else {
+            sized(prim_count, n2.size());
+            count_prims(0);
         }
         topo.nodes.reserve(n2.size() / 4 + 1);
         topo.prims.reserve(prims);
@@ -234,7 +243,7 @@ struct Collapser {
         bool root_leaf = n2[0].is_leaf();
         if (!root_leaf) {
             if (opts.collapse == Collapse::sah) {
-                root_leaf = leafable(0) && leaf_cost(0) <= root_left[distn[0] - 1] + root_right[N - distn[0] - 1];
+                root_leaf = leafable(std::uint32_t(prims)) && leaf_cost(0, std::uint32_t(prims)) <= root_left[distn[0] - 1] + root_right[N - distn[0] - 1];
             } else {
                 root_leaf = greedy_leaf(0);
             }

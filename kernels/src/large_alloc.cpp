@@ -30,8 +30,9 @@ constexpr bool kOwnMappings = true;
 #endif
 
 // Blocks freed while a LargeAllocReuse scope is open, for the next large
-// allocations of the same build (best fit, split on 2 MiB boundaries); all
-// unmapped when the last scope closes.
+// allocations of the same build: best fit, the unused rest of the block
+// unmapped at once (kept, it would stay resident and raise the build's peak);
+// all unmapped when the last scope closes.
 struct FreeBlock {
     std::uintptr_t p;
     std::size_t size;
@@ -46,15 +47,10 @@ void* reuse(std::size_t size) {
     for (std::size_t i = 0; i < g_free.size(); ++i)
         if (g_free[i].size >= size && (best == g_free.size() || g_free[i].size < g_free[best].size)) best = i;
     if (best == g_free.size()) return nullptr;
-    FreeBlock& b = g_free[best];
-    const std::uintptr_t p = b.p;
-    if (b.size > size) {
-        b.p += size;
-        b.size -= size;
-    } else {
-        g_free.erase(g_free.begin() + std::ptrdiff_t(best));
-    }
-    return reinterpret_cast<void*>(p);
+    const FreeBlock b = g_free[best];
+    g_free.erase(g_free.begin() + std::ptrdiff_t(best));
+    if (b.size > size) munmap(reinterpret_cast<void*>(b.p + size), b.size - size);
+    return reinterpret_cast<void*>(b.p);
 }
 
 bool keep(void* p, std::size_t size) noexcept {

@@ -62,7 +62,7 @@ TEST(LargeAlloc, LargeBlocksAreAlignedAdvisedAndUnmappedInFull) {
     EXPECT_FALSE(mapping_of(static_cast<char*>(p) + bytes - 1).found);
 }
 
-TEST(LargeAlloc, ReuseScopeHandsFreedBlocksToLaterAllocationsAndUnmapsTheRest) {
+TEST(LargeAlloc, ReuseScopeHandsFreedBlocksToLaterAllocationsAndUnmapsWhatIsLeft) {
 #if defined(__SANITIZE_ADDRESS__)
     GTEST_SKIP() << "under ASan large blocks stay on operator new (large_alloc.cpp)";
 #endif
@@ -74,15 +74,19 @@ TEST(LargeAlloc, ReuseScopeHandsFreedBlocksToLaterAllocationsAndUnmapsTheRest) {
         std::memset(a, 1, big);
         large_free(a, big, 64);
         EXPECT_TRUE(mapping_of(a).found);  // kept while the scope lasts
-        // Best fit, split on a 2 MiB boundary: the front of the freed block.
+        // Best fit: the front of the freed block; the rest (beyond 6 MiB) unmapped.
         char* b = static_cast<char*>(large_alloc(small, 64));
         EXPECT_EQ(b, a);
+        EXPECT_TRUE(mapping_of(a + small).found);
+        EXPECT_FALSE(mapping_of(a + (std::size_t(6) << 20)).found);
+        large_free(b, small, 64);
         {
             const LargeAllocReuse nested;  // scopes nest: the inner end releases nothing
         }
-        char* c = static_cast<char*>(large_alloc(small, 64));
-        EXPECT_EQ(c, a + (std::size_t(6) << 20));  // the rest, after b's 6 MiB
-        large_free(b, small, 64);
+        EXPECT_TRUE(mapping_of(b).found);
+        char* c = static_cast<char*>(large_alloc(small, 64));  // b again
+        EXPECT_EQ(c, b);
+        std::memset(c, 2, small);
         large_free(c, small, 64);
         kept = a;
     }

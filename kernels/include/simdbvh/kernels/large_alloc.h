@@ -22,8 +22,10 @@ void large_free(void* p, std::size_t bytes, std::size_t align) noexcept;
 // for the next large allocations instead of being unmapped: a build's
 // temporaries (the BVH2's references and nodes, the collapse's tables) become
 // its output (wide nodes, Tri8 blocks) without the kernel clearing fresh
-// pages again (dragon BVH8: 43 MB of blocks). When the last one ends, the
-// blocks still kept are unmapped. Kept blocks are not zeroed: LargeAllocator
+// pages again (dragon BVH8: 43 MB of blocks). A block is reused whole or not
+// at all (best fit; the part beyond the request is unmapped), so kept memory
+// is idle only between a free and the next large allocation. When the last
+// scope ends, the blocks still kept are unmapped. Kept blocks are not zeroed: LargeAllocator
 // does not zero either.
 class LargeAllocReuse {
 public:
