@@ -21,9 +21,16 @@ std::optional<Collapse> parse_collapse(std::string_view s) {
     return std::nullopt;
 }
 
+template <int N>
+void check_quantized(const WideOptions& opts) {
+    if (N == 4 && opts.quantized_nodes)
+        throw Error("BVH4 has no quantized nodes (a QNode4 would take the 128 bytes of a Node4): use BVH8 or BVH16");
+}
+
 struct WideAccess {
     template <int N>
     static BvhN<N> build(const Bvh2& bvh2, const WideOptions& opts) {
+        check_quantized<N>(opts);
         const auto t0 = std::chrono::steady_clock::now();
         const LargeAllocReuse reuse;  // the collapse's tables become the blocks' pages (large_alloc.h)
         const bvh8::WideTopology<N> topo = bvh8::collapse<N>(bvh2, opts);
@@ -42,6 +49,7 @@ struct WideAccess {
     template <int N>
     static BvhN<N> build(const Mesh& mesh, const BuildOptions& bvh2_opts, const WideOptions& opts) {
         validate(mesh);
+        check_quantized<N>(opts);
         BuildOptions b2 = bvh2_opts;
         b2.intersection_cost = opts.bvh2_intersection_cost;
         Bvh2Topology topo2 = build_topology(mesh, b2);

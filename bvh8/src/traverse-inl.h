@@ -278,12 +278,13 @@ inline __attribute__((always_inline)) void trace_span(const BvhN<N>& bvh, std::s
                                                       std::span<Hit> hits, TraceStats* stats) {
     const Aabb bounds = bvh.bounds();
     const Aabb* root = bvh.nodes().empty() ? nullptr : &bounds;
-    if (!bvh.qnodes().empty())
-        trace_span<K, N, Leaf, Query, kStats, kFlight>(bvh.qnodes().data(), root, Leaf{bvh.blocks().data()}, rays,
-                                                       hits, stats);
-    else
-        trace_span<K, N, Leaf, Query, kStats, kFlight>(bvh.nodes().data(), root, Leaf{bvh.blocks().data()}, rays,
-                                                       hits, stats);
+    if constexpr (N != 4) {  // a BVH4 has no quantized nodes (WideOptions::quantized_nodes)
+        if (!bvh.qnodes().empty())
+            return trace_span<K, N, Leaf, Query, kStats, kFlight>(bvh.qnodes().data(), root,
+                                                                  Leaf{bvh.blocks().data()}, rays, hits, stats);
+    }
+    trace_span<K, N, Leaf, Query, kStats, kFlight>(bvh.nodes().data(), root, Leaf{bvh.blocks().data()}, rays, hits,
+                                                   stats);
 }
 
 // Triangle test, stats and rays in flight chosen once per batch (stats: 8).

@@ -119,6 +119,9 @@ TEST_F(Cli, QuantizedNodesSameHitFile) {
     EXPECT_NE(u.output.find("tiny"), std::string::npos) << u.output;
     CliRun w = run_cli("trace --scene soup-2000 --method bvh2 --nodes quantized --rays " + rays + " --out " + bad);
     EXPECT_EQ(w.status, 2);
+    CliRun w4 = run_cli("trace --scene soup-2000 --method bvh4 --nodes quantized --rays " + rays + " --out " + bad);
+    EXPECT_EQ(w4.status, 2);
+    EXPECT_NE(w4.output.find("bvh8 / bvh16"), std::string::npos) << w4.output;
     EXPECT_FALSE(fs::exists(bad));
 }
 

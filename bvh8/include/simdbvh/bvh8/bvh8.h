@@ -47,8 +47,10 @@ struct WideOptions {
     // intersection cost in place of bvh2_opts.intersection_cost.
     float bvh2_intersection_cost = kWideIntersectionCost;
     // Also keep the nodes quantized (qnode.h: 8-bit child boxes, half the
-    // bytes per node for N = 8, 16), which traversal then reads instead of the
-    // full nodes (kept for refit, the point queries and the scenes). Same hits.
+    // bytes per node), which traversal then reads instead of the full nodes
+    // (kept for refit, the point queries and the scenes). Same hits. N = 8, 16
+    // only: a BVH4 with it is an Error (QNode4 would be as large as Node4, 128
+    // bytes, so its traversal is not compiled).
     bool quantized_nodes = false;
 };
 using Bvh8Options = WideOptions;
