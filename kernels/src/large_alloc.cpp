@@ -23,7 +23,14 @@ namespace simdbvh {
 namespace {
 constexpr std::size_t kHugePage = std::size_t(2) << 20;
 std::size_t round_up(std::size_t n) { return (n + kHugePage - 1) / kHugePage * kHugePage; }
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(__SANITIZE_ADDRESS__)  // GCC
+#define SIMDBVH_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)  // Clang (the fuzz build)
+#define SIMDBVH_ASAN 1
+#endif
+#endif
+#if defined(SIMDBVH_ASAN)
 constexpr bool kOwnMappings = false;
 #else
 constexpr bool kOwnMappings = true;

@@ -11,6 +11,14 @@
 
 #include "simdbvh/kernels/large_alloc.h"
 
+#if defined(__SANITIZE_ADDRESS__)
+#define SIMDBVH_TEST_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define SIMDBVH_TEST_ASAN 1
+#endif
+#endif
+
 namespace simdbvh {
 namespace {
 
@@ -44,7 +52,7 @@ Mapping mapping_of(const void* p) {
 }
 
 TEST(LargeAlloc, LargeBlocksAreAlignedAdvisedAndUnmappedInFull) {
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(SIMDBVH_TEST_ASAN)
     GTEST_SKIP() << "under ASan large blocks stay on operator new (large_alloc.cpp)";
 #endif
     const std::size_t bytes = (std::size_t(5) << 20) + 12345;  // a partial 2 MiB page at the end
@@ -63,7 +71,7 @@ TEST(LargeAlloc, LargeBlocksAreAlignedAdvisedAndUnmappedInFull) {
 }
 
 TEST(LargeAlloc, ReuseScopeHandsFreedBlocksToLaterAllocationsAndUnmapsWhatIsLeft) {
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(SIMDBVH_TEST_ASAN)
     GTEST_SKIP() << "under ASan large blocks stay on operator new (large_alloc.cpp)";
 #endif
     const std::size_t big = std::size_t(12) << 20, small = std::size_t(5) << 20;
