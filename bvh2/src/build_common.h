@@ -26,15 +26,13 @@ struct alignas(16) PrimRef {  // 48 bytes; lo and hi load as 16-byte vectors
 };
 static_assert(sizeof(PrimRef) == 48);
 
-// resize() leaves new PrimRefs unwritten (no zero fill): every writer sets
-// each reference it allocates, on the build threads, so the pages are first
-// touched there rather than by a serial memset.
-template <class T>
-using NoFillAllocator = LargeAllocator<T>;  // default-initialized: PrimRef is written before it is read
+// A LargeVector's resize() leaves new PrimRefs unwritten (no zero fill): every
+// writer sets each reference it allocates, on the build threads, so the pages
+// are first touched there rather than by a serial memset.
 static_assert(std::is_trivially_copyable_v<PrimRef> && std::is_trivially_destructible_v<PrimRef>);
 
 struct BuildContext {
-    std::vector<PrimRef, NoFillAllocator<PrimRef>> refs;  // partitioned in place
+    LargeVector<PrimRef> refs;  // partitioned in place
     BuildOptions opts;
     std::atomic<int> spare_threads{0};
     bool float_costs = true;  // SAH costs in float (see sah_area); set by build_top_down

@@ -36,6 +36,16 @@ constexpr bool kOwnMappings = false;
 constexpr bool kOwnMappings = true;
 #endif
 
+// The whole 2 MiB pages inside [p, p + bytes) advised as huge pages (the
+// ASan path, whose blocks come from operator new).
+void advise_huge_pages(const void* p, std::size_t bytes) noexcept {
+    if (bytes < kLargeBytes) return;
+    const auto a = reinterpret_cast<std::uintptr_t>(p);
+    const std::uintptr_t lo = (a + kHugePage - 1) / kHugePage * kHugePage;
+    const std::uintptr_t hi = (a + bytes) / kHugePage * kHugePage;
+    if (hi > lo) madvise(reinterpret_cast<void*>(lo), hi - lo, MADV_HUGEPAGE);
+}
+
 // Blocks freed while a LargeAllocReuse scope is open, for the next large
 // allocations of the same build: best fit, the unused rest of the block
 // unmapped at once (kept, it would stay resident and raise the build's peak);
@@ -105,14 +115,6 @@ void* large_alloc(std::size_t bytes, std::size_t align) {
     if (a + kHugePage > p) munmap(reinterpret_cast<void*>(p + size), a + kHugePage - p);  // and tail
     madvise(reinterpret_cast<void*>(p), size, MADV_HUGEPAGE);  // advice only: no THP support changes nothing
     return reinterpret_cast<void*>(p);
-}
-
-void advise_huge_pages(const void* p, std::size_t bytes) noexcept {
-    if (bytes < kLargeBytes) return;
-    const auto a = reinterpret_cast<std::uintptr_t>(p);
-    const std::uintptr_t lo = (a + kHugePage - 1) / kHugePage * kHugePage;
-    const std::uintptr_t hi = (a + bytes) / kHugePage * kHugePage;
-    if (hi > lo) madvise(reinterpret_cast<void*>(lo), hi - lo, MADV_HUGEPAGE);
 }
 
 void large_free(void* p, std::size_t bytes, std::size_t align) noexcept {

@@ -73,9 +73,7 @@ static_assert(sizeof(ChildN<16>) == 8);
 // Tri8 blocks start on 64-byte boundaries (a 320-byte block spans 5 cache
 // lines instead of 6); large arrays on huge pages, no zero fill (every writer
 // of Tri8 blocks clears or sets each block it allocates: pack, BruteForce8).
-template <class T, std::size_t kAlign>
-using AlignedAllocator = LargeAllocator<T, kAlign>;
-using Tri8Blocks = std::vector<Tri8, AlignedAllocator<Tri8, 64>>;
+using Tri8Blocks = LargeVector<Tri8, 64>;
 
 // Child boxes first (empty slots +inf/-inf, at the end), then the references.
 template <int N>
@@ -96,6 +94,6 @@ static_assert(offsetof(Node8, children) == sizeof(Box8));
 // std::allocator array is not 2 MiB aligned, and its unaligned ends fault in
 // 4 KiB pages (about 470 faults for the dragon's BVH8 nodes, measured).
 template <int N>
-using NodesN = std::vector<NodeN<N>, AlignedAllocator<NodeN<N>, 64>>;
+using NodesN = LargeVector<NodeN<N>, 64>;
 
 }  // namespace simdbvh

@@ -1,6 +1,7 @@
 #pragma once
-// Allocations of the builds' large arrays (references, Tri8 blocks): from
-// kLargeBytes up, 2 MiB aligned and advised as transparent huge pages
+// Allocations of the builds' large arrays (references, BVH2 and wide nodes,
+// the collapse's tables, Tri8 blocks): from kLargeBytes up, a mapping of their
+// own, 2 MiB aligned and advised as transparent huge pages in full
 // (madvise(MADV_HUGEPAGE): on kernels that use huge pages only where asked,
 // as Debian's default "madvise" mode does, a 50 MB array otherwise takes
 // 12,800 page faults on first touch). Smaller ones: `align`-aligned new.
@@ -25,8 +26,8 @@ void large_free(void* p, std::size_t bytes, std::size_t align) noexcept;
 // pages again (dragon BVH8: 43 MB of blocks). A block is reused whole or not
 // at all (best fit; the part beyond the request is unmapped), so kept memory
 // is idle only between a free and the next large allocation. When the last
-// scope ends, the blocks still kept are unmapped. Kept blocks are not zeroed: LargeAllocator
-// does not zero either.
+// scope ends, the blocks still kept are unmapped. Kept blocks are not zeroed
+// (LargeAllocator does not zero either).
 class LargeAllocReuse {
 public:
     LargeAllocReuse() noexcept;
@@ -34,10 +35,6 @@ public:
     LargeAllocReuse(const LargeAllocReuse&) = delete;
     LargeAllocReuse& operator=(const LargeAllocReuse&) = delete;
 };
-
-// The same advice for memory allocated elsewhere (a std::vector's reserve()
-// before its first write): the whole 2 MiB pages inside [p, p + bytes).
-void advise_huge_pages(const void* p, std::size_t bytes) noexcept;
 
 // A std::vector allocator over large_alloc, kAlign-aligned (at least
 // alignof(T)). resize(n) default-initializes (no zero fill: the builds write
