@@ -35,7 +35,10 @@ struct WideAccess {
         const LargeAllocReuse reuse;  // the collapse's tables become the blocks' pages (large_alloc.h)
         const bvh8::WideTopology<N> topo = bvh8::collapse<N>(bvh2, opts);
         BvhN<N> b;
-        bvh8::pack<N>(bvh2, topo, b.nodes_, b.blocks_, b.stats_, opts.threads);
+        {
+            const LargeAllocTake take;  // pack writes every array it allocates
+            bvh8::pack<N>(bvh2, topo, b.nodes_, b.blocks_, b.stats_, opts.threads);
+        }
         b.stats_.sah_cost = bvh8::sah_cost(topo, opts);
         b.bounds_ = bvh2.bounds();
         b.opts_ = opts;
@@ -52,18 +55,20 @@ struct WideAccess {
         check_quantized<N>(opts);
         BuildOptions b2 = bvh2_opts;
         b2.intersection_cost = opts.bvh2_intersection_cost;
-        Bvh2Topology topo2 = build_topology(mesh, b2);
-        // From here the collapse's tables and the BVH2's nodes, freed before
-        // pack, become the wide nodes' and blocks' pages (large_alloc.h). Not
-        // over the BVH2 build: a block it frees (a task's subtree nodes) would
-        // stay resident until the next large allocation, raising the peak.
+        // The BVH2's references and nodes and the collapse's tables, freed
+        // on the way, become the wide nodes' and Tri8 blocks' pages
+        // (large_alloc.h): the kernel clears no fresh page for them.
         const LargeAllocReuse reuse;
+        Bvh2Topology topo2 = build_topology(mesh, b2);
         const auto t0 = std::chrono::steady_clock::now();  // build_ms: collapse + pack, as from a Bvh2
         const bvh8::WideTopology<N> topo = bvh8::collapse<N>(topo2.nodes, topo2.prim_ids.size(), opts);
         BvhN<N> b;
         b.bounds_ = topo2.nodes.empty() ? Aabb{} : topo2.nodes[0].box;
-        Nodes2().swap(topo2.nodes);  // not needed by pack: lowers the peak memory
-        bvh8::pack<N>(mesh, topo2.prim_ids, topo, b.nodes_, b.blocks_, b.stats_, opts.threads);
+        Nodes2().swap(topo2.nodes);  // not needed by pack: kept for its arrays
+        {
+            const LargeAllocTake take;  // pack writes every array it allocates
+            bvh8::pack<N>(mesh, topo2.prim_ids, topo, b.nodes_, b.blocks_, b.stats_, opts.threads);
+        }
         b.stats_.sah_cost = bvh8::sah_cost(topo, opts);
         b.opts_ = opts;
         b.quantize();

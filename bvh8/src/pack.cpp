@@ -39,7 +39,12 @@ NodePacking<N> pack_node(const WideNode<N>& w) {
     int order[N], small = 0;
     for (int c = 0; c < w.child_count; ++c)
         if (is_small(w.children[c])) order[small++] = c;
-    std::stable_sort(order, order + small, [&](int a, int b) { return w.children[a].count > w.children[b].count; });
+    for (int k = 1; k < small; ++k) {  // stable insertion sort by decreasing count (std::stable_sort allocates)
+        const int c = order[k];
+        int j = k;
+        for (; j > 0 && w.children[order[j - 1]].count < w.children[c].count; --j) order[j] = order[j - 1];
+        order[j] = c;
+    }
     int used[N], bin_of[N];
     std::uint32_t slots[N] = {};
     int bins = 0;

@@ -46,10 +46,29 @@ void advise_huge_pages(const void* p, std::size_t bytes) noexcept {
     if (hi > lo) madvise(reinterpret_cast<void*>(lo), hi - lo, MADV_HUGEPAGE);
 }
 
+// A fresh anonymous mapping of `size` bytes (a multiple of 2 MiB), 2 MiB
+// aligned, advised as huge pages; nullptr when the kernel refuses.
+void* map_aligned(std::size_t size) noexcept {
+    void* m = mmap(nullptr, size + kHugePage, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (m == MAP_FAILED) return nullptr;
+    const auto a = reinterpret_cast<std::uintptr_t>(m);
+    const std::uintptr_t p = (a + kHugePage - 1) / kHugePage * kHugePage;
+    if (p > a) munmap(m, p - a);                                                           // the unaligned head
+    if (a + kHugePage > p) munmap(reinterpret_cast<void*>(p + size), a + kHugePage - p);  // and tail
+    madvise(reinterpret_cast<void*>(p), size, MADV_HUGEPAGE);  // advice only: no THP support changes nothing
+    return reinterpret_cast<void*>(p);
+}
+
 // Blocks freed while a LargeAllocReuse scope is open, for the next large
-// allocations of the same build: best fit, the unused rest of the block
-// unmapped at once (kept, it would stay resident and raise the build's peak);
-// all unmapped when the last scope closes.
+// allocations of the same build (those inside a LargeAllocTake). Only their
+// resident part is kept (a vector reserved at twice what it used, as the
+// BVH2's nodes are, keeps the pages it touched; the untouched tail is unmapped
+// at once), so what is kept is memory the kernel has already cleared: an
+// allocation that takes it costs no page faults. It takes the best-fitting
+// block (the rest of it stays kept); when none is large enough, the kept
+// blocks are moved into one fresh range (mremap: page tables only, no copy),
+// largest first, and the rest of the range is fresh memory. All are unmapped
+// when the last scope ends.
 struct FreeBlock {
     std::uintptr_t p;
     std::size_t size;
@@ -57,27 +76,68 @@ struct FreeBlock {
 std::mutex g_mutex;
 std::vector<FreeBlock> g_free;  // guarded by g_mutex
 std::atomic<int> g_scopes{0};
+thread_local int t_take = 0;  // LargeAllocTake scopes open on this thread
+
+// [p, p + size) up to the end of the 2 MiB page holding its last resident
+// 4 KiB page (0: nothing resident; size when mincore cannot tell).
+std::size_t resident_prefix(std::uintptr_t p, std::size_t size) noexcept {
+    constexpr std::size_t kPage = 4096;
+    const std::size_t pages = size / kPage;
+    std::vector<unsigned char> in;
+    try {
+        in.resize(pages);
+    } catch (...) {
+        return size;
+    }
+    if (mincore(reinterpret_cast<void*>(p), size, in.data()) != 0) return size;
+    std::size_t last = pages;
+    while (last > 0 && !(in[last - 1] & 1)) --last;
+    return round_up(last * kPage);
+}
 
 void* reuse(std::size_t size) {
     std::lock_guard<std::mutex> lock(g_mutex);
+    if (g_free.empty()) return nullptr;
     std::size_t best = g_free.size();
     for (std::size_t i = 0; i < g_free.size(); ++i)
         if (g_free[i].size >= size && (best == g_free.size() || g_free[i].size < g_free[best].size)) best = i;
-    if (best == g_free.size()) return nullptr;
-    const FreeBlock b = g_free[best];
-    g_free.erase(g_free.begin() + std::ptrdiff_t(best));
-    if (b.size > size) munmap(reinterpret_cast<void*>(b.p + size), b.size - size);
-    return reinterpret_cast<void*>(b.p);
+    if (best < g_free.size()) {
+        FreeBlock& b = g_free[best];
+        const std::uintptr_t p = b.p;
+        if (b.size == size) g_free.erase(g_free.begin() + std::ptrdiff_t(best));
+        else b = {b.p + size, b.size - size};  // the rest stays kept
+        return reinterpret_cast<void*>(p);
+    }
+    void* m = map_aligned(size);
+    if (!m) return nullptr;
+    std::sort(g_free.begin(), g_free.end(), [](const FreeBlock& a, const FreeBlock& b) { return a.size < b.size; });
+    auto dst = reinterpret_cast<std::uintptr_t>(m);
+    const std::uintptr_t end = dst + size;
+    while (dst < end && !g_free.empty()) {
+        FreeBlock& b = g_free.back();
+        const std::size_t take = std::min(b.size, end - dst);
+        if (mremap(reinterpret_cast<void*>(b.p), take, take, MREMAP_MAYMOVE | MREMAP_FIXED,
+                   reinterpret_cast<void*>(dst)) == MAP_FAILED)
+            break;  // the rest of the range stays fresh memory
+        dst += take;
+        if (take == b.size) g_free.pop_back();
+        else b = {b.p + take, b.size - take};
+    }
+    return m;
 }
 
 bool keep(void* p, std::size_t size) noexcept {
     std::lock_guard<std::mutex> lock(g_mutex);
     if (g_scopes.load() == 0) return false;  // read under the lock: release_all cannot miss it
+    const auto a = reinterpret_cast<std::uintptr_t>(p);
+    const std::size_t resident = resident_prefix(a, size);
+    if (resident == 0) return false;
     try {
-        g_free.push_back({reinterpret_cast<std::uintptr_t>(p), size});
+        g_free.push_back({a, resident});
     } catch (...) {
         return false;
     }
+    if (resident < size) munmap(reinterpret_cast<void*>(a + resident), size - resident);
     return true;
 }
 
@@ -96,6 +156,9 @@ LargeAllocReuse::~LargeAllocReuse() {
     if (g_scopes.fetch_sub(1) == 1) release_all();
 }
 
+LargeAllocTake::LargeAllocTake() noexcept { ++t_take; }
+LargeAllocTake::~LargeAllocTake() { --t_take; }
+
 void* large_alloc(std::size_t bytes, std::size_t align) {
     if (bytes < kLargeBytes || align > kHugePage) return ::operator new(bytes, std::align_val_t(align));
     if (!kOwnMappings) {
@@ -105,16 +168,11 @@ void* large_alloc(std::size_t bytes, std::size_t align) {
     }
     const std::size_t size = round_up(bytes);
     if (size < bytes) throw std::bad_alloc();
-    if (g_scopes.load() > 0)
+    if (t_take > 0 && g_scopes.load() > 0)
         if (void* p = reuse(size)) return p;
-    void* m = mmap(nullptr, size + kHugePage, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-    if (m == MAP_FAILED) throw std::bad_alloc();
-    const auto a = reinterpret_cast<std::uintptr_t>(m);
-    const std::uintptr_t p = (a + kHugePage - 1) / kHugePage * kHugePage;
-    if (p > a) munmap(m, p - a);                              // the unaligned head
-    if (a + kHugePage > p) munmap(reinterpret_cast<void*>(p + size), a + kHugePage - p);  // and tail
-    madvise(reinterpret_cast<void*>(p), size, MADV_HUGEPAGE);  // advice only: no THP support changes nothing
-    return reinterpret_cast<void*>(p);
+    void* p = map_aligned(size);
+    if (!p) throw std::bad_alloc();
+    return p;
 }
 
 void large_free(void* p, std::size_t bytes, std::size_t align) noexcept {

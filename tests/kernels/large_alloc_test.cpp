@@ -1,6 +1,7 @@
 // large_alloc / LargeAllocator: large blocks are mappings of their own, 2 MiB
 // aligned, advised as huge pages over their whole length and unmapped in full
-// on free; small ones keep the requested alignment.
+// on free; small ones keep the requested alignment. Inside a LargeAllocReuse
+// scope, freed blocks (their resident part) go to later large allocations.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -70,7 +71,7 @@ TEST(LargeAlloc, LargeBlocksAreAlignedAdvisedAndUnmappedInFull) {
     EXPECT_FALSE(mapping_of(static_cast<char*>(p) + bytes - 1).found);
 }
 
-TEST(LargeAlloc, ReuseScopeHandsFreedBlocksToLaterAllocationsAndUnmapsWhatIsLeft) {
+TEST(LargeAlloc, ReuseScopeHandsFreedBlocksToLaterAllocations) {
 #if defined(SIMDBVH_TEST_ASAN)
     GTEST_SKIP() << "under ASan large blocks stay on operator new (large_alloc.cpp)";
 #endif
@@ -82,18 +83,22 @@ TEST(LargeAlloc, ReuseScopeHandsFreedBlocksToLaterAllocationsAndUnmapsWhatIsLeft
         std::memset(a, 1, big);
         large_free(a, big, 64);
         EXPECT_TRUE(mapping_of(a).found);  // kept while the scope lasts
-        // Best fit: the front of the freed block; the rest (beyond 6 MiB) unmapped.
+        char* fresh = static_cast<char*>(large_alloc(small, 64));  // outside a LargeAllocTake: not a kept block
+        EXPECT_TRUE(fresh < a || fresh >= a + big);
+        large_free(fresh, small, 64);  // never touched: nothing kept
+        const LargeAllocTake take;
+        // Best fit: the front of the freed block; the rest (from 6 MiB) stays kept.
         char* b = static_cast<char*>(large_alloc(small, 64));
         EXPECT_EQ(b, a);
-        EXPECT_TRUE(mapping_of(a + small).found);
-        EXPECT_FALSE(mapping_of(a + (std::size_t(6) << 20)).found);
+        EXPECT_EQ(b[small - 1], 1);  // the same pages, not fresh ones
+        EXPECT_TRUE(mapping_of(a + (std::size_t(6) << 20)).found);
         large_free(b, small, 64);
         {
             const LargeAllocReuse nested;  // scopes nest: the inner end releases nothing
         }
         EXPECT_TRUE(mapping_of(b).found);
-        char* c = static_cast<char*>(large_alloc(small, 64));  // b again
-        EXPECT_EQ(c, b);
+        char* c = static_cast<char*>(large_alloc(small, 64));  // either 6 MiB half of a (both fit best)
+        EXPECT_TRUE(c == a || c == a + (std::size_t(6) << 20));
         std::memset(c, 2, small);
         large_free(c, small, 64);
         kept = a;
@@ -105,6 +110,51 @@ TEST(LargeAlloc, ReuseScopeHandsFreedBlocksToLaterAllocationsAndUnmapsWhatIsLeft
     d[0] = 1;
     large_free(d, big, 64);
     EXPECT_FALSE(mapping_of(d).found);
+}
+
+TEST(LargeAlloc, ReuseScopeKeepsOnlyTheResidentPartOfAFreedBlock) {
+#if defined(SIMDBVH_TEST_ASAN)
+    GTEST_SKIP() << "under ASan large blocks stay on operator new (large_alloc.cpp)";
+#endif
+    const LargeAllocReuse scope;
+    const std::size_t big = std::size_t(16) << 20, touched = std::size_t(3) << 20;
+    char* never = static_cast<char*>(large_alloc(big, 64));  // nothing touched at all: nothing kept
+    large_free(never, big, 64);
+    EXPECT_FALSE(mapping_of(never).found);
+    char* a = static_cast<char*>(large_alloc(big, 64));
+    std::memset(a, 7, touched);  // as a vector reserved far beyond its size
+    large_free(a, big, 64);
+    EXPECT_TRUE(mapping_of(a + touched - 1).found);                    // the touched 2 MiB pages: kept
+    EXPECT_FALSE(mapping_of(a + (std::size_t(4) << 20)).found);        // the untouched rest: unmapped
+}
+
+TEST(LargeAlloc, ReuseScopeMovesKeptBlocksIntoAnAllocationNoneFits) {
+#if defined(SIMDBVH_TEST_ASAN)
+    GTEST_SKIP() << "under ASan large blocks stay on operator new (large_alloc.cpp)";
+#endif
+    const LargeAllocReuse scope;
+    const std::size_t mib = std::size_t(1) << 20;
+    char* a = static_cast<char*>(large_alloc(4 * mib, 64));
+    char* b = static_cast<char*>(large_alloc(6 * mib, 64));
+    std::memset(a, 1, 4 * mib);
+    std::memset(b, 2, 6 * mib);
+    large_free(a, 4 * mib, 64);
+    large_free(b, 6 * mib, 64);
+    // 12 MiB: neither block fits, so both are moved into one range, the
+    // larger first, and the last 2 MiB are fresh (zero) pages.
+    const LargeAllocTake take;
+    char* c = static_cast<char*>(large_alloc(12 * mib, 64));
+    EXPECT_EQ(reinterpret_cast<std::uintptr_t>(c) % kHuge, 0u);
+    EXPECT_EQ(c[0], 2);
+    EXPECT_EQ(c[6 * mib - 1], 2);
+    EXPECT_EQ(c[6 * mib], 1);
+    EXPECT_EQ(c[10 * mib - 1], 1);
+    EXPECT_EQ(c[10 * mib], 0);
+    EXPECT_EQ(c[12 * mib - 1], 0);
+    EXPECT_FALSE(mapping_of(a).found);  // moved, not copied
+    EXPECT_FALSE(mapping_of(b).found);
+    std::memset(c, 3, 12 * mib);  // every byte writable
+    large_free(c, 12 * mib, 64);
 }
 
 TEST(LargeAlloc, SmallBlocksKeepTheirAlignment) {

@@ -20,20 +20,34 @@ void* large_alloc(std::size_t bytes, std::size_t align);
 void large_free(void* p, std::size_t bytes, std::size_t align) noexcept;
 
 // While one of these is alive (in any thread), large blocks freed are kept
-// for the next large allocations instead of being unmapped: a build's
-// temporaries (the BVH2's references and nodes, the collapse's tables) become
-// its output (wide nodes, Tri8 blocks) without the kernel clearing fresh
-// pages again (dragon BVH8: 43 MB of blocks). A block is reused whole or not
-// at all (best fit; the part beyond the request is unmapped), so kept memory
-// is idle only between a free and the next large allocation. When the last
-// scope ends, the blocks still kept are unmapped. Kept blocks are not zeroed
-// (LargeAllocator does not zero either).
+// instead of being unmapped (only their resident part: the untouched tail of
+// an over-reserved vector is unmapped at once), and large allocations made
+// inside a LargeAllocTake scope take them: a build's temporaries (the BVH2's
+// references and nodes, the collapse's tables) become its output (wide nodes,
+// Tri8 blocks) without the kernel clearing fresh pages again (dragon BVH8:
+// 44 MB of blocks). A taking allocation gets the best-fitting kept block (the
+// rest stays kept) or, when none is large enough, all of them moved into one
+// range (mremap: page tables only, no copy) with fresh memory after them.
+// When the last scope ends, the blocks still kept are unmapped. Kept blocks
+// are not zeroed (LargeAllocator does not zero either).
 class LargeAllocReuse {
 public:
     LargeAllocReuse() noexcept;
     ~LargeAllocReuse();
     LargeAllocReuse(const LargeAllocReuse&) = delete;
     LargeAllocReuse& operator=(const LargeAllocReuse&) = delete;
+};
+
+// While one of these is alive on a thread, that thread's large allocations
+// take kept blocks (above). Open it only around arrays written in full: kept
+// pages given to a vector reserved beyond what it uses would sit idle and
+// raise the build's peak memory.
+class LargeAllocTake {
+public:
+    LargeAllocTake() noexcept;
+    ~LargeAllocTake();
+    LargeAllocTake(const LargeAllocTake&) = delete;
+    LargeAllocTake& operator=(const LargeAllocTake&) = delete;
 };
 
 // A std::vector allocator over large_alloc, kAlign-aligned (at least
