@@ -20,6 +20,7 @@
 // max_leaf_size) triangles) becomes a leaf. Every greedy tree is a candidate of
 // the dynamic program, so the SAH collapse never costs more under this model.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <span>
@@ -73,10 +74,26 @@ struct Collapser {
         return double(opts.block_cost) * blocks_of(count) * area(n);
     }
 
-    // Triangles under n (recursion depth <= the BVH2's depth <= kMaxDepth).
-    std::uint32_t count_prims(std::uint32_t n) {
+    // Whether every BVH2 subtree's leaves are contiguous in the leaf order,
+    // left before right, as make_leaf needs: checked on the way up (a right
+    // subtree must begin where the left one ends).
+    std::atomic<bool> contiguous{true};
+    void check_adjacent(std::uint32_t left_begin, std::uint32_t left_count, std::uint32_t right_begin) {
+        if (left_begin + left_count != right_begin) contiguous.store(false, std::memory_order_relaxed);
+    }
+
+    // Triangles under n, and the first one's position in the leaf order
+    // (recursion depth <= the BVH2's depth <= kMaxDepth).
+    std::uint32_t count_prims(std::uint32_t n, std::uint32_t& begin) {
         const Node2& nd = n2[n];
-        return prim_count[n] = nd.is_leaf() ? nd.count : count_prims(left(n)) + count_prims(right(n));
+        if (nd.is_leaf()) {
+            begin = nd.first;
+            return prim_count[n] = nd.count;
+        }
+        std::uint32_t br = 0;
+        const std::uint32_t nl = count_prims(left(n), begin), nr = count_prims(right(n), br);
+        check_adjacent(begin, nl, br);
+        return prim_count[n] = nl + nr;
     }
 
     // C(n, 1..N) bottom-up; records from, distn and leaf1 for n (every
@@ -84,16 +101,18 @@ struct Collapser {
     // pass, parallel, is their first touch). The top `spawn` levels solve
     // their right child on another thread: every node writes only its own
     // entries, so the tables do not depend on the thread count.
-    // `count`: triangles under n, counted on the way up.
+    // `count`: triangles under n, counted on the way up; `begin`: the first
+    // one's position in the leaf order.
     //
     // `leaves`: BVH2 leaves under n (L). No representation uses more than L
     // slots, so C(n, i) = C(n, L) for i >= L: C_dist(n, j) for L < j < N
     // only repeats sums of smaller budgets (never strictly smaller: the same
     // "same as i - 1" entries) and is not computed; C_dist(n, N) always is.
-    Costs solve_sah(std::uint32_t n, int spawn, std::uint32_t& leaves, std::uint32_t& count) {
+    Costs solve_sah(std::uint32_t n, int spawn, std::uint32_t& leaves, std::uint32_t& count, std::uint32_t& begin) {
         Costs c;
         if (n2[n].is_leaf()) {
             count = n2[n].count;
+            begin = n2[n].first;
             c.fill(leaf_cost(n, count));
             from[n] = {};
             distn[n] = 0;
@@ -102,16 +121,17 @@ struct Collapser {
             return c;
         }
         Costs cl, cr;
-        std::uint32_t ll = 0, lr = 0, nl = 0, nr = 0;
+        std::uint32_t ll = 0, lr = 0, nl = 0, nr = 0, br = 0;
         if (spawn > 0) {  // the two sides as tasks (the host executor's, or threads)
             run_tasks(2, [&](std::size_t k) {
-                if (k == 0) cl = solve_sah(left(n), spawn - 1, ll, nl);
-                else cr = solve_sah(right(n), spawn - 1, lr, nr);
+                if (k == 0) cl = solve_sah(left(n), spawn - 1, ll, nl, begin);
+                else cr = solve_sah(right(n), spawn - 1, lr, nr, br);
             });
         } else {
-            cl = solve_sah(left(n), 0, ll, nl);
-            cr = solve_sah(right(n), 0, lr, nr);
+            cl = solve_sah(left(n), 0, ll, nl, begin);
+            cr = solve_sah(right(n), 0, lr, nr, br);
         }
+        check_adjacent(begin, nl, br);
         leaves = ll + lr;
         count = nl + nr;
         const int budget = int(std::min<std::uint32_t>(leaves, N));  // slots worth computing
@@ -192,24 +212,16 @@ struct Collapser {
         }
     }
 
-    std::vector<std::uint32_t> stack;  // make_leaf's, reused
-    WideChild make_leaf(std::uint32_t n) {
+    // A leaf over n's subtree: the positions from its leftmost BVH2 leaf's
+    // first to its rightmost one's end (contiguous: checked by the DP).
+    WideChild make_leaf(std::uint32_t n) const {
+        std::uint32_t lo = n, hi = n;
+        while (!n2[lo].is_leaf()) lo = left(lo);
+        while (!n2[hi].is_leaf()) hi = right(hi);
         WideChild c;
         c.box = n2[n].box;
-        c.index = std::uint32_t(topo.prims.size());
-        stack.assign(1, n);
-        while (!stack.empty()) {
-            const std::uint32_t m = stack.back();
-            stack.pop_back();
-            const Node2& nd = n2[m];
-            if (nd.is_leaf()) {
-                for (std::uint32_t k = nd.first; k < nd.first + nd.count; ++k) topo.prims.push_back(k);
-            } else {
-                stack.push_back(right(m));
-                stack.push_back(left(m));
-            }
-        }
-        c.count = std::uint32_t(topo.prims.size()) - c.index;
+        c.index = n2[lo].first;
+        c.count = n2[hi].first + n2[hi].count - c.index;
         return c;
     }
 
@@ -223,20 +235,28 @@ struct Collapser {
 
     void build() {
         float_areas = std::isfinite(n2[0].box.half_area_float());
+        std::uint32_t count = 0, begin = 0;
         if (opts.collapse == Collapse::sah) {
             sized(from, n2.size());
             sized(distn, n2.size());
             sized(leaf1, n2.size());
-            int spawn = 0;  // levels with tasks: about 2 tasks per thread
-            while (spawn < 6 && (1 << spawn) < 2 * opts.threads) ++spawn;
-            std::uint32_t leaves = 0, count = 0;
-            solve_sah(0, opts.threads > 1 ? spawn : 0, leaves, count);
+            // Levels with tasks: one task per thread (a thread costs about
+            // 0.1-0.3 ms to start on the 2-vCPU VMs measured; 2 and 4 tasks
+            // per thread made the dragon's DP slower there, not faster).
+            int spawn = 0;
+            while (spawn < 6 && (1 << spawn) < opts.threads) ++spawn;
+            std::uint32_t leaves = 0;
+            solve_sah(0, opts.threads > 1 ? spawn : 0, leaves, count, begin);
         } else {
             sized(prim_count, n2.size());
-            count_prims(0);
+            count = count_prims(0, begin);
         }
+        // The leaves must cover the positions 0..prims-1 in order (make_leaf, pack).
+        if (!contiguous.load() || begin != 0 || count != prims)
+            throw Error("BVH" + std::to_string(N) + " collapse: the BVH2's leaves do not cover its " +
+                        std::to_string(prims) + " leaf positions in order");
+        topo.prims = prims;
         topo.nodes.reserve(n2.size() / 4 + 1);
-        topo.prims.reserve(prims);
         topo.nodes.emplace_back();
         topo.nodes[0].box = n2[0].box;
         // The root is always a wide node; over a single leaf when that is cheaper (or the BVH2 is one leaf).

@@ -16,7 +16,7 @@ namespace simdbvh::bvh8 {
 
 struct WideChild {
     Aabb box;
-    std::uint32_t index = 0;  // inner: WideTopology::nodes index; leaf: first entry in WideTopology::prims
+    std::uint32_t index = 0;  // inner: WideTopology::nodes index; leaf: its first position in the BVH2 leaf order
     std::uint32_t count = 0;  // 0 = inner; leaf: number of triangles
     bool is_leaf() const { return count != 0; }
 };
@@ -31,8 +31,11 @@ struct WideNode {
 template <int N>
 struct WideTopology {
     LargeVector<WideNode<N>> nodes;        // root at 0; a node's inner children are allocated together
-    LargeVector<std::uint32_t> prims;   // leaf ranges: positions in the BVH2 leaf order (Bvh2::prim_ids())
-    int depth = 0;                      // node levels (root = 1); leaves are not nodes
+    // Triangles in the leaves. A leaf's are the positions [index, index + count)
+    // in the BVH2 leaf order (Bvh2::prim_ids()): a BVH2 subtree's leaves are
+    // contiguous there, as every builder partitions its references in place.
+    std::size_t prims = 0;
+    int depth = 0;  // node levels (root = 1); leaves are not nodes
 };
 
 // Collapses the BVH2 into at most N children per node. Leaves hold at most

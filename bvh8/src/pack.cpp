@@ -115,7 +115,7 @@ void pack_with(const WideTopology<N>& topo, NodesN<N>& nodes, Tri8Blocks& blocks
     blocks.clear();
     blocks.resize(blocks_needed);
     auto fill = [&](Tri8& blk, int lane0, const WideChild& wc, std::uint32_t from, std::uint32_t n) {
-        for (std::uint32_t k = 0; k < n; ++k) set_tri(topo.prims[wc.index + from + k], blk, lane0 + int(k));
+        for (std::uint32_t k = 0; k < n; ++k) set_tri(wc.index + from + k, blk, lane0 + int(k));
     };
     auto pack_one = [&](std::size_t i) {
         const WideNode<N>& w = topo.nodes[i];
@@ -155,7 +155,7 @@ void pack_with(const WideTopology<N>& topo, NodesN<N>& nodes, Tri8Blocks& blocks
     stats.leaves = leaves;
     stats.blocks = blocks.size();
     stats.shared_blocks = shared;
-    stats.triangles = topo.prims.size();
+    stats.triangles = topo.prims;
     stats.width = N;
     stats.depth = topo.depth;
     stats.bytes_per_triangle =

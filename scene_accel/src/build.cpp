@@ -50,12 +50,9 @@ ShapeTree<N> build_shapes(const std::vector<Prim>& prims, std::vector<Prim>& gat
     wo.max_leaf_size = kShapeLeafMax;
     wo.threads = 1;
     const bvh8::WideTopology<N> topo = bvh8::collapse<N>(std::span<const Node2>(t.nodes), t.prim_ids.size(), wo);
-    gathered.resize(topo.prims.size());
-    w.prim_ids.resize(topo.prims.size());
-    for (std::size_t k = 0; k < topo.prims.size(); ++k) {
-        gathered[k] = prims[t.prim_ids[topo.prims[k]]];
-        w.prim_ids[k] = t.prim_ids[topo.prims[k]];
-    }
+    gathered.resize(topo.prims);  // in the leaf order, which the wide leaves index
+    w.prim_ids.assign(t.prim_ids.begin(), t.prim_ids.end());
+    for (std::size_t k = 0; k < topo.prims; ++k) gathered[k] = prims[t.prim_ids[k]];
     using Child = ChildN<N>;
     w.nodes.resize(topo.nodes.size());
     for (std::size_t j = 0; j < topo.nodes.size(); ++j) {
@@ -147,7 +144,7 @@ TopWide wide_top(const Bvh2Topology& top) {
             const bvh8::WideChild& ch = wn.children[std::size_t(c)];
             std::uint32_t code;
             if (ch.is_leaf()) {
-                const std::uint32_t leaf = leaf_at[t.prims[ch.index]];
+                const std::uint32_t leaf = leaf_at[ch.index];
                 if (leaf == kInvalidPrim || top.nodes[leaf].count != ch.count)
                     throw Error("scene: the top level's wide collapse split a BVH2 leaf");
                 code = kernels::kBoxTreeLeaf | leaf;

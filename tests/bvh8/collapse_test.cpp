@@ -55,11 +55,11 @@ void check_topology(const Mesh& mesh, const Bvh2& bvh2, const bvh8::WideTopology
             const bvh8::WideChild& ch = n.children[c];
             EXPECT_TRUE(n.box.contains(ch.box)) << "node " << i << " child " << c;
             if (ch.is_leaf()) {
-                ASSERT_LE(std::size_t(ch.index) + ch.count, topo.prims.size());
+                ASSERT_LE(std::size_t(ch.index) + ch.count, topo.prims);
                 EXPECT_TRUE(ch.count <= std::uint32_t(o.max_leaf_size) || ch.count <= biggest_bvh2_leaf)
                     << "leaf of " << ch.count << " triangles";
                 for (std::uint32_t k = ch.index; k < ch.index + ch.count; ++k) {
-                    const std::uint32_t pos = topo.prims[k];
+                    const std::uint32_t pos = k;  // a position in the BVH2 leaf order
                     ASSERT_LT(pos, ids.size());
                     prim_seen[pos]++;
                     EXPECT_TRUE(ch.box.contains(tri_box(mesh, ids[pos]))) << "leaf box misses triangle " << ids[pos];
@@ -74,7 +74,7 @@ void check_topology(const Mesh& mesh, const Bvh2& bvh2, const bvh8::WideTopology
     }
     for (std::size_t k = 0; k < node_refs.size(); ++k) ASSERT_EQ(node_refs[k], 1) << "node " << k;
     for (std::size_t k = 0; k < prim_seen.size(); ++k) ASSERT_EQ(prim_seen[k], 1) << "triangle position " << k;
-    EXPECT_EQ(topo.prims.size(), ids.size());
+    EXPECT_EQ(topo.prims, ids.size());
     EXPECT_EQ(depth, topo.depth);
     EXPECT_LE(depth, kMaxDepth);
 }
@@ -184,7 +184,7 @@ void check_packed(const Mesh& mesh, const Bvh2& bvh2, const bvh8::WideTopology<N
             // Exactly the leaf's triangles, each inside its box.
             ASSERT_EQ(mine.size(), wc.count);
             std::vector<std::uint32_t> want, got;
-            for (std::uint32_t k = wc.index; k < wc.index + wc.count; ++k) want.push_back(ids[topo.prims[k]]);
+            for (std::uint32_t k = wc.index; k < wc.index + wc.count; ++k) want.push_back(ids[k]);
             for (auto [blk, lane] : mine) {
                 const Tri8& t = blocks[blk];
                 const std::uint32_t p = t.prim[lane];
@@ -405,6 +405,34 @@ TEST(WideCollapse, ChildEncodings) {
     encodings_round_trip<16>();
     EXPECT_EQ(Child8::small_leaf(0, 0xFFu, 0xFFu).count, 0xFFFF0001u);
     EXPECT_EQ(Child8::kMaxBlocks, 0xFFFFu);
+}
+
+// A wide leaf is a range of BVH2 leaf positions, so a BVH2 whose subtrees'
+// leaves are not contiguous (left before right) is refused, for both
+// collapses, and an in-order one gives leaves that are exactly its ranges.
+TEST(WideCollapse, LeavesAreRangesOfTheBvh2LeafOrder) {
+    const Aabb a{{0, 0, 0}, {1, 1, 1}}, b{{2, 0, 0}, {3, 1, 1}}, ab{{0, 0, 0}, {3, 1, 1}};
+    // Root over two leaves of 3 triangles each.
+    std::vector<Node2> in_order{{ab, 1, 0}, {a, 0, 3}, {b, 3, 3}};
+    std::vector<Node2> swapped{{ab, 1, 0}, {a, 3, 3}, {b, 0, 3}};  // right leaf before left
+    std::vector<Node2> gap{{ab, 1, 0}, {a, 0, 3}, {b, 4, 3}};      // position 3 in no leaf
+    std::vector<Node2> shifted{{ab, 1, 0}, {a, 1, 3}, {b, 4, 3}};  // contiguous, but 1..6 of 0..5
+    for (Collapse method : {Collapse::sah, Collapse::greedy}) {
+        WideOptions o;
+        o.collapse = method;
+        o.max_leaf_size = 3;  // the two BVH2 leaves stay two wide leaves
+        const bvh8::WideTopology<8> t = bvh8::collapse<8>(std::span<const Node2>(in_order), 6, o);
+        ASSERT_EQ(t.nodes.size(), 1u);
+        ASSERT_EQ(t.nodes[0].child_count, 2);
+        EXPECT_EQ(t.nodes[0].children[0].index, 0u);
+        EXPECT_EQ(t.nodes[0].children[0].count, 3u);
+        EXPECT_EQ(t.nodes[0].children[1].index, 3u);
+        EXPECT_EQ(t.nodes[0].children[1].count, 3u);
+        EXPECT_EQ(t.prims, 6u);
+        EXPECT_THROW(bvh8::collapse<8>(std::span<const Node2>(swapped), 6, o), Error);
+        EXPECT_THROW(bvh8::collapse<8>(std::span<const Node2>(gap), 6, o), Error);
+        EXPECT_THROW(bvh8::collapse<8>(std::span<const Node2>(shifted), 6, o), Error);
+    }
 }
 
 }  // namespace
