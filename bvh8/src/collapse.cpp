@@ -289,23 +289,25 @@ struct Collapser {
                 throw Error("BVH" + std::to_string(N) + " depth exceeds the cap " + std::to_string(kMaxDepth));
             inner_slots(w.bvh2, slots);
             next.clear();
-            WideNode<N> node;
+            const std::uint32_t first = std::uint32_t(topo.nodes.size());  // the inner children's indices
+            for (const std::uint32_t s : slots)
+                if (!slot_is_leaf(s)) next.push_back({first + std::uint32_t(next.size()), s, w.depth + 1});
+            topo.nodes.resize(topo.nodes.size() + next.size());
+            WideNode<N>& node = topo.nodes[w.wide];  // written in place (a WideNode<16> is 540 bytes)
             node.box = n2[w.bvh2].box;
             node.child_count = int(slots.size());
+            std::size_t inner = 0;
             for (std::size_t c = 0; c < slots.size(); ++c) {
                 const std::uint32_t s = slots[c];
-                if (slot_is_leaf(s)) {
-                    node.children[c] = make_leaf(s);
-                } else {
-                    WideChild& ch = node.children[c];
+                WideChild& ch = node.children[c];
+                if (inner < next.size() && next[inner].bvh2 == s) {
                     ch.box = n2[s].box;
-                    ch.index = std::uint32_t(topo.nodes.size() + next.size());
+                    ch.index = next[inner++].wide;
                     ch.count = 0;
-                    next.push_back({ch.index, s, w.depth + 1});
+                } else {
+                    ch = make_leaf(s);
                 }
             }
-            topo.nodes[w.wide] = node;
-            topo.nodes.resize(topo.nodes.size() + next.size());
             for (auto it = next.rbegin(); it != next.rend(); ++it) work.push_back(*it);
         }
     }
