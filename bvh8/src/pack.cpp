@@ -73,12 +73,10 @@ NodePacking<N> pack_node(const WideNode<N>& w) {
 // Blocks of a leaf too large to share one.
 std::uint32_t own_blocks(const WideChild& c) { return (c.count + kLanes - 1u) / kLanes; }
 
-// `set_tri(pos, blk, lane)` writes the triangle at BVH2 leaf position pos;
-// `prefetch(pos, stage)` fetches what it will read: stage 0 first, stage 1 a
-// node later (what stage 0 fetched names what stage 1 fetches).
-template <int N, class SetTri, class Prefetch>
+// `tri(pos, blk, lane)` writes the triangle at BVH2 leaf position pos.
+template <int N, class SetTri>
 void pack_with(const WideTopology<N>& topo, NodesN<N>& nodes, Tri8Blocks& blocks, WideStats& stats,
-               int threads, SetTri set_tri, Prefetch prefetch) {
+               int threads, SetTri set_tri) {
     using Child = ChildN<N>;
     ParallelOptions po;
     po.grain = 256;
@@ -150,29 +148,8 @@ void pack_with(const WideTopology<N>& topo, NodesN<N>& nodes, Tri8Blocks& blocks
             next += count;
         }
     };
-    // At scale the gather reads the mesh at random (a 30M-triangle soup's
-    // triangles and vertices: 1.4 GB), one cache miss after another: so the
-    // triangles of the node after next are prefetched, in two stages.
-    auto prefetch_node = [&](std::size_t i, int stage) {
-        if (i >= topo.nodes.size()) return;
-        const WideNode<N>& w = topo.nodes[i];
-        for (int c = 0; c < w.child_count; ++c) {
-            const WideChild& wc = w.children[c];
-            if (wc.is_leaf())
-                for (std::uint32_t k = wc.index; k < wc.index + wc.count; ++k) prefetch(k, stage);
-        }
-    };
     parallel_for(topo.nodes.size(), threads, [&](std::size_t b, std::size_t e) {
-        if (b < e) {
-            prefetch_node(b, 0);
-            prefetch_node(b, 1);
-            prefetch_node(b + 1, 0);
-        }
-        for (std::size_t i = b; i < e; ++i) {
-            prefetch_node(i + 1, 1);
-            prefetch_node(i + 2, 0);
-            pack_one(i);
-        }
+        for (std::size_t i = b; i < e; ++i) pack_one(i);
     }, po);
     stats.nodes = nodes.size();
     stats.leaves = leaves;
@@ -197,7 +174,7 @@ void pack(const Bvh2& bvh2, const WideTopology<N>& topo, NodesN<N>& nodes, Tri8B
     pack_with(topo, nodes, blocks, stats, threads, [&](std::uint32_t pos, Tri8& blk, int lane) {
         const TriangleVerts& tv = tris[pos];
         blk.set(lane, tv.v0, tv.v1, tv.v2, ids[pos]);
-    }, [](std::uint32_t, int) {});  // read in order
+    });
 }
 
 template <int N>
@@ -206,14 +183,6 @@ void pack(const Mesh& mesh, std::span<const std::uint32_t> prim_ids, const WideT
     pack_with(topo, nodes, blocks, stats, threads, [&](std::uint32_t pos, Tri8& blk, int lane) {
         const std::uint32_t p = prim_ids[pos];
         blk.set(lane, mesh.vertex(p, 0), mesh.vertex(p, 1), mesh.vertex(p, 2), p);
-    }, [&](std::uint32_t pos, int stage) {
-        const std::uint32_t p = prim_ids[pos];
-        if (stage == 0) {
-            __builtin_prefetch(&mesh.triangles[p]);
-        } else {
-            const Triangle& t = mesh.triangles[p];
-            for (int k = 0; k < 3; ++k) __builtin_prefetch(&mesh.positions[t[k]]);
-        }
     });
 }
 
