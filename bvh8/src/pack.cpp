@@ -8,6 +8,7 @@
 // Larger leaves own their blocks. A node's blocks are contiguous, in slot
 // order of their first leaf.
 #include <algorithm>
+#include <atomic>
 #include <limits>
 #include <string>
 
@@ -81,35 +82,48 @@ void pack_with(const WideTopology<N>& topo, NodesN<N>& nodes, Tri8Blocks& blocks
     ParallelOptions po;
     po.grain = 256;
     po.pin = false;
-    // Each node's packing (independent), then a sequential pass: its first
-    // block (a prefix sum), the checks and the counts. The nodes are then
-    // independent.
+    // Each node's packing and block count (independent, in parallel), then
+    // the prefix sum of the counts: each node's first block. The nodes are
+    // then independent.
     LargeVector<NodePacking<N>> packing(topo.nodes.size());  // each written below
+    std::vector<std::uint32_t> first_block(topo.nodes.size() + 1);  // a node's block count, then its first block
+    std::atomic<std::size_t> used_slots{0}, leaves{0}, shared{0};
+    std::atomic<std::uint32_t> too_large{0};  // the largest leaf over Child::kMaxBlocks blocks (deterministic message)
     parallel_for(topo.nodes.size(), threads, [&](std::size_t b, std::size_t e) {
-        for (std::size_t i = b; i < e; ++i) packing[i] = pack_node(topo.nodes[i]);
-    }, po);
-    std::vector<std::uint32_t> first_block(topo.nodes.size() + 1);
-    std::size_t blocks_needed = 0, used_slots = 0, leaves = 0, shared = 0;
-    for (std::size_t i = 0; i < topo.nodes.size(); ++i) {
-        const WideNode<N>& w = topo.nodes[i];
-        first_block[i] = std::uint32_t(blocks_needed);
-        blocks_needed += std::size_t(packing[i].bins);
-        for (int b = 0; b < packing[i].bins; ++b) shared += __builtin_popcount(packing[i].bin_slots[b]) > 1;
-        used_slots += std::size_t(w.child_count);
-        for (int c = 0; c < w.child_count; ++c) {
-            const WideChild& wc = w.children[c];
-            if (!wc.is_leaf()) continue;
-            ++leaves;
-            if (is_small(wc)) continue;
-            if (own_blocks(wc) > Child::kMaxBlocks)
-                throw Error("BVH" + std::to_string(N) + " leaf of " + std::to_string(wc.count) + " triangles exceeds " +
-                            std::to_string(Child::kMaxBlocks) + " Tri8 blocks");
-            blocks_needed += own_blocks(wc);
+        std::size_t used = 0, nleaves = 0, nshared = 0;
+        std::uint32_t largest = 0;
+        for (std::size_t i = b; i < e; ++i) {
+            const WideNode<N>& w = topo.nodes[i];
+            const NodePacking<N>& p = packing[i] = pack_node(w);
+            std::uint32_t count = std::uint32_t(p.bins);
+            for (int k = 0; k < p.bins; ++k) nshared += __builtin_popcount(p.bin_slots[k]) > 1;
+            used += std::size_t(w.child_count);
+            for (int c = 0; c < w.child_count; ++c) {
+                const WideChild& wc = w.children[c];
+                if (!wc.is_leaf()) continue;
+                ++nleaves;
+                if (is_small(wc)) continue;
+                if (own_blocks(wc) > Child::kMaxBlocks) largest = std::max(largest, wc.count);
+                else count += own_blocks(wc);  // <= N * kMaxBlocks: no overflow
+            }
+            first_block[i] = count;
         }
+        used_slots += used;
+        leaves += nleaves;
+        shared += nshared;
+        for (std::uint32_t t = too_large.load(); largest > t && !too_large.compare_exchange_weak(t, largest);) {}
+    }, po);
+    if (too_large.load())
+        throw Error("BVH" + std::to_string(N) + " leaf of " + std::to_string(too_large.load()) + " triangles exceeds " +
+                    std::to_string(Child::kMaxBlocks) + " Tri8 blocks");
+    std::size_t blocks_needed = 0;
+    for (std::uint32_t& f : first_block) {
+        const std::uint32_t count = f;
+        f = std::uint32_t(blocks_needed);
+        blocks_needed += count;
         if (blocks_needed > std::size_t(std::numeric_limits<std::uint32_t>::max()))
             throw Error("BVH" + std::to_string(N) + ": more than 2^32 Tri8 blocks");
     }
-    first_block.back() = std::uint32_t(blocks_needed);
     nodes.clear();
     nodes.resize(topo.nodes.size());  // each written by pack_one
     blocks.clear();
