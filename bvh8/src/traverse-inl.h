@@ -153,6 +153,21 @@ inline __attribute__((always_inline)) bool step(const Node* nodes, const Leaf& l
                 s.cur = n.children[i0];
                 return false;
             }
+            if constexpr (Query::kAnyHit) {
+                // Any hit: the ray ends at its first hit, wherever it is, so
+                // the pending children are not sorted: continue with the
+                // nearest (a primary ray's occluder is usually in front),
+                // push the others in slot order.
+                int near = i0, sp = s.sp;
+                for (; mask != 0; mask &= mask - 1) {
+                    int i = __builtin_ctz(mask);
+                    if (entries[i] < entries[near]) std::swap(i, near);
+                    stack[sp++] = {n.children[i].index, n.children[i].count, entries[i]};
+                }
+                s.sp = sp;
+                s.cur = n.children[near];
+                return false;
+            }
             const int i1 = __builtin_ctz(mask);
             mask &= mask - 1;
             int sp = s.sp;
