@@ -22,6 +22,45 @@ struct SimdKernels {
     static SIMDBVH_FORCE_INLINE std::uint32_t box(const RayData& r, const QBoxN<N>& b, float tmax, float* entries) {
         return simd::intersect_qboxn<Arch, N>(r, b, tmax, entries);
     }
+    // Packets (packet-inl.h): detail::kPacket rays, one per lane of an Arch batch.
+    static constexpr bool kPackets = true;
+    struct Packet {
+        simd::Batch<Arch> ox, oy, oz, rx, ry, rz, tmin, slack, cull;
+    };
+    template <class Lanes>
+    static SIMDBVH_FORCE_INLINE void packet_load(Packet& p, const Lanes& l) {
+        using B = simd::Batch<Arch>;
+        static_assert(B::size == sizeof(l.ox) / sizeof(float));
+        p.ox = B::load_aligned(l.ox), p.oy = B::load_aligned(l.oy), p.oz = B::load_aligned(l.oz);
+        p.rx = B::load_aligned(l.rx), p.ry = B::load_aligned(l.ry), p.rz = B::load_aligned(l.rz);
+        p.tmin = B::load_aligned(l.tmin), p.slack = B::load_aligned(l.slack), p.cull = B::load_aligned(l.cull);
+    }
+    template <class Lanes>
+    static SIMDBVH_FORCE_INLINE void packet_cull(Packet& p, const Lanes& l) {
+        p.cull = simd::Batch<Arch>::load_aligned(l.cull);
+    }
+    // One box (its near and far planes for the packet's octant) against the
+    // packet: box8-inl.h's slab_lanes per lane, with the box's planes
+    // broadcast instead of the ray's values, so each lane's entry and hit bit
+    // are those of that ray's own node test. Returns the hit rays among
+    // `live`; `entries` receives the lanes' entry distances when there are any.
+    static SIMDBVH_FORCE_INLINE std::uint32_t packet_box(const Packet& p, float nx, float fx, float ny, float fy,
+                                                         float nz, float fz, std::uint32_t live, float* entries) {
+        using B = simd::Batch<Arch>;
+        const B t0x = (B(nx) - p.ox) * p.rx, t1x = (B(fx) - p.ox) * p.rx;
+        const B t0y = (B(ny) - p.oy) * p.ry, t1y = (B(fy) - p.oy) * p.ry;
+        const B t0z = (B(nz) - p.oz) * p.rz, t1z = (B(fz) - p.oz) * p.rz;
+        const B tn = simd::max_ps<Arch>(t0x, simd::max_ps<Arch>(t0y, simd::max_ps<Arch>(t0z, p.tmin)));
+        const B tf = simd::min_ps<Arch>(t1x, simd::min_ps<Arch>(t1y, simd::min_ps<Arch>(t1z, p.cull))) * B(kFarWiden) +
+                     p.slack;
+        const std::uint32_t h = simd::bits<Arch>(tn <= tf) & live;
+        if (h != 0) tn.store_aligned(entries);
+        return h;
+    }
+    // The rays whose cull bound is at or beyond `entry` (a stack entry still in front of them).
+    static SIMDBVH_FORCE_INLINE std::uint32_t packet_front(const Packet& p, float entry) {
+        return simd::bits<Arch>(simd::Batch<Arch>(entry) <= p.cull);
+    }
     template <TriangleTest kTest>
     static SIMDBVH_FORCE_INLINE void closest(const RayData& r, const Tri8& b, Hit& best) {
         simd::intersect_tri8<Arch, kTest>(r, b, best);

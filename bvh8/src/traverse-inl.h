@@ -302,18 +302,52 @@ inline __attribute__((always_inline)) void trace_span(const BvhN<N>& bvh, std::s
                                                    stats);
 }
 
-// Triangle test, stats and rays in flight chosen once per batch (stats: 8).
+}  // namespace simdbvh::bvh8::detail
+
+#include "packet-inl.h"
+
+namespace simdbvh::bvh8::detail {
+
+// Packets where they pay (packet-inl.h), for kernels that have them;
+// kFlight: the single-ray loop's rays in flight, 0 by the tree's size.
+template <class K, int N, class Query>
+inline __attribute__((always_inline)) bool trace_packets_auto(const BvhN<N>& bvh, std::span<const Ray> rays,
+                                                              std::span<Hit> hits, const TraceOptions& o) {
+    if constexpr (K::kPackets) {
+        if (o.stats || o.packets == Packets::off || !bvh.qnodes().empty() || bvh.nodes().empty()) return false;
+        const Aabb bounds = bvh.bounds();
+        const bool one = one_in_flight(bvh.nodes().size() * sizeof(NodeN<N>) + bvh.blocks().size() * sizeof(Tri8),
+                                       o.in_flight);
+        auto go = [&]<class Leaf>(Leaf leaf) {
+            if (one) trace_auto<K, N, Leaf, Query, 1>(bvh.nodes().data(), &bounds, leaf, rays, hits, o.packets);
+            else trace_auto<K, N, Leaf, Query, kInFlight>(bvh.nodes().data(), &bounds, leaf, rays, hits, o.packets);
+        };
+        if (o.test == TriangleTest::watertight) go(Tri8Leaf<K, TriangleTest::watertight, false>{bvh.blocks().data()});
+        else go(Tri8Leaf<K, TriangleTest::moller, false>{bvh.blocks().data()});
+        return true;
+    } else {
+        return false;
+    }
+}
+
+// Triangle test, stats, packets and rays in flight chosen once per batch (stats: 8).
 template <class K, int N, class Query>
 inline __attribute__((always_inline)) void trace(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits,
                                                  const TraceOptions& o) {
     using enum TriangleTest;
+    if constexpr (std::is_same_v<Query, ClosestHit>) {
+        if (Traversal<K, N>::intersect_packets(bvh, rays, hits, o)) return;
+    } else {
+        if (Traversal<K, N>::occluded_packets(bvh, rays, hits, o)) return;
+    }
+    const bool one = one_in_flight((bvh.qnodes().empty() ? bvh.nodes().size() * sizeof(NodeN<N>)
+                                                         : bvh.qnodes().size() * sizeof(QNodeN<N>)) +
+                                       bvh.blocks().size() * sizeof(Tri8),
+                                   o.in_flight);
     if (o.stats) {
         if (o.test == watertight) trace_span<K, N, Tri8Leaf<K, watertight, true>, Query, true>(bvh, rays, hits, o.stats);
         else trace_span<K, N, Tri8Leaf<K, moller, true>, Query, true>(bvh, rays, hits, o.stats);
-    } else if (one_in_flight((bvh.qnodes().empty() ? bvh.nodes().size() * sizeof(NodeN<N>)
-                                                   : bvh.qnodes().size() * sizeof(QNodeN<N>)) +
-                                 bvh.blocks().size() * sizeof(Tri8),
-                             o.in_flight)) {
+    } else if (one) {
         if (o.test == watertight) trace_span<K, N, Tri8Leaf<K, watertight, false>, Query, false, 1>(bvh, rays, hits, nullptr);
         else trace_span<K, N, Tri8Leaf<K, moller, false>, Query, false, 1>(bvh, rays, hits, nullptr);
     } else {
@@ -338,6 +372,16 @@ template <class K, int N>
 void Traversal<K, N>::occluded(const BvhN<N>& bvh, std::span<const Ray> rays,
                                                         std::span<Hit> hits, const TraceOptions& o) {
     detail::trace<K, N, detail::AnyHit>(bvh, rays, hits, o);
+}
+template <class K, int N>
+bool Traversal<K, N>::intersect_packets(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits,
+                                        const TraceOptions& o) {
+    return detail::trace_packets_auto<K, N, detail::ClosestHit>(bvh, rays, hits, o);
+}
+template <class K, int N>
+bool Traversal<K, N>::occluded_packets(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits,
+                                       const TraceOptions& o) {
+    return detail::trace_packets_auto<K, N, detail::AnyHit>(bvh, rays, hits, o);
 }
 
 }  // namespace simdbvh::bvh8

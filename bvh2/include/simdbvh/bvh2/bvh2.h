@@ -36,6 +36,8 @@ struct TraceStats {  // per-ray counters, summed over a batch
 // charts. The BVH8 always uses the conservative test (it ignores this field).
 enum class BoxTest : std::uint8_t { conservative, plain };
 
+enum class Packets : std::uint8_t { automatic, off, on };
+
 struct TraceOptions {
     TriangleTest test = TriangleTest::watertight;
     BoxTest box = BoxTest::conservative;  // BVH2 only
@@ -47,6 +49,12 @@ struct TraceOptions {
     // switches), else 8 (hides the node and block misses of larger trees);
     // 1 or 8 force it. Anything else is an error. Hits do not depend on it.
     int in_flight = 0;
+    // Wide trees (batched calls, AVX2 and AVX-512, not with stats or quantized
+    // nodes): packets of 8 consecutive rays sharing one walk of the tree.
+    // automatic: where they pay, measured as the batch is traced (coherent
+    // rays: a camera's in image order); off: never; on: always. Closest hits
+    // do not depend on it; an any hit may be another real hit.
+    Packets packets = Packets::automatic;
 };
 
 class Bvh2 {
