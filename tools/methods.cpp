@@ -47,7 +47,8 @@ std::string MethodSpec::builder_name() const {
 }
 
 void add_method_options(std::set<std::string>& valued, std::set<std::string>& flags) {
-    for (const char* k : {"method", "isa", "builder", "bins", "collapse", "nodes", "test", "box", "quality", "threads"})
+    for (const char* k :
+         {"method", "isa", "builder", "bins", "collapse", "nodes", "test", "box", "quality", "threads", "packets"})
         valued.insert(k);
     flags.insert("robust");
 }
@@ -88,6 +89,13 @@ MethodSpec parse_method(const Options& o, const std::string& fallback) {
     if (test == "watertight") s.test = TriangleTest::watertight;
     else if (test == "moller") s.test = TriangleTest::moller;
     else throw UsageError("unknown --test '" + test + "' (watertight, moller)");
+    const std::string packets = o.get("packets", "auto");
+    if (packets == "auto") s.packets = Packets::automatic;
+    else if (packets == "off") s.packets = Packets::off;
+    else if (packets == "on") s.packets = Packets::on;
+    else throw UsageError("unknown --packets '" + packets + "' (auto, off, on)");
+    if (o.has("packets") && !is_wide(s.method) && s.method != "auto")
+        throw UsageError("--packets applies to the wide trees (bvh4, bvh8, bvh16) and auto (not " + s.method + ")");
     const std::string box = o.get("box", "conservative");
     if (box == "conservative") s.box = BoxTest::conservative;
     else if (box == "plain") s.box = BoxTest::plain;
@@ -186,6 +194,7 @@ public:
     void trace(std::span<const Ray> rays, std::span<Hit> hits, bool any, TraceStats* stats) override {
         TraceOptions o;
         o.test = spec_.test;
+        o.packets = spec_.packets;
         o.stats = stats;
         o.threads = stats ? 1 : spec_.threads;
         if (spec_.isa_auto) any ? occluded(bvh_, rays, hits, o) : intersect(bvh_, rays, hits, o);
@@ -199,7 +208,8 @@ private:
 
 // The trace options of a tree method: the spec's tests, the counters (one thread when counting).
 TraceOptions trace_options(const MethodSpec& s, TraceStats* stats) {
-    return TraceOptions{.test = s.test, .box = s.box, .stats = stats, .threads = stats ? 1 : s.threads};
+    return TraceOptions{
+        .test = s.test, .box = s.box, .stats = stats, .threads = stats ? 1 : s.threads, .packets = s.packets};
 }
 
 // auto: Accel (bvh8/accel.h) with the cost model of the ISA, for spec.expected_rays rays.

@@ -27,8 +27,9 @@ constexpr CommandText kCommands[] = {
 )"},
     {"trace", R"(trace    --scene S --rays RAYS.bin --out HITS.bin [--method M] [--query Q] [--any-hit] [--stats] [--threads N]
            [--isa I] [--builder B] [--bins N] [--collapse C] [--test watertight|moller]
-           [--box conservative|plain] [--quality medium|high] [--robust] [--drop-invalid]
+           [--box conservative|plain] [--quality medium|high] [--robust] [--drop-invalid] [--packets auto|off|on]
            M: auto (default: chosen by the cost model) | brute | brute8 | bvh2 | bvh4 | bvh8 | bvh16 | embree | spheres
+           --packets: the wide trees trace coherent rays 8 at a time (auto: where it pays; same closest hits)
            Q: closest | any (= --any-hit) | count (int32 winding per ray) | all [--max-hits N] (20-byte
               records: ray, t, u, v, prim); count and all run on bvh2 or brute, every crossing once
 )"},

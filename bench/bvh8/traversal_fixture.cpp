@@ -33,6 +33,9 @@ const TraversalScene& traversal_scene() {
         const std::size_t count = n && *n ? std::strtoull(n, nullptr, 10) : 100000;
         for (scene::RayKind k : {scene::RayKind::primary, scene::RayKind::incoherent, scene::RayKind::diffuse})
             t.rays[static_cast<int>(k)] = scene::generate_rays(t.mesh, k, count, /*seed=*/1);
+        const char* hd = std::getenv("SIMDBVH_BENCH_HD_SIDE");
+        const int side = hd && *hd ? std::atoi(hd) : 1000;
+        t.primary_hd = scene::primary_rays(scene::default_camera(t.mesh.bounds(), side, side));
         return t;
     }();
     return s;
@@ -48,6 +51,7 @@ int main(int argc, char** argv) {
     benchmark::AddCustomContext("scene", s.name);
     benchmark::AddCustomContext("triangles", std::to_string(s.mesh.size()));
     benchmark::AddCustomContext("rays_per_kind", std::to_string(s.rays[0].size()));
+    benchmark::AddCustomContext("primary_hd_rays", std::to_string(s.primary_hd.size()));
     benchmark::AddCustomContext("active_isa", std::string(name(simdbvh::active_isa())));
     std::string supported;
     for (simdbvh::Isa isa : simdbvh::kAllIsas)

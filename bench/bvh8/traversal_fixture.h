@@ -4,7 +4,9 @@
 // quantized nodes), and the rays of each kind,
 // built once per run (untimed).
 // Scene: $SIMDBVH_BENCH_SCENE, default dragon when cached, else terrain.
-// Rays per kind: $SIMDBVH_BENCH_RAYS (default 100000).
+// Rays per kind: $SIMDBVH_BENCH_RAYS (default 100000); primary_hd: the
+// primary rays' camera at $SIMDBVH_BENCH_HD_SIDE squared pixels (default
+// 1000 x 1000), in image order (the coherent input packets are for).
 #include <string>
 #include <vector>
 
@@ -25,6 +27,7 @@ struct TraversalScene {
     simdbvh::Bvh8 bvh8q;  // bvh8 and bvh16 with quantized nodes (WideOptions::quantized_nodes)
     simdbvh::Bvh16 bvh16q;
     std::vector<simdbvh::Ray> rays[3];  // indexed by RayKind
+    std::vector<simdbvh::Ray> primary_hd;
 };
 
 const TraversalScene& traversal_scene();

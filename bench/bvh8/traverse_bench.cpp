@@ -93,6 +93,46 @@ void BM_Bvh8InFlight(benchmark::State& st, Isa isa, int flight, RayKind kind, bo
     BENCHMARK_CAPTURE(BM_Bvh8InFlight, isa##_in_flight##flight##_diffuse_any, Isa::isa, flight, RayKind::diffuse, true) \
         ->Unit(benchmark::kMillisecond)
 
+// A 1000 x 1000 camera's primary rays in image order (the fixture's
+// primary_hd), BVH8 and BVH16 (SAH) with packets (TraceOptions::packets
+// automatic, the default) and without (off), beside BM_EmbreeHd.
+template <int N>
+void run_hd(benchmark::State& st, const simdbvh::BvhN<N>& bvh, Isa isa, bool any, simdbvh::Packets packets) {
+    if (!simdbvh::supported(isa)) return st.SkipWithError("CPU lacks the ISA");
+    const auto& rays = bench::traversal_scene().primary_hd;
+    std::vector<simdbvh::Hit> hits(rays.size());
+    simdbvh::TraceOptions o;
+    o.packets = packets;
+    auto pass = [&] {
+        if (any) simdbvh::occluded(bvh, rays, hits, o, isa);
+        else simdbvh::intersect(bvh, rays, hits, o, isa);
+    };
+    pass();  // warm-up
+    for (auto _ : st) {
+        pass();
+        benchmark::DoNotOptimize(hits.data());
+    }
+    st.counters["rays/s"] = benchmark::Counter(double(rays.size()), benchmark::Counter::kIsIterationInvariantRate);
+    st.SetLabel("bvh" + std::to_string(N) + " " + std::string(simdbvh::name(isa)) + " primary_hd " +
+                (packets == simdbvh::Packets::off ? "single rays" : "packets auto") + (any ? " any" : " closest"));
+}
+void BM_Bvh8Hd(benchmark::State& st, Isa isa, bool any, simdbvh::Packets packets) {
+    run_hd<8>(st, bench::traversal_scene().bvh8, isa, any, packets);
+}
+void BM_Bvh16Hd(benchmark::State& st, Isa isa, bool any, simdbvh::Packets packets) {
+    run_hd<16>(st, bench::traversal_scene().bvh16, isa, any, packets);
+}
+#define SIMDBVH_HD_BENCH(fn, isa)                                                                                   \
+    BENCHMARK_CAPTURE(fn, isa##_packets_closest, Isa::isa, false, simdbvh::Packets::automatic)                     \
+        ->Unit(benchmark::kMillisecond);                                                                            \
+    BENCHMARK_CAPTURE(fn, isa##_single_closest, Isa::isa, false, simdbvh::Packets::off)->Unit(benchmark::kMillisecond); \
+    BENCHMARK_CAPTURE(fn, isa##_packets_any, Isa::isa, true, simdbvh::Packets::automatic)                          \
+        ->Unit(benchmark::kMillisecond);                                                                            \
+    BENCHMARK_CAPTURE(fn, isa##_single_any, Isa::isa, true, simdbvh::Packets::off)->Unit(benchmark::kMillisecond)
+SIMDBVH_HD_BENCH(BM_Bvh8Hd, avx2);
+SIMDBVH_HD_BENCH(BM_Bvh8Hd, avx512);
+SIMDBVH_HD_BENCH(BM_Bvh16Hd, avx512);
+
 #define SIMDBVH_WIDE_BENCH(fn, isa, collapse)                                                                      \
     BENCHMARK_CAPTURE(fn, isa##_##collapse##_primary_closest, Isa::isa, Collapse::collapse, RayKind::primary, false)    \
         ->Unit(benchmark::kMillisecond);                                                                            \

@@ -42,6 +42,43 @@ void BM_Embree(benchmark::State& st, RayKind kind, bool any, bool stream) {
                 std::string(simdbvh::scene::name(kind)) + (any ? " any" : " closest"));
 }
 
+// The 1000 x 1000 camera's rays (primary_hd) beside BM_Bvh8Hd: per ray,
+// as a stream, as a stream flagged coherent (RTC_INTERSECT_CONTEXT_FLAG_COHERENT:
+// Embree's hint that the stream's rays are coherent), and as packets of 8
+// (rtcIntersect8 / rtcOccluded8).
+void BM_EmbreeHd(benchmark::State& st, bool any, int mode) {
+    const auto& scene = embree_scene();
+    const auto& rays = bench::traversal_scene().primary_hd;
+    std::vector<simdbvh::Hit> hits(rays.size());
+    std::vector<std::uint8_t> occ(rays.size());
+    const bool coherent = mode == 2;
+    auto pass = [&] {
+        if (mode == 3) any ? scene.occluded_packets8(rays, occ) : scene.intersect_packets8(rays, hits);
+        else if (mode > 0) any ? scene.occluded_stream(rays, occ, coherent) : scene.intersect_stream(rays, hits, coherent);
+        else if (any) scene.occluded(rays, occ);
+        else scene.intersect(rays, hits);
+    };
+    pass();  // warm-up
+    for (auto _ : st) {
+        pass();
+        benchmark::DoNotOptimize(hits.data());
+        benchmark::DoNotOptimize(occ.data());
+    }
+    st.counters["rays/s"] =
+        benchmark::Counter(double(rays.size()), benchmark::Counter::kIsIterationInvariantRate);
+    static const char* kModes[] = {"embree-medium ", "embree-medium-stream ", "embree-medium-stream-coherent ",
+                                   "embree-medium-packets8 "};
+    st.SetLabel(std::string(kModes[mode]) + "primary_hd" + (any ? " any" : " closest"));
+}
+BENCHMARK_CAPTURE(BM_EmbreeHd, medium_closest, false, 0)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_EmbreeHd, stream_closest, false, 1)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_EmbreeHd, stream_coherent_closest, false, 2)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_EmbreeHd, packets8_closest, false, 3)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_EmbreeHd, medium_any, true, 0)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_EmbreeHd, stream_any, true, 1)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_EmbreeHd, stream_coherent_any, true, 2)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_EmbreeHd, packets8_any, true, 3)->Unit(benchmark::kMillisecond);
+
 // medium_*: rtcIntersect1 / rtcOccluded1 per ray; stream_*: rtcIntersect1M /
 // rtcOccluded1M, 256 rays per call (how Open3D calls Embree), where Embree may
 // trace coherent rays as packets: the stronger baseline for primary rays.

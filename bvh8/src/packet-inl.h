@@ -7,8 +7,10 @@
 // by kFarWiden plus the far slack, against cull_bound(best.t)), so each ray
 // gets the hit mask and entry distances its own node test would give; a
 // child is visited by the rays that hit it, nearest (smallest entry over
-// those rays) first; a leaf is the leaf intersector per ray (the single-ray
-// triangle kernels). A ray visits every node its single-ray walk would visit
+// those rays) first, and every hit child's lines are prefetched as it is
+// pushed (5% on both scenes); a leaf is the leaf intersector per ray (the
+// single-ray triangle kernels; siblings sharing a Tri8 block test it once per
+// sibling, not merged as in the single-ray loop). A ray visits every node its single-ray walk would visit
 // with a closest hit no farther, so closest hits are the same bits (closer():
 // ties to the lower id); an any hit is a real hit in [tmin, tmax] (maybe
 // another than the single-ray walk's).
@@ -180,6 +182,7 @@ SIMDBVH_PACKET_INLINE void trace_packets(const NodeN<N>* nodes, const Aabb* root
                             --k;
                         }
                         stack[k] = {node.children[i].index, node.children[i].count, rays_of[i], e};
+                        leaf.prefetch(nodes, node.children[i]);  // 5% (dragon and terrain, 1000 x 1000 camera)
                     }
                     --sp;
                     cur = Child{stack[sp].index, stack[sp].count};

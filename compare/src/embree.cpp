@@ -324,7 +324,7 @@ namespace {
 constexpr std::size_t kStream = 256;
 }
 
-void EmbreeScene::intersect_stream(std::span<const Ray> rays, std::span<Hit> hits) const {
+void EmbreeScene::intersect_stream(std::span<const Ray> rays, std::span<Hit> hits, bool coherent) const {
     if (rays.size() != hits.size()) throw Error("EmbreeScene::intersect_stream: rays and hits differ in size");
     std::vector<RTCRayHit> rh(std::min(rays.size(), kStream));
     for (std::size_t b = 0; b < rays.size(); b += kStream) {
@@ -338,6 +338,7 @@ void EmbreeScene::intersect_stream(std::span<const Ray> rays, std::span<Hit> hit
         }
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
+        if (coherent) ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
         rtcIntersect1M(impl_->scene, &ctx, rh.data(), unsigned(n), sizeof(RTCRayHit));
         impl_->check("rtcIntersect1M");
         for (std::size_t i = 0; i < n; ++i)
@@ -347,7 +348,7 @@ void EmbreeScene::intersect_stream(std::span<const Ray> rays, std::span<Hit> hit
     }
 }
 
-void EmbreeScene::occluded_stream(std::span<const Ray> rays, std::span<std::uint8_t> out) const {
+void EmbreeScene::occluded_stream(std::span<const Ray> rays, std::span<std::uint8_t> out, bool coherent) const {
     if (rays.size() != out.size()) throw Error("EmbreeScene::occluded_stream: rays and results differ in size");
     std::vector<RTCRay> r(std::min(rays.size(), kStream));
     for (std::size_t b = 0; b < rays.size(); b += kStream) {
@@ -361,9 +362,66 @@ void EmbreeScene::occluded_stream(std::span<const Ray> rays, std::span<std::uint
         }
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
+        if (coherent) ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
         rtcOccluded1M(impl_->scene, &ctx, r.data(), unsigned(n), sizeof(RTCRay));
         impl_->check("rtcOccluded1M");
         for (std::size_t i = 0; i < n; ++i) out[b + i] = r[i].tfar == -std::numeric_limits<float>::infinity() ? 1 : 0;
+    }
+}
+
+namespace {
+// Lane k of an RTCRayHit8 from a single-ray RTCRayHit (the same conversion as every other call).
+void set_lane(RTCRayHit8& p, int k, const RTCRayHit& one) {
+    p.ray.org_x[k] = one.ray.org_x, p.ray.org_y[k] = one.ray.org_y, p.ray.org_z[k] = one.ray.org_z;
+    p.ray.dir_x[k] = one.ray.dir_x, p.ray.dir_y[k] = one.ray.dir_y, p.ray.dir_z[k] = one.ray.dir_z;
+    p.ray.tnear[k] = one.ray.tnear, p.ray.tfar[k] = one.ray.tfar, p.ray.time[k] = one.ray.time;
+    p.ray.mask[k] = one.ray.mask, p.ray.id[k] = one.ray.id, p.ray.flags[k] = one.ray.flags;
+    p.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+    p.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+}
+}  // namespace
+
+void EmbreeScene::intersect_packets8(std::span<const Ray> rays, std::span<Hit> hits) const {
+    if (rays.size() != hits.size()) throw Error("EmbreeScene::intersect_packets8: rays and hits differ in size");
+    for (std::size_t b = 0; b < rays.size(); b += 8) {
+        alignas(32) RTCRayHit8 p;
+        alignas(32) int valid[8];
+        const std::size_t n = std::min<std::size_t>(8, rays.size() - b);
+        for (int k = 0; k < 8; ++k) {
+            const bool live = std::size_t(k) < n && passes(rays[b + std::size_t(k)]);
+            valid[k] = live ? -1 : 0;
+            set_lane(p, k, embree_ray_hit(live ? rays[b + std::size_t(k)] : rays[b]));
+        }
+        RTCIntersectContext ctx;
+        rtcInitIntersectContext(&ctx);
+        ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+        rtcIntersect8(valid, impl_->scene, &ctx, &p);
+        impl_->check("rtcIntersect8");
+        for (std::size_t k = 0; k < n; ++k)
+            hits[b + k] = valid[k] == 0 || p.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID
+                              ? Hit{}
+                              : Hit{p.ray.tfar[k], p.hit.u[k], p.hit.v[k], p.hit.primID[k]};
+    }
+}
+
+void EmbreeScene::occluded_packets8(std::span<const Ray> rays, std::span<std::uint8_t> out) const {
+    if (rays.size() != out.size()) throw Error("EmbreeScene::occluded_packets8: rays and results differ in size");
+    for (std::size_t b = 0; b < rays.size(); b += 8) {
+        alignas(32) RTCRayHit8 p;
+        alignas(32) int valid[8];
+        const std::size_t n = std::min<std::size_t>(8, rays.size() - b);
+        for (int k = 0; k < 8; ++k) {
+            const bool live = std::size_t(k) < n && passes(rays[b + std::size_t(k)]);
+            valid[k] = live ? -1 : 0;
+            set_lane(p, k, embree_ray_hit(live ? rays[b + std::size_t(k)] : rays[b]));
+        }
+        RTCIntersectContext ctx;
+        rtcInitIntersectContext(&ctx);
+        ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+        rtcOccluded8(valid, impl_->scene, &ctx, &p.ray);
+        impl_->check("rtcOccluded8");
+        for (std::size_t k = 0; k < n; ++k)
+            out[b + k] = valid[k] != 0 && p.ray.tfar[k] == -std::numeric_limits<float>::infinity() ? 1 : 0;
     }
 }
 

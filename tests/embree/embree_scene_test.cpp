@@ -177,6 +177,34 @@ TEST(EmbreeScene, StreamCallsGiveTheSingleRayAnswers) {
         EXPECT_GT(hits, 100u);
         EXPECT_FALSE(stream[3].hit());
         EXPECT_FALSE(stream[4].hit());
+        // Flagged coherent, Embree may trace the stream as packets: the same hits and misses, and the same
+        // triangle for almost every ray (its packet kernels need not round as its single-ray ones).
+        std::vector<Hit> coherent(rays.size());
+        std::vector<std::uint8_t> occ_coherent(rays.size());
+        embree.intersect_stream(rays, coherent, true);
+        embree.occluded_stream(rays, occ_coherent, true);
+        std::size_t same = 0;
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            ASSERT_EQ(coherent[i].hit(), one[i].hit()) << "ray " << i;
+            ASSERT_EQ(occ_coherent[i], occ_one[i]) << "ray " << i;
+            same += coherent[i].prim == one[i].prim;
+        }
+        EXPECT_GE(same, rays.size() * 99 / 100);
+        EXPECT_FALSE(coherent[3].hit());
+        // Packets of 8 (rtcIntersect8 / rtcOccluded8): the same.
+        std::vector<Hit> packets(rays.size());
+        std::vector<std::uint8_t> occ_packets(rays.size());
+        embree.intersect_packets8(rays, packets);
+        embree.occluded_packets8(rays, occ_packets);
+        same = 0;
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            ASSERT_EQ(packets[i].hit(), one[i].hit()) << "ray " << i;
+            ASSERT_EQ(occ_packets[i], occ_one[i]) << "ray " << i;
+            same += packets[i].prim == one[i].prim;
+        }
+        EXPECT_GE(same, rays.size() * 99 / 100);
+        EXPECT_FALSE(packets[3].hit());
+        EXPECT_FALSE(packets[4].hit());
     }
 }
 

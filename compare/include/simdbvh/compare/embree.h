@@ -89,8 +89,15 @@ public:
     // rays per call, default context flags), as Open3D's RaycastingScene calls
     // it: Embree may trace coherent rays of a stream as packets, which its
     // single-ray calls cannot. The same answers as the calls above.
-    void intersect_stream(std::span<const Ray> rays, std::span<Hit> hits) const;
-    void occluded_stream(std::span<const Ray> rays, std::span<std::uint8_t> occluded) const;
+    // coherent: the context flag RTC_INTERSECT_CONTEXT_FLAG_COHERENT (Embree's
+    // hint for coherent rays, e.g. a camera's in image order); else the default
+    // (incoherent).
+    void intersect_stream(std::span<const Ray> rays, std::span<Hit> hits, bool coherent = false) const;
+    void occluded_stream(std::span<const Ray> rays, std::span<std::uint8_t> occluded, bool coherent = false) const;
+    // Packets of 8 consecutive rays through rtcIntersect8 / rtcOccluded8 (the
+    // context flagged coherent), Embree's packet API, beside our packets.
+    void intersect_packets8(std::span<const Ray> rays, std::span<Hit> hits) const;
+    void occluded_packets8(std::span<const Ray> rays, std::span<std::uint8_t> occluded) const;
 
     // Every hit along the ray, counted the way Open3D's RaycastingScene
     // counts intersections: rtcIntersect1 with a context filter that counts
