@@ -89,7 +89,11 @@ inline bool valid_ray(const Ray& r) {
 // reciprocals, near planes, octant, watertight permutation and shear are left
 // at their defaults. For tests that read only those fields (the scenes'
 // planes, shapes.h's hit_plane).
-inline PreparedRay prepare_scaled(const Ray& r) {
+// Both are always inlined: a per-ISA translation unit must never emit an
+// out-of-line copy (a weak symbol the linker may share with another ISA's
+// objects; tests/kernels/check_isa_objects.cmake), and GCC's flatten gave up
+// on them in the wide traversal's packet loop (bvh8/src/packet-inl.h).
+inline __attribute__((always_inline)) PreparedRay prepare_scaled(const Ray& r) {
     PreparedRay p;
     p.org = r.org;
     p.dir = r.dir;
@@ -114,7 +118,7 @@ inline PreparedRay prepare_scaled(const Ray& r) {
     return p;
 }
 
-inline PreparedRay prepare(const Ray& r) {
+inline __attribute__((always_inline)) PreparedRay prepare(const Ray& r) {
     PreparedRay p = prepare_scaled(r);
     const Vec3 d = p.dir;
     // 1/(+-0) = +-inf, written without dividing by zero (UBSan's float-divide-by-zero).
