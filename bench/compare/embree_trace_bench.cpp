@@ -6,6 +6,7 @@
 #include <benchmark/benchmark.h>
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "simdbvh/compare/embree.h"
@@ -20,41 +21,18 @@ const simdbvh::compare::EmbreeScene& embree_scene() {
     return s;
 }
 
-void BM_Embree(benchmark::State& st, RayKind kind, bool any, bool stream) {
+// Embree's modes on one ray set: 0 rtcIntersect1 / rtcOccluded1 per ray, 1
+// the stream (rtcIntersect1M / rtcOccluded1M, default flags), 2 the stream
+// flagged coherent (RTC_INTERSECT_CONTEXT_FLAG_COHERENT: Embree's hint that the
+// stream's rays are coherent), 3 packets of 8 (rtcIntersect8 / rtcOccluded8).
+void run_embree(benchmark::State& st, const std::vector<simdbvh::Ray>& rays, const std::string& what, bool any,
+                int mode) {
     const auto& scene = embree_scene();
-    const auto& rays = bench::rays_of(kind);
     std::vector<simdbvh::Hit> hits(rays.size());
     std::vector<std::uint8_t> occ(rays.size());
-    auto pass = [&] {
-        if (stream) any ? scene.occluded_stream(rays, occ) : scene.intersect_stream(rays, hits);
-        else if (any) scene.occluded(rays, occ);
-        else scene.intersect(rays, hits);
-    };
-    pass();  // warm-up
-    for (auto _ : st) {
-        pass();
-        benchmark::DoNotOptimize(hits.data());
-        benchmark::DoNotOptimize(occ.data());
-    }
-    st.counters["rays/s"] =
-        benchmark::Counter(double(rays.size()), benchmark::Counter::kIsIterationInvariantRate);
-    st.SetLabel(std::string(stream ? "embree-medium-stream " : "embree-medium ") +
-                std::string(simdbvh::scene::name(kind)) + (any ? " any" : " closest"));
-}
-
-// The 1000 x 1000 camera's rays (primary_hd) beside BM_Bvh8Hd: per ray,
-// as a stream, as a stream flagged coherent (RTC_INTERSECT_CONTEXT_FLAG_COHERENT:
-// Embree's hint that the stream's rays are coherent), and as packets of 8
-// (rtcIntersect8 / rtcOccluded8).
-void BM_EmbreeHd(benchmark::State& st, bool any, int mode) {
-    const auto& scene = embree_scene();
-    const auto& rays = bench::traversal_scene().primary_hd;
-    std::vector<simdbvh::Hit> hits(rays.size());
-    std::vector<std::uint8_t> occ(rays.size());
-    const bool coherent = mode == 2;
     auto pass = [&] {
         if (mode == 3) any ? scene.occluded_packets8(rays, occ) : scene.intersect_packets8(rays, hits);
-        else if (mode > 0) any ? scene.occluded_stream(rays, occ, coherent) : scene.intersect_stream(rays, hits, coherent);
+        else if (mode > 0) any ? scene.occluded_stream(rays, occ, mode == 2) : scene.intersect_stream(rays, hits, mode == 2);
         else if (any) scene.occluded(rays, occ);
         else scene.intersect(rays, hits);
     };
@@ -68,7 +46,16 @@ void BM_EmbreeHd(benchmark::State& st, bool any, int mode) {
         benchmark::Counter(double(rays.size()), benchmark::Counter::kIsIterationInvariantRate);
     static const char* kModes[] = {"embree-medium ", "embree-medium-stream ", "embree-medium-stream-coherent ",
                                    "embree-medium-packets8 "};
-    st.SetLabel(std::string(kModes[mode]) + "primary_hd" + (any ? " any" : " closest"));
+    st.SetLabel(std::string(kModes[mode]) + what + (any ? " any" : " closest"));
+}
+
+void BM_Embree(benchmark::State& st, RayKind kind, bool any, bool stream) {
+    run_embree(st, bench::rays_of(kind), std::string(simdbvh::scene::name(kind)), any, stream ? 1 : 0);
+}
+
+// The 1000 x 1000 camera's rays (primary_hd) beside BM_Bvh8Hd, every mode.
+void BM_EmbreeHd(benchmark::State& st, bool any, int mode) {
+    run_embree(st, bench::traversal_scene().primary_hd, "primary_hd", any, mode);
 }
 BENCHMARK_CAPTURE(BM_EmbreeHd, medium_closest, false, 0)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_EmbreeHd, stream_closest, false, 1)->Unit(benchmark::kMillisecond);

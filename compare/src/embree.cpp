@@ -379,6 +379,19 @@ void set_lane(RTCRayHit8& p, int k, const RTCRayHit& one) {
     p.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
     p.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
 }
+
+// Rays [b, b + 8) (fewer at the end) into a packet; valid: -1 for the rays
+// Embree can take (passes), 0 for the others and past the end. Returns the count.
+template <class Passes>
+std::size_t fill_packet8(RTCRayHit8& p, int* valid, std::span<const Ray> rays, std::size_t b, Passes passes) {
+    const std::size_t n = std::min<std::size_t>(8, rays.size() - b);
+    for (int k = 0; k < 8; ++k) {
+        const bool live = std::size_t(k) < n && passes(rays[b + std::size_t(k)]);
+        valid[k] = live ? -1 : 0;
+        set_lane(p, k, embree_ray_hit(live ? rays[b + std::size_t(k)] : rays[b]));
+    }
+    return n;
+}
 }  // namespace
 
 void EmbreeScene::intersect_packets8(std::span<const Ray> rays, std::span<Hit> hits) const {
@@ -386,12 +399,7 @@ void EmbreeScene::intersect_packets8(std::span<const Ray> rays, std::span<Hit> h
     for (std::size_t b = 0; b < rays.size(); b += 8) {
         alignas(32) RTCRayHit8 p;
         alignas(32) int valid[8];
-        const std::size_t n = std::min<std::size_t>(8, rays.size() - b);
-        for (int k = 0; k < 8; ++k) {
-            const bool live = std::size_t(k) < n && passes(rays[b + std::size_t(k)]);
-            valid[k] = live ? -1 : 0;
-            set_lane(p, k, embree_ray_hit(live ? rays[b + std::size_t(k)] : rays[b]));
-        }
+        const std::size_t n = fill_packet8(p, valid, rays, b, [&](const Ray& r) { return passes(r); });
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
         ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
@@ -409,12 +417,7 @@ void EmbreeScene::occluded_packets8(std::span<const Ray> rays, std::span<std::ui
     for (std::size_t b = 0; b < rays.size(); b += 8) {
         alignas(32) RTCRayHit8 p;
         alignas(32) int valid[8];
-        const std::size_t n = std::min<std::size_t>(8, rays.size() - b);
-        for (int k = 0; k < 8; ++k) {
-            const bool live = std::size_t(k) < n && passes(rays[b + std::size_t(k)]);
-            valid[k] = live ? -1 : 0;
-            set_lane(p, k, embree_ray_hit(live ? rays[b + std::size_t(k)] : rays[b]));
-        }
+        const std::size_t n = fill_packet8(p, valid, rays, b, [&](const Ray& r) { return passes(r); });
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
         ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
