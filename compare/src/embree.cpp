@@ -394,38 +394,50 @@ std::size_t fill_packet8(RTCRayHit8& p, int* valid, std::span<const Ray> rays, s
 }
 }  // namespace
 
-void EmbreeScene::intersect_packets8(std::span<const Ray> rays, std::span<Hit> hits) const {
-    if (rays.size() != hits.size()) throw Error("EmbreeScene::intersect_packets8: rays and hits differ in size");
+namespace {
+// Packets of 8 consecutive rays (coherent context): call(valid, ctx, packet)
+// runs the Embree call, store(k, valid, packet) reads lane k back.
+template <class Passes, class Call, class Store>
+void for_packets8(std::span<const Ray> rays, Passes passes, Call call, Store store) {
     for (std::size_t b = 0; b < rays.size(); b += 8) {
         alignas(32) RTCRayHit8 p;
         alignas(32) int valid[8];
-        const std::size_t n = fill_packet8(p, valid, rays, b, [&](const Ray& r) { return passes(r); });
+        const std::size_t n = fill_packet8(p, valid, rays, b, passes);
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
         ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-        rtcIntersect8(valid, impl_->scene, &ctx, &p);
-        impl_->check("rtcIntersect8");
-        for (std::size_t k = 0; k < n; ++k)
-            hits[b + k] = valid[k] == 0 || p.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID
-                              ? Hit{}
-                              : Hit{p.ray.tfar[k], p.hit.u[k], p.hit.v[k], p.hit.primID[k]};
+        call(valid, &ctx, p);
+        for (std::size_t k = 0; k < n; ++k) store(b + k, valid[k] != 0, p, int(k));
     }
+}
+}  // namespace
+
+void EmbreeScene::intersect_packets8(std::span<const Ray> rays, std::span<Hit> hits) const {
+    if (rays.size() != hits.size()) throw Error("EmbreeScene::intersect_packets8: rays and hits differ in size");
+    for_packets8(
+        rays, [&](const Ray& r) { return passes(r); },
+        [&](int* valid, RTCIntersectContext* ctx, RTCRayHit8& p) {
+            rtcIntersect8(valid, impl_->scene, ctx, &p);
+            impl_->check("rtcIntersect8");
+        },
+        [&](std::size_t i, bool live, const RTCRayHit8& p, int k) {
+            hits[i] = !live || p.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID
+                          ? Hit{}
+                          : Hit{p.ray.tfar[k], p.hit.u[k], p.hit.v[k], p.hit.primID[k]};
+        });
 }
 
 void EmbreeScene::occluded_packets8(std::span<const Ray> rays, std::span<std::uint8_t> out) const {
     if (rays.size() != out.size()) throw Error("EmbreeScene::occluded_packets8: rays and results differ in size");
-    for (std::size_t b = 0; b < rays.size(); b += 8) {
-        alignas(32) RTCRayHit8 p;
-        alignas(32) int valid[8];
-        const std::size_t n = fill_packet8(p, valid, rays, b, [&](const Ray& r) { return passes(r); });
-        RTCIntersectContext ctx;
-        rtcInitIntersectContext(&ctx);
-        ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-        rtcOccluded8(valid, impl_->scene, &ctx, &p.ray);
-        impl_->check("rtcOccluded8");
-        for (std::size_t k = 0; k < n; ++k)
-            out[b + k] = valid[k] != 0 && p.ray.tfar[k] == -std::numeric_limits<float>::infinity() ? 1 : 0;
-    }
+    for_packets8(
+        rays, [&](const Ray& r) { return passes(r); },
+        [&](int* valid, RTCIntersectContext* ctx, RTCRayHit8& p) {
+            rtcOccluded8(valid, impl_->scene, ctx, &p.ray);
+            impl_->check("rtcOccluded8");
+        },
+        [&](std::size_t i, bool live, const RTCRayHit8& p, int k) {
+            out[i] = live && p.ray.tfar[k] == -std::numeric_limits<float>::infinity() ? 1 : 0;
+        });
 }
 
 std::uint64_t EmbreeScene::invalid_rays() const { return impl_->invalid.load(); }
