@@ -83,7 +83,8 @@ SIMDBVH_PACKET_INLINE int octant_of(const Vec3& d) {
     return int(std::signbit(d.x)) | (int(std::signbit(d.y)) << 1) | (int(std::signbit(d.z)) << 2);
 }
 
-// Packets whose rays (the valid ones among kPacket consecutive) share an octant, out of `packets` sampled.
+// How many of the packets of kPacket consecutive rays in `rays` have every ray in one direction octant (invalid
+// rays included: this only steers trace_auto's choice; trace_packets checks the prepared rays).
 SIMDBVH_PACKET_INLINE std::size_t one_octant_packets(std::span<const Ray> rays) {
     std::size_t same = 0;
     for (std::size_t b = 0; b < rays.size(); b += kPacket) {
@@ -135,11 +136,8 @@ SIMDBVH_PACKET_INLINE void trace_packets(const NodeN<N>* nodes, const Aabb* root
         if (mixed) {  // one near/far plane choice per packet: rays of several octants go one at a time
             tests += kPacket;
             active += kPacket;
-            for (std::uint32_t m = live; m != 0; m &= m - 1) {
-                const std::size_t i = base + std::size_t(__builtin_ctz(m));
-                trace_span<K, N, Leaf, Query, false, 1>(nodes, root, leaf, rays.subspan(i, 1), hits.subspan(i, 1),
-                                                        nullptr);
-            }
+            trace_span<K, N, Leaf, Query, false, 1>(nodes, root, leaf, rays.subspan(base, std::size_t(cnt)),
+                                                    hits.subspan(base, std::size_t(cnt)), nullptr);
             continue;
         }
         K::packet_load(packet, lanes);
