@@ -29,7 +29,8 @@ constexpr CommandText kCommands[] = {
            [--isa I] [--builder B] [--bins N] [--collapse C] [--test watertight|moller]
            [--box conservative|plain] [--quality medium|high] [--robust] [--drop-invalid] [--packets auto|off|on]
            M: auto (default: chosen by the cost model) | brute | brute8 | bvh2 | bvh4 | bvh8 | bvh16 | embree | spheres
-           --packets: the wide trees trace coherent rays 8 at a time (auto: where it pays; same closest hits)
+           --packets: the wide trees trace coherent rays 8 (closest) or 32 (any hit) at a time (auto: where it pays;
+                      same closest hits)
            Q: closest | any (= --any-hit) | count (int32 winding per ray) | all [--max-hits N] (20-byte
               records: ray, t, u, v, prim); count and all run on bvh2 or brute, every crossing once
 )"},

@@ -1,5 +1,6 @@
 #pragma once
 // Packets: coherent rays (a camera's, in image order) traced kPacket at a time
+// for closest hits (any hits go in streams of 32 instead: stream-inl.h)
 // through one walk of a wide tree. At each node every child box is tested
 // against the packet's rays in one SIMD batch (one lane per ray) with the
 // single-ray slab test's operations in its order (box8-inl.h's slab_lanes, per
@@ -20,8 +21,8 @@
 // 1.5x faster than single rays; with a 316 x 316 camera's (3.8 per test)
 // 0.77x, since the single-ray loop keeps 8 rays in flight to hide the node
 // misses and a packet stalls on them. So trace_auto() measures: blocks of
-// kProbeRays go as packets while the rays per node test stay >= 4.5
-// (PacketCounts::coherent), else single rays for a growing number of blocks
+// kProbeRays go as packets while the rays per node test stay >= 4.5 (any
+// hits: as streams while they stay >= 3; PacketCounts::coherent), else single rays for a growing number of blocks
 // before the next probe; a block whose packets mostly mix direction octants
 // (incoherent and diffuse rays) goes to single rays without a probe.
 // Included only by traverse-inl.h (the per-ISA translation units).
@@ -41,7 +42,10 @@ inline constexpr std::size_t kMaxBackoff = 128;                    // single-ray
 // Node tests and active rays over them, for trace_auto()'s choice.
 struct PacketCounts {
     std::uint64_t tests = 0, lanes = 0;
-    SIMDBVH_PACKET_INLINE bool coherent() const { return 2 * lanes >= 9 * tests; }  // >= 4.5 rays per node test
+    // At least min_twice / 2 rays per node test: 4.5 for packets of 8; 3 for streams of 32 (stream-inl.h: the
+    // 512-ray blocks of the terrain's 100,000 primary rays averaged 3.5-18, 1.3x faster as streams than single
+    // rays; incoherent rays 1.4 and diffuse 2.4-2.8, slower as streams).
+    SIMDBVH_PACKET_INLINE bool coherent(std::uint64_t min_twice) const { return 2 * lanes >= min_twice * tests; }
 };
 
 // A packet's rays, one lane each, for K::packet_load (lanes without a live
@@ -225,7 +229,14 @@ SIMDBVH_PACKET_INLINE void trace_packets(const NodeN<N>* nodes, const Aabb* root
     counts.lanes += active;
 }
 
-// The batch loop with packets where they pay (see the top of this file).
+}  // namespace simdbvh::bvh8::detail
+
+#include "stream-inl.h"
+
+namespace simdbvh::bvh8::detail {
+
+// The batch loop with packets (closest hits) or streams (any hits, stream-inl.h) where they pay (see the top of
+// this file; a stream's rays per node test are measured the same way).
 // kFlight: the single-ray loop's rays in flight.
 template <class K, int N, class Leaf, class Query, int kFlight>
 SIMDBVH_PACKET_INLINE void trace_auto(const NodeN<N>* nodes, const Aabb* root, const Leaf& leaf,
@@ -238,9 +249,10 @@ SIMDBVH_PACKET_INLINE void trace_auto(const NodeN<N>* nodes, const Aabb* root, c
         const std::size_t packets = (block.size() + kPacket - 1) / kPacket;
         PacketCounts c;
         if (mode == Packets::on || 4 * one_octant_packets(block) >= 3 * packets) {
-            trace_packets<K, N, Leaf, Query>(nodes, root, leaf, block, hits.subspan(i, e - i), c);
+            if constexpr (Query::kAnyHit) trace_stream<K, N, Leaf, Query>(nodes, root, leaf, block, hits.subspan(i, e - i), c);
+            else trace_packets<K, N, Leaf, Query>(nodes, root, leaf, block, hits.subspan(i, e - i), c);
             i = e;
-            if (c.coherent()) {
+            if (c.coherent(Query::kAnyHit ? 6 : 9)) {
                 backoff = 1;
                 continue;
             }

@@ -61,6 +61,36 @@ struct SimdKernels {
     static SIMDBVH_FORCE_INLINE std::uint32_t packet_front(const Packet& p, float entry) {
         return simd::bits<Arch>(simd::Batch<Arch>(entry) <= p.cull);
     }
+    // Any-hit streams (stream-inl.h): the child hit masks of up to 32 rays at
+    // one node, one byte per ray and group of 8 children, transposed into one
+    // 32-bit ray mask per child with a shift and a byte movemask per child.
+    struct StreamMasks {
+        alignas(32) std::uint8_t group[2][32];  // [child / 8][ray]: bit child % 8
+    };
+    static SIMDBVH_FORCE_INLINE void stream_clear(StreamMasks& m) {
+        for (auto& g : m.group) _mm256_store_si256(reinterpret_cast<__m256i*>(g), _mm256_setzero_si256());
+    }
+    template <int N>
+    static SIMDBVH_FORCE_INLINE void stream_set(StreamMasks& m, int ray, std::uint32_t hit_children) {
+        m.group[0][ray] = static_cast<std::uint8_t>(hit_children);
+        if constexpr (N > 8) m.group[1][ray] = static_cast<std::uint8_t>(hit_children >> 8);
+    }
+    // rays_of[i] for each child i in `children` (the union of the rays' masks);
+    // leaves `m` cleared for the next node.
+    template <int N>
+    static SIMDBVH_FORCE_INLINE void stream_rays(StreamMasks& m, std::uint32_t children, std::uint32_t* rays_of) {
+        static_assert(N == 4 || N == 8 || N == 16, "node widths: 4, 8, 16");
+        for (int g = 0; g < (N + 7) / 8; ++g) {
+            __m256i* p = reinterpret_cast<__m256i*>(m.group[g]);
+            const __m256i v = _mm256_load_si256(p);
+            for (std::uint32_t q = (children >> (8 * g)) & 0xffu; q != 0; q &= q - 1) {
+                const int i = __builtin_ctz(q);  // bit i of every byte to its top bit
+                rays_of[8 * g + i] = static_cast<std::uint32_t>(
+                    _mm256_movemask_epi8(_mm256_sll_epi16(v, _mm_cvtsi32_si128(7 - i))));
+            }
+            _mm256_store_si256(p, _mm256_setzero_si256());
+        }
+    }
     template <TriangleTest kTest>
     static SIMDBVH_FORCE_INLINE void closest(const RayData& r, const Tri8& b, Hit& best) {
         simd::intersect_tri8<Arch, kTest>(r, b, best);

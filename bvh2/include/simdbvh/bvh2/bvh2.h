@@ -50,8 +50,8 @@ struct TraceOptions {
     // 1 or 8 force it. Anything else is an error. Hits do not depend on it.
     int in_flight = 0;
     // Wide trees (batched calls, AVX2 and AVX-512, not with stats or quantized
-    // nodes): packets of 8 consecutive rays sharing one walk of the tree.
-    // automatic: where they pay, measured as the batch is traced (coherent
+    // nodes): packets of 8 consecutive rays sharing one walk of the tree for
+    // closest hits, streams of 32 for any hits (occluded). automatic: where they pay, measured as the batch is traced (coherent
     // rays: a camera's in image order); off: never; on: always. Closest hits
     // do not depend on it; an any hit may be another real hit.
     Packets packets = Packets::automatic;
