@@ -94,8 +94,8 @@ void BM_Bvh8InFlight(benchmark::State& st, Isa isa, int flight, RayKind kind, bo
         ->Unit(benchmark::kMillisecond)
 
 // A 1000 x 1000 camera's primary rays in image order (the fixture's
-// primary_hd), BVH8 and BVH16 (SAH) with packets (TraceOptions::packets
-// automatic, the default) and without (off), beside BM_EmbreeHd.
+// primary_hd), BVH8 and BVH16 (SAH) with streams of 32 rays
+// (TraceOptions::packets automatic, the default) and without (off), beside BM_EmbreeHd.
 template <int N>
 void run_hd(benchmark::State& st, const simdbvh::BvhN<N>& bvh, Isa isa, bool any, simdbvh::Packets packets) {
     if (!simdbvh::supported(isa)) return st.SkipWithError("CPU lacks the ISA");
@@ -114,7 +114,7 @@ void run_hd(benchmark::State& st, const simdbvh::BvhN<N>& bvh, Isa isa, bool any
     }
     st.counters["rays/s"] = benchmark::Counter(double(rays.size()), benchmark::Counter::kIsIterationInvariantRate);
     st.SetLabel("bvh" + std::to_string(N) + " " + std::string(simdbvh::name(isa)) + " primary_hd " +
-                (packets == simdbvh::Packets::off ? "single rays" : "packets auto") + (any ? " any" : " closest"));
+                (packets == simdbvh::Packets::off ? "single rays" : "streams auto") + (any ? " any" : " closest"));
 }
 void BM_Bvh8Hd(benchmark::State& st, Isa isa, bool any, simdbvh::Packets packets) {
     run_hd<8>(st, bench::traversal_scene().bvh8, isa, any, packets);
@@ -123,10 +123,10 @@ void BM_Bvh16Hd(benchmark::State& st, Isa isa, bool any, simdbvh::Packets packet
     run_hd<16>(st, bench::traversal_scene().bvh16, isa, any, packets);
 }
 #define SIMDBVH_HD_BENCH(fn, isa)                                                                                   \
-    BENCHMARK_CAPTURE(fn, isa##_packets_closest, Isa::isa, false, simdbvh::Packets::automatic)                     \
+    BENCHMARK_CAPTURE(fn, isa##_streams_closest, Isa::isa, false, simdbvh::Packets::automatic)                     \
         ->Unit(benchmark::kMillisecond);                                                                            \
     BENCHMARK_CAPTURE(fn, isa##_single_closest, Isa::isa, false, simdbvh::Packets::off)->Unit(benchmark::kMillisecond); \
-    BENCHMARK_CAPTURE(fn, isa##_packets_any, Isa::isa, true, simdbvh::Packets::automatic)                          \
+    BENCHMARK_CAPTURE(fn, isa##_streams_any, Isa::isa, true, simdbvh::Packets::automatic)                          \
         ->Unit(benchmark::kMillisecond);                                                                            \
     BENCHMARK_CAPTURE(fn, isa##_single_any, Isa::isa, true, simdbvh::Packets::off)->Unit(benchmark::kMillisecond)
 SIMDBVH_HD_BENCH(BM_Bvh8Hd, avx2);

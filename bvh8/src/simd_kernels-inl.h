@@ -2,6 +2,8 @@
 // The xsimd kernels (kernels/src/simd) behind traverse-inl.h's K interface:
 // the N-wide node test and the 8-wide Tri8 tests. Include only from src/avx2
 // and src/avx512 translation units.
+#include <limits>
+
 #include "qbox-inl.h"
 #include "simd/box8-inl.h"
 #include "simd/tri8-inl.h"
@@ -22,48 +24,10 @@ struct SimdKernels {
     static SIMDBVH_FORCE_INLINE std::uint32_t box(const RayData& r, const QBoxN<N>& b, float tmax, float* entries) {
         return simd::intersect_qboxn<Arch, N>(r, b, tmax, entries);
     }
-    // Packets (packet-inl.h): detail::kPacket rays, one per lane of an Arch batch.
-    static constexpr bool kPackets = true;
-    struct Packet {
-        simd::Batch<Arch> ox, oy, oz, rx, ry, rz, tmin, slack, cull;
-    };
-    template <class Lanes>
-    static SIMDBVH_FORCE_INLINE void packet_load(Packet& p, const Lanes& l) {
-        using B = simd::Batch<Arch>;
-        static_assert(B::size == sizeof(l.ox) / sizeof(float));
-        p.ox = B::load_aligned(l.ox), p.oy = B::load_aligned(l.oy), p.oz = B::load_aligned(l.oz);
-        p.rx = B::load_aligned(l.rx), p.ry = B::load_aligned(l.ry), p.rz = B::load_aligned(l.rz);
-        p.tmin = B::load_aligned(l.tmin), p.slack = B::load_aligned(l.slack), p.cull = B::load_aligned(l.cull);
-    }
-    template <class Lanes>
-    static SIMDBVH_FORCE_INLINE void packet_cull(Packet& p, const Lanes& l) {
-        p.cull = simd::Batch<Arch>::load_aligned(l.cull);
-    }
-    // One box (its near and far planes for the packet's octant) against the
-    // packet: box8-inl.h's slab_lanes per lane, with the box's planes
-    // broadcast instead of the ray's values, so each lane's entry and hit bit
-    // are those of that ray's own node test. Returns the hit rays among
-    // `live`; `entries` receives the lanes' entry distances when there are any.
-    static SIMDBVH_FORCE_INLINE std::uint32_t packet_box(const Packet& p, float nx, float fx, float ny, float fy,
-                                                         float nz, float fz, std::uint32_t live, float* entries) {
-        using B = simd::Batch<Arch>;
-        const B t0x = (B(nx) - p.ox) * p.rx, t1x = (B(fx) - p.ox) * p.rx;
-        const B t0y = (B(ny) - p.oy) * p.ry, t1y = (B(fy) - p.oy) * p.ry;
-        const B t0z = (B(nz) - p.oz) * p.rz, t1z = (B(fz) - p.oz) * p.rz;
-        const B tn = simd::max_ps<Arch>(t0x, simd::max_ps<Arch>(t0y, simd::max_ps<Arch>(t0z, p.tmin)));
-        const B tf = simd::min_ps<Arch>(t1x, simd::min_ps<Arch>(t1y, simd::min_ps<Arch>(t1z, p.cull))) * B(kFarWiden) +
-                     p.slack;
-        const std::uint32_t h = simd::bits<Arch>(tn <= tf) & live;
-        if (h != 0) tn.store_aligned(entries);
-        return h;
-    }
-    // The rays whose cull bound is at or beyond `entry` (a stack entry still in front of them).
-    static SIMDBVH_FORCE_INLINE std::uint32_t packet_front(const Packet& p, float entry) {
-        return simd::bits<Arch>(simd::Batch<Arch>(entry) <= p.cull);
-    }
-    // Any-hit streams (stream-inl.h): the child hit masks of up to 32 rays at
-    // one node, one byte per ray and group of 8 children, transposed into one
+    // Streams (stream-inl.h): the child hit masks of up to 32 rays at one
+    // node, one byte per ray and group of 8 children, transposed into one
     // 32-bit ray mask per child with a shift and a byte movemask per child.
+    static constexpr bool kStreams = true;
     struct StreamMasks {
         alignas(32) std::uint8_t group[2][32];  // [child / 8][ray]: bit child % 8
     };
@@ -90,6 +54,30 @@ struct SimdKernels {
             }
             _mm256_store_si256(p, _mm256_setzero_si256());
         }
+    }
+    // Closest-hit streams: per child, the smallest entry distance over the
+    // rays that hit it (kLanes = N rounded up to 8 floats, 64-byte aligned).
+    static SIMDBVH_FORCE_INLINE void stream_entry_init(float* nearest, int lanes) {
+        for (int g = 0; g < lanes; g += 8) _mm256_store_ps(nearest + g, _mm256_set1_ps(std::numeric_limits<float>::infinity()));
+    }
+    // nearest[i] = min(nearest[i], entries[i]) for each child i in `hit_children` (entries are ordered there).
+    static SIMDBVH_FORCE_INLINE void stream_entry_min(float* nearest, const float* entries, std::uint32_t hit_children,
+                                                      int lanes) {
+        const __m256i lane_bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+        for (int g = 0; g < lanes; g += 8) {
+            const __m256i h = _mm256_set1_epi32(int((hit_children >> g) & 0xffu));
+            const __m256 m = _mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_and_si256(h, lane_bits), lane_bits));
+            const __m256 a = _mm256_load_ps(nearest + g);
+            _mm256_store_ps(nearest + g, _mm256_blendv_ps(a, _mm256_min_ps(a, _mm256_load_ps(entries + g)), m));
+        }
+    }
+    // The rays (of 32) whose cull bound is at or beyond `entry`: a stack entry still in front of them.
+    static SIMDBVH_FORCE_INLINE std::uint32_t stream_front(const float* cull, float entry) {
+        const __m256 e = _mm256_set1_ps(entry);
+        std::uint32_t m = 0;
+        for (int k = 0; k < 4; ++k)
+            m |= std::uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(e, _mm256_load_ps(cull + 8 * k), _CMP_LE_OQ))) << (8 * k);
+        return m;
     }
     template <TriangleTest kTest>
     static SIMDBVH_FORCE_INLINE void closest(const RayData& r, const Tri8& b, Hit& best) {

@@ -1,49 +1,105 @@
 #pragma once
-// Any-hit streams: kStream consecutive rays (32, one bit each) share one walk
-// of a wide tree, after Embree 3's incoherent occlusion stream
-// (rtcOccluded1M: 32 rays, bvh_intersector_stream.cpp's occludedIncoherent).
-// At each node every active ray runs its own single-ray node test (K::box:
-// its own near/far planes, so the rays need not share an octant), and the
-// rays' hit masks are transposed into one ray mask per child
-// (K::stream_rays); the hit children are visited in slot order, the lowest
-// first, by the rays that hit them, and each one's lines are prefetched as it
-// is pushed. A leaf is the leaf intersector per ray; a ray that finds a hit
-// leaves the stream. The node test of each ray is its single-ray test bit for
-// bit, so a ray visits a superset of the nodes its single-ray walk would visit
-// before its first hit, and an any hit is a real hit in [tmin, tmax] (maybe
-// another than the single-ray walk's).
+// Streams (TraceOptions::packets): kStream consecutive rays (32, one bit each
+// in a mask) share one walk of a wide tree, after Embree 3's ray streams
+// (bvh_intersector_stream.cpp: 32 rays, a ray mask per stack entry). At each
+// node every active ray runs its own single-ray node test (K::box: its own
+// near/far planes and cull bound, so the rays need not share an octant), and
+// the rays' hit masks are transposed into one ray mask per child
+// (K::stream_rays); a child is visited by the rays that hit it, and each hit
+// child's lines are prefetched as it is pushed. Leaves run the leaf
+// intersector per ray.
+// - Closest hits: the hit children are visited nearest first (the smallest
+//   entry over their rays, K::stream_entry_min), and a popped entry goes on
+//   with the rays whose cull bound it is still in front of (K::stream_front).
+//   Each ray's node tests are its single-ray tests bit for bit, and it visits
+//   every node its single-ray walk would visit with a closest hit no farther,
+//   so closest hits are the same bits (ties to the lower id).
+// - Any hits: slot order, lowest first (a ray ends at its first hit, so
+//   distance order buys nothing); a ray that finds a hit leaves the stream.
+//   An any hit is a real hit in [tmin, tmax], maybe another than the
+//   single-ray walk's.
 //
-// Why rays per node instead of a packet's lanes per box (packet-inl.h, which
-// closest hits use): an any-hit ray's bound does not shrink, so nothing is
-// lost by not ordering children by distance, and the test costs one node test
-// per active ray instead of one 8-lane test per child. In-process A/B on
-// 1,000,000 rays of a 1000 x 1000 camera, AVX-512, BVH8: the terrain 15.0-15.9
-// Mrays/s against 10.7-11.2 with packets of 8, the dragon 17.7-18.9 against
-// 13.9-14.7; the benches' 100,000 primary rays (316 x 316): terrain 9.1 against
-// 6.9 single-ray, dragon level (9.6 against 9.7); incoherent and diffuse rays
-// lose (rays per node test 1.4-2.8), so trace_auto() probes, as for packets.
-// Included only by packet-inl.h (the per-ISA translation units).
+// Streams replaced packets of 8 (stop 36: one child box against 8 rays per
+// batch), which they beat everywhere measured: in-process A/B, AVX-512, BVH8,
+// Mrays/s, packets of 8 -> streams: 1000 x 1000 camera, closest hits, terrain
+// 13.5 -> 18.7, dragon 18.1 -> 24.1; any hits, terrain 10.7-11.2 -> 15.0-15.9,
+// dragon 13.9-14.7 -> 17.7-18.9; the benches' 100,000 primary rays (316 x 316
+// camera), closest, terrain 7.6 -> 10.2 and dragon 9.0 -> 11.3 (single rays 7.7
+// and 10.4). A ray-major test costs one node test per active ray instead of
+// one 8-lane test per child, and 32 rays share each node's fetch.
+//
+// Streams pay only when their rays stay together: incoherent and diffuse rays
+// (1.4-3.0 rays per node test) ran 0.5-0.8x single rays, which keep 8 rays in
+// flight to hide node misses where a stream waits on them. So trace_auto()
+// measures: blocks of kProbeRays go as streams while the rays per node test
+// stay >= 3.5 (closest) or 3 (any: the terrain's 100,000 primary rays had
+// 512-ray blocks at 3.5-4.5 that still gained), else single rays for a
+// growing number of blocks before the next probe; a block whose groups of 8
+// rays mostly mix direction octants (incoherent and diffuse rays) goes to
+// single rays without a probe.
+// Included only by traverse-inl.h (the per-ISA translation units).
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <span>
 
 namespace simdbvh::bvh8::detail {
 
-inline constexpr int kStream = 32;  // rays per stream (one bit each in a uint32 mask)
+#define SIMDBVH_STREAM_INLINE inline __attribute__((always_inline))
+
+inline constexpr int kStream = 32;                  // rays per stream (one bit each in a uint32 mask)
+inline constexpr std::size_t kProbeRays = 512;      // rays per probe of trace_auto()
+inline constexpr std::size_t kMaxBackoff = 128;     // single-ray blocks between probes, at most
+
+// Node tests and active rays over them, for trace_auto()'s choice.
+struct StreamCounts {
+    std::uint64_t tests = 0, rays = 0;
+    // At least min_twice / 2 rays per node test.
+    SIMDBVH_STREAM_INLINE bool coherent(std::uint64_t min_twice) const { return 2 * rays >= min_twice * tests; }
+};
+
+template <class K, int N, class Keep>
+struct StreamRay {  // the leaf intersector's state (rd, pr, cur) and the ray's closest hit
+    typename K::RayData rd;
+    [[no_unique_address]] Keep pr;
+    ChildN<N> cur;
+    Hit best;
+    int t_exp;
+};
+
+// The octant of a ray as prepare() sets it (the signs of 1/d: -0 counts as negative).
+SIMDBVH_STREAM_INLINE int octant_of(const Vec3& d) {
+    return int(std::signbit(d.x)) | (int(std::signbit(d.y)) << 1) | (int(std::signbit(d.z)) << 2);
+}
+
+// How many of the groups of 8 consecutive rays in `rays` have every ray in one direction octant (invalid rays
+// included): a cheap sign of incoherent input for trace_auto's choice, not a condition of the streams.
+SIMDBVH_STREAM_INLINE std::size_t one_octant_groups(std::span<const Ray> rays) {
+    std::size_t same = 0;
+    for (std::size_t b = 0; b < rays.size(); b += 8) {
+        const std::size_t e = std::min(rays.size(), b + 8);
+        const int o = octant_of(rays[b].dir);
+        bool one = true;
+        for (std::size_t i = b + 1; i < e; ++i) one &= octant_of(rays[i].dir) == o;
+        same += one;
+    }
+    return same;
+}
 
 template <class K, int N, class Leaf, class Query>
-inline __attribute__((always_inline)) void trace_stream(const NodeN<N>* nodes, const Aabb* root, const Leaf& leaf,
-                                                        std::span<const Ray> rays, std::span<Hit> hits,
-                                                        PacketCounts& counts) {
-    static_assert(Query::kAnyHit, "streams trace any hits (the children are not visited front to back)");
+SIMDBVH_STREAM_INLINE void trace_stream(const NodeN<N>* nodes, const Aabb* root, const Leaf& leaf,
+                                        std::span<const Ray> rays, std::span<Hit> hits, StreamCounts& counts) {
+    constexpr bool kAny = Query::kAnyHit;
     using Child = ChildN<N>;
     using Keep = typename Leaf::Keep;
     struct Entry {
         std::uint32_t index, count;  // ChildN
         std::uint32_t rays;          // the stream's rays that hit it
+        float entry;                 // their smallest entry distance (closest hits)
     };
-    PacketRay<K, N, Keep> sr[kStream];
-    float cull[kStream];
+    constexpr int kLanes = (N + 7) / 8 * 8;  // per-child floats of K::stream_entry_min
+    StreamRay<K, N, Keep> sr[kStream];
+    alignas(64) float cull[kStream];  // each ray's cull_bound(best.t); -inf for no ray
     Entry stack[kStackSize<N>];
     typename K::StreamMasks masks;  // each active ray's child hit mask at the current node
     K::stream_clear(masks);
@@ -52,6 +108,7 @@ inline __attribute__((always_inline)) void trace_stream(const NodeN<N>* nodes, c
     for (std::size_t base = 0; base < n; base += kStream) {
         const int cnt = int(std::min<std::size_t>(kStream, n - base));
         std::uint32_t live = 0;
+        for (int r = 0; r < kStream; ++r) cull[r] = -std::numeric_limits<float>::infinity();
         for (int r = 0; r < cnt; ++r) {
             const Ray& ray = rays[base + r];
             const PreparedRay pr = prepare(ray);
@@ -79,41 +136,65 @@ inline __attribute__((always_inline)) void trace_stream(const NodeN<N>* nodes, c
                 tests++;
                 active += std::uint64_t(__builtin_popcount(mask));
                 std::uint32_t hit = 0;
+                alignas(64) float nearest[kLanes];  // closest hits: per child, the smallest entry over its rays
+                if constexpr (!kAny) K::stream_entry_init(nearest, kLanes);
                 for (std::uint32_t m = mask; m != 0; m &= m - 1) {
                     const int r = __builtin_ctz(m);
-                    alignas(4 * N) float entries[N];
+                    alignas(64) float entries[kLanes];
                     const std::uint32_t h = K::box(sr[r].rd, node.boxes, cull[r], entries);
                     hit |= h;
                     K::template stream_set<N>(masks, r, h);
+                    if constexpr (!kAny) K::stream_entry_min(nearest, entries, h, kLanes);
                 }
                 if (hit != 0) {
                     std::uint32_t rays_of[N];
                     K::template stream_rays<N>(masks, hit, rays_of);
-                    // Continue with the lowest hit slot; push the others highest first (popped lowest first).
-                    const int first = __builtin_ctz(hit);
-                    for (std::uint32_t q = hit & (hit - 1); q != 0;) {
-                        const int i = 31 - __builtin_clz(q);
-                        q &= ~(1u << i);
-                        stack[sp++] = {node.children[i].index, node.children[i].count, rays_of[i]};
-                        leaf.prefetch(nodes, node.children[i]);
+                    if constexpr (kAny) {
+                        // Continue with the lowest hit slot; push the others highest first (popped lowest first).
+                        const int first = __builtin_ctz(hit);
+                        for (std::uint32_t q = hit & (hit - 1); q != 0;) {
+                            const int i = 31 - __builtin_clz(q);
+                            q &= ~(1u << i);
+                            stack[sp++] = {node.children[i].index, node.children[i].count, rays_of[i], 0.0f};
+                            leaf.prefetch(nodes, node.children[i]);
+                        }
+                        cur = node.children[first];
+                        mask = rays_of[first];
+                    } else {
+                        // Push them farthest deepest, continue with the nearest.
+                        const int base_sp = sp;
+                        for (std::uint32_t q = hit; q != 0; q &= q - 1) {
+                            const int i = __builtin_ctz(q);
+                            const float e = nearest[i];
+                            int k = sp++;
+                            while (k > base_sp && stack[k - 1].entry < e) {
+                                stack[k] = stack[k - 1];
+                                --k;
+                            }
+                            stack[k] = {node.children[i].index, node.children[i].count, rays_of[i], e};
+                            leaf.prefetch(nodes, node.children[i]);
+                        }
+                        --sp;
+                        cur = Child{stack[sp].index, stack[sp].count};
+                        mask = stack[sp].rays;
                     }
-                    cur = node.children[first];
-                    mask = rays_of[first];
                     continue;
                 }
             } else {
                 for (std::uint32_t m = mask; m != 0; m &= m - 1) {
                     const int r = __builtin_ctz(m);
                     sr[r].cur = cur;
-                    if (Query::leaf(leaf, sr[r], sr[r].best, nullptr)) live &= ~(1u << r);
+                    if (Query::leaf(leaf, sr[r], sr[r].best, nullptr)) live &= ~(1u << r);  // any hit: done
+                    if constexpr (!kAny) cull[r] = cull_bound(sr[r].best.t);
                 }
                 if (live == 0) break;
             }
-            // Pop the next entry with a ray still live.
+            // Pop the next entry with a ray still live (closest hits: and still in front of its closest hit).
             bool found = false;
             while (sp > 0) {
                 const Entry& e = stack[--sp];
-                const std::uint32_t m = e.rays & live;
+                std::uint32_t m = e.rays & live;
+                if constexpr (!kAny) m &= K::stream_front(cull, e.entry);
                 if (m != 0) {
                     cur = Child{e.index, e.count};
                     mask = m;
@@ -129,7 +210,38 @@ inline __attribute__((always_inline)) void trace_stream(const NodeN<N>* nodes, c
         }
     }
     counts.tests += tests;
-    counts.lanes += active;
+    counts.rays += active;
 }
+
+// The batch loop with streams where they pay (see the top of this file).
+// kFlight: the single-ray loop's rays in flight.
+template <class K, int N, class Leaf, class Query, int kFlight>
+SIMDBVH_STREAM_INLINE void trace_auto(const NodeN<N>* nodes, const Aabb* root, const Leaf& leaf,
+                                      std::span<const Ray> rays, std::span<Hit> hits, Packets mode) {
+    constexpr std::uint64_t kMinTwice = Query::kAnyHit ? 6 : 7;  // rays per node test, times 2
+    const std::size_t n = rays.size();
+    std::size_t i = 0, backoff = 1;
+    while (i < n) {
+        const std::size_t e = std::min(n, i + (mode == Packets::on ? n : kProbeRays));
+        const std::span<const Ray> block = rays.subspan(i, e - i);
+        const std::size_t groups = (block.size() + 7) / 8;
+        StreamCounts c;
+        if (mode == Packets::on || 4 * one_octant_groups(block) >= 3 * groups) {
+            trace_stream<K, N, Leaf, Query>(nodes, root, leaf, block, hits.subspan(i, e - i), c);
+            i = e;
+            if (c.coherent(kMinTwice)) {
+                backoff = 1;
+                continue;
+            }
+        }
+        const std::size_t e2 = std::min(n, i + backoff * kProbeRays);
+        trace_span<K, N, Leaf, Query, false, kFlight>(nodes, root, leaf, rays.subspan(i, e2 - i),
+                                                      hits.subspan(i, e2 - i), nullptr);
+        i = e2;
+        backoff = std::min(backoff * 2, kMaxBackoff);
+    }
+}
+
+#undef SIMDBVH_STREAM_INLINE
 
 }  // namespace simdbvh::bvh8::detail

@@ -304,16 +304,16 @@ inline __attribute__((always_inline)) void trace_span(const BvhN<N>& bvh, std::s
 
 }  // namespace simdbvh::bvh8::detail
 
-#include "packet-inl.h"
+#include "stream-inl.h"
 
 namespace simdbvh::bvh8::detail {
 
-// Packets where they pay (packet-inl.h), for kernels that have them;
+// Streams where they pay (stream-inl.h), for kernels that have them;
 // kFlight: the single-ray loop's rays in flight, 0 by the tree's size.
 template <class K, int N, class Query>
-inline __attribute__((always_inline)) bool trace_packets_auto(const BvhN<N>& bvh, std::span<const Ray> rays,
+inline __attribute__((always_inline)) bool trace_streams_auto(const BvhN<N>& bvh, std::span<const Ray> rays,
                                                               std::span<Hit> hits, const TraceOptions& o) {
-    if constexpr (K::kPackets) {
+    if constexpr (K::kStreams) {
         if (o.stats || o.packets == Packets::off || !bvh.qnodes().empty() || bvh.nodes().empty()) return false;
         const Aabb bounds = bvh.bounds();
         const bool one = one_in_flight(bvh.nodes().size() * sizeof(NodeN<N>) + bvh.blocks().size() * sizeof(Tri8),
@@ -330,15 +330,15 @@ inline __attribute__((always_inline)) bool trace_packets_auto(const BvhN<N>& bvh
     }
 }
 
-// Triangle test, stats, packets and rays in flight chosen once per batch (stats: 8).
+// Triangle test, stats, streams and rays in flight chosen once per batch (stats: 8).
 template <class K, int N, class Query>
 inline __attribute__((always_inline)) void trace(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits,
                                                  const TraceOptions& o) {
     using enum TriangleTest;
     if constexpr (std::is_same_v<Query, ClosestHit>) {
-        if (Traversal<K, N>::intersect_packets(bvh, rays, hits, o)) return;
+        if (Traversal<K, N>::intersect_streams(bvh, rays, hits, o)) return;
     } else {
-        if (Traversal<K, N>::occluded_packets(bvh, rays, hits, o)) return;
+        if (Traversal<K, N>::occluded_streams(bvh, rays, hits, o)) return;
     }
     const bool one = one_in_flight((bvh.qnodes().empty() ? bvh.nodes().size() * sizeof(NodeN<N>)
                                                          : bvh.qnodes().size() * sizeof(QNodeN<N>)) +
@@ -374,14 +374,14 @@ void Traversal<K, N>::occluded(const BvhN<N>& bvh, std::span<const Ray> rays,
     detail::trace<K, N, detail::AnyHit>(bvh, rays, hits, o);
 }
 template <class K, int N>
-bool Traversal<K, N>::intersect_packets(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits,
+bool Traversal<K, N>::intersect_streams(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits,
                                         const TraceOptions& o) {
-    return detail::trace_packets_auto<K, N, detail::ClosestHit>(bvh, rays, hits, o);
+    return detail::trace_streams_auto<K, N, detail::ClosestHit>(bvh, rays, hits, o);
 }
 template <class K, int N>
-bool Traversal<K, N>::occluded_packets(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits,
+bool Traversal<K, N>::occluded_streams(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits,
                                        const TraceOptions& o) {
-    return detail::trace_packets_auto<K, N, detail::AnyHit>(bvh, rays, hits, o);
+    return detail::trace_streams_auto<K, N, detail::AnyHit>(bvh, rays, hits, o);
 }
 
 }  // namespace simdbvh::bvh8

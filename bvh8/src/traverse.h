@@ -49,12 +49,12 @@ struct Traversal {
                                            const TraceOptions& o);
     [[gnu::flatten]] static void occluded(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits,
                                           const TraceOptions& o);
-    // The packet path (packet-inl.h), a function of its own (inlined into
-    // the loops above it ran 15% slower). False: not taken (scalar kernels,
+    // The stream path (stream-inl.h), a function of its own (inlined into
+    // the loops above, stop 36's packet path ran 15% slower). False: not taken (scalar kernels,
     // TraceOptions::packets off, quantized nodes, an empty tree).
-    [[gnu::flatten, gnu::noinline]] static bool intersect_packets(const BvhN<N>& bvh, std::span<const Ray> rays,
+    [[gnu::flatten, gnu::noinline]] static bool intersect_streams(const BvhN<N>& bvh, std::span<const Ray> rays,
                                                                   std::span<Hit> hits, const TraceOptions& o);
-    [[gnu::flatten, gnu::noinline]] static bool occluded_packets(const BvhN<N>& bvh, std::span<const Ray> rays,
+    [[gnu::flatten, gnu::noinline]] static bool occluded_streams(const BvhN<N>& bvh, std::span<const Ray> rays,
                                                                  std::span<Hit> hits, const TraceOptions& o);
 };
 

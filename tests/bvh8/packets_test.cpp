@@ -1,12 +1,12 @@
-// Packets (TraceOptions::packets, bvh8/src/packet-inl.h): with packets forced
-// on, off or chosen automatically, every width and ISA gives the BVH2's
-// closest hits bit for bit (the BVH2 is bit-identical to brute force), and
-// an any hit is a real hit of the ray (its triangle hit at exactly that t, u,
-// v by the scalar watertight test) whenever the ray hits anything. The rays:
-// a camera's in image order (coherent: the packets stay together), packets
-// whose rays straddle direction octants, rays no packet lane may take
+// Streams (TraceOptions::packets, bvh8/src/stream-inl.h: 32 rays per walk):
+// forced on, off or chosen automatically, every width and ISA gives the
+// BVH2's closest hits bit for bit (the BVH2 is bit-identical to brute force),
+// and an any hit is a real hit of the ray (its triangle hit at exactly that t,
+// u, v by the scalar watertight test) whenever the ray hits anything. The
+// rays: a camera's in image order (coherent: the streams stay together),
+// streams whose rays straddle direction octants, rays no stream may take
 // (invalid, missing the bounds), negative tmin, a finite tmax, a batch whose
-// size is not a multiple of the packet, and incoherent rays.
+// size is not a multiple of the stream, and incoherent rays.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -23,12 +23,12 @@ namespace simdbvh {
 namespace {
 
 // A camera's rays looking down -z at the mesh's centre, so the image's middle
-// row and column split the packets there between octants; then odd rays.
+// row and column split the streams there between octants; then odd rays.
 std::vector<Ray> packet_rays(const Mesh& mesh) {
     const Aabb b = mesh.bounds();
     const Vec3 c = b.center(), e = b.extent();
     std::vector<Ray> rays;
-    const int side = 101;  // 10201 rays: not a multiple of 8
+    const int side = 101;  // 10201 rays: not a multiple of 8 or 32
     for (int y = 0; y < side; ++y)
         for (int x = 0; x < side; ++x) {
             Ray r;

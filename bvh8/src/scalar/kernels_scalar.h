@@ -14,7 +14,7 @@ namespace scalar {
 
 struct Kernels {
     using RayData = PreparedRay;
-    static constexpr bool kPackets = false;  // no packet path (packet-inl.h) for the baseline ISA
+    static constexpr bool kStreams = false;  // no stream path (stream-inl.h) for the baseline ISA
     static void pack(RayData& d, const PreparedRay& r, const Ray&) { d = r; }
     template <int N>
     static std::uint32_t box(const PreparedRay& r, const BoxN<N>& b, float tmax, float* entries) {
