@@ -120,14 +120,24 @@ def test_refit_answers_for_the_moved_mesh():
     o = rng.uniform(-2, 2, (4000, 3))
     d = rng.uniform(-1, 1, (4000, 3)) - 0.3 * o
     ref = simdbvh.BVH(moved, method="brute").intersect(o, d)
+    ref_count = simdbvh.BVH(moved, method="brute").count_crossings(o, d)
     before = simdbvh.BVH(mesh, method="brute").intersect(o, d)
     assert (ref["prim"] != before["prim"]).sum() > 500
+    before_count = simdbvh.BVH(mesh, method="brute").count_crossings(o, d)
+    assert (ref_count["crossings"] != before_count["crossings"]).sum() > 100
     for method in ("bvh2", "bvh4", "bvh8", "bvh16", "brute"):
         bvh = simdbvh.BVH(mesh, method=method)
         bvh.refit(moved_v, threads=2)
         h = bvh.intersect(o, d)
         for k in ("t", "u", "v", "prim"):
             np.testing.assert_array_equal(h[k], ref[k], err_msg=f"{method} {k}")
+        # The BVH2 of count and all is built on first use: here after the refit, from the moved vertices.
+        np.testing.assert_array_equal(bvh.count_crossings(o, d)["crossings"], ref_count["crossings"], err_msg=method)
+        # Built before the refit (by a count), it is refitted with the wide tree.
+        early = simdbvh.BVH(mesh, method=method)
+        np.testing.assert_array_equal(early.count_crossings(o, d)["crossings"], before_count["crossings"])
+        early.refit(moved_v)
+        np.testing.assert_array_equal(early.count_crossings(o, d)["crossings"], ref_count["crossings"], err_msg=method)
         assert bvh.contains(np.array([[1.4, 0.0, -0.1]]))[0]  # inside the ellipsoid, outside the sphere
         with pytest.raises(simdbvh.Error, match="expected"):
             bvh.refit(moved_v[:-1])
