@@ -55,21 +55,34 @@ struct SimdKernels {
             _mm256_store_si256(p, _mm256_setzero_si256());
         }
     }
-    // Closest-hit streams: per child, the smallest entry distance over the
-    // rays that hit it (kLanes = N rounded up to 8 floats, 64-byte aligned).
-    static SIMDBVH_FORCE_INLINE void stream_entry_init(float* nearest, int lanes) {
-        for (int g = 0; g < lanes; g += 8) _mm256_store_ps(nearest + g, _mm256_set1_ps(std::numeric_limits<float>::infinity()));
+    // Nearest-first streams: per child, the smallest entry distance over the
+    // rays that hit it, kept in registers over a node's rays (N rounded up to
+    // 8 lanes).
+    template <int N>
+    struct StreamNearest {
+        __m256 lanes[(N + 7) / 8];
+    };
+    template <int N>
+    static SIMDBVH_FORCE_INLINE StreamNearest<N> stream_nearest_init() {
+        StreamNearest<N> a;
+        for (auto& l : a.lanes) l = _mm256_set1_ps(std::numeric_limits<float>::infinity());
+        return a;
     }
-    // nearest[i] = min(nearest[i], entries[i]) for each child i in `hit_children` (entries are ordered there).
-    static SIMDBVH_FORCE_INLINE void stream_entry_min(float* nearest, const float* entries, std::uint32_t hit_children,
-                                                      int lanes) {
+    // a[i] = min(a[i], entries[i]) for each child i in `hit_children` (entries
+    // are ordered there; 64-byte aligned, N rounded up to 8 floats).
+    template <int N>
+    static SIMDBVH_FORCE_INLINE void stream_nearest_min(StreamNearest<N>& a, const float* entries,
+                                                        std::uint32_t hit_children) {
         const __m256i lane_bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
-        for (int g = 0; g < lanes; g += 8) {
-            const __m256i h = _mm256_set1_epi32(int((hit_children >> g) & 0xffu));
+        for (int g = 0; g < (N + 7) / 8; ++g) {
+            const __m256i h = _mm256_set1_epi32(int((hit_children >> (8 * g)) & 0xffu));
             const __m256 m = _mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_and_si256(h, lane_bits), lane_bits));
-            const __m256 a = _mm256_load_ps(nearest + g);
-            _mm256_store_ps(nearest + g, _mm256_blendv_ps(a, _mm256_min_ps(a, _mm256_load_ps(entries + g)), m));
+            a.lanes[g] = _mm256_blendv_ps(a.lanes[g], _mm256_min_ps(a.lanes[g], _mm256_load_ps(entries + 8 * g)), m);
         }
+    }
+    template <int N>
+    static SIMDBVH_FORCE_INLINE void stream_nearest_store(const StreamNearest<N>& a, float* out) {
+        for (int g = 0; g < (N + 7) / 8; ++g) _mm256_store_ps(out + 8 * g, a.lanes[g]);
     }
     // The rays (of 32) whose cull bound is at or beyond `entry`: a stack entry still in front of them.
     static SIMDBVH_FORCE_INLINE std::uint32_t stream_front(const float* cull, float entry) {
