@@ -62,12 +62,14 @@ struct StreamCounts {
 };
 
 template <class K, int N, class Keep>
-struct StreamRay {  // the leaf intersector's state (rd, pr, cur) and the ray's closest hit
+struct StreamRay {  // RayState's fields but its stack, so start() fills it: the leaf intersector's state (rd, pr, cur)
     typename K::RayData rd;
     [[no_unique_address]] Keep pr;
-    ChildN<N> cur;
     Hit best;
+    ChildN<N> cur;
+    int sp;  // unused here (start() sets it)
     int t_exp;
+    std::size_t ray;
 };
 
 // The octant of a ray as prepare() sets it (the signs of 1/d: -0 counts as negative).
@@ -113,19 +115,8 @@ SIMDBVH_STREAM_INLINE void trace_stream(const NodeN<N>* nodes, const Aabb* root,
         std::uint32_t live = 0;
         for (int r = 0; r < kStream; ++r) cull[r] = -std::numeric_limits<float>::infinity();
         for (int r = 0; r < cnt; ++r) {
-            const Ray& ray = rays[base + r];
-            const PreparedRay pr = prepare(ray);
-            float entry;
-            if (!pr.valid || !root || !intersect_box(pr, *root, pr.tmax, &entry)) {  // as start()
-                Query::finish(Hit{}, 0, hits[base + r]);
-                continue;
-            }
-            K::pack(sr[r].rd, pr, ray);
-            if constexpr (std::is_same_v<Keep, PreparedRay>) sr[r].pr = pr;
-            sr[r].best = Hit{};
-            sr[r].best.t = pr.tmax;
-            sr[r].t_exp = pr.t_exp;
-            cull[r] = cull_bound(pr.tmax);
+            if (!start<K, N, Query, false>(sr[r], rays[base + r], base + r, root, hits.data(), nullptr)) continue;
+            cull[r] = cull_bound(sr[r].best.t);
             live |= 1u << r;
         }
         if (live == 0) continue;
@@ -197,7 +188,7 @@ SIMDBVH_STREAM_INLINE void trace_stream(const NodeN<N>* nodes, const Aabb* root,
         }
         for (std::uint32_t m = started; m != 0; m &= m - 1) {
             const int r = __builtin_ctz(m);
-            Query::finish(sr[r].best, sr[r].t_exp, hits[base + r]);
+            Query::finish(sr[r].best, sr[r].t_exp, hits[sr[r].ray]);
         }
     }
     counts.tests += tests;

@@ -177,34 +177,28 @@ TEST(EmbreeScene, StreamCallsGiveTheSingleRayAnswers) {
         EXPECT_GT(hits, 100u);
         EXPECT_FALSE(stream[3].hit());
         EXPECT_FALSE(stream[4].hit());
-        // Flagged coherent, Embree may trace the stream as packets: the same hits and misses, and the same
-        // triangle for almost every ray (its packet kernels need not round as its single-ray ones).
-        std::vector<Hit> coherent(rays.size());
-        std::vector<std::uint8_t> occ_coherent(rays.size());
+        // Flagged coherent, Embree may trace the stream as packets; and packets of 8 (rtcIntersect8 /
+        // rtcOccluded8). Either way: the same hits and misses as one ray at a time, and the same triangle for
+        // almost every ray (its packet kernels need not round as its single-ray ones).
+        auto same_as_one = [&](const char* what, const std::vector<Hit>& h, const std::vector<std::uint8_t>& occ) {
+            std::size_t same = 0;
+            for (std::size_t i = 0; i < rays.size(); ++i) {
+                ASSERT_EQ(h[i].hit(), one[i].hit()) << what << " ray " << i;
+                ASSERT_EQ(occ[i], occ_one[i]) << what << " ray " << i;
+                same += h[i].prim == one[i].prim;
+            }
+            EXPECT_GE(same, rays.size() * 99 / 100) << what;
+            EXPECT_FALSE(h[3].hit()) << what;
+            EXPECT_FALSE(h[4].hit()) << what;
+        };
+        std::vector<Hit> coherent(rays.size()), packets(rays.size());
+        std::vector<std::uint8_t> occ_coherent(rays.size()), occ_packets(rays.size());
         embree.intersect_stream(rays, coherent, true);
         embree.occluded_stream(rays, occ_coherent, true);
-        std::size_t same = 0;
-        for (std::size_t i = 0; i < rays.size(); ++i) {
-            ASSERT_EQ(coherent[i].hit(), one[i].hit()) << "ray " << i;
-            ASSERT_EQ(occ_coherent[i], occ_one[i]) << "ray " << i;
-            same += coherent[i].prim == one[i].prim;
-        }
-        EXPECT_GE(same, rays.size() * 99 / 100);
-        EXPECT_FALSE(coherent[3].hit());
-        // Packets of 8 (rtcIntersect8 / rtcOccluded8): the same.
-        std::vector<Hit> packets(rays.size());
-        std::vector<std::uint8_t> occ_packets(rays.size());
+        same_as_one("coherent stream", coherent, occ_coherent);
         embree.intersect_packets8(rays, packets);
         embree.occluded_packets8(rays, occ_packets);
-        same = 0;
-        for (std::size_t i = 0; i < rays.size(); ++i) {
-            ASSERT_EQ(packets[i].hit(), one[i].hit()) << "ray " << i;
-            ASSERT_EQ(occ_packets[i], occ_one[i]) << "ray " << i;
-            same += packets[i].prim == one[i].prim;
-        }
-        EXPECT_GE(same, rays.size() * 99 / 100);
-        EXPECT_FALSE(packets[3].hit());
-        EXPECT_FALSE(packets[4].hit());
+        same_as_one("packets8", packets, occ_packets);
     }
 }
 
