@@ -60,6 +60,11 @@ void pack(const Bvh2& bvh2, const WideTopology<N>& topo, NodesN<N>& nodes, Tri8B
           WideStats& stats, int threads = 1);
 // The same from the mesh and the BVH2's leaf order (prim_ids), for a BVH2
 // that never gathered its triangles (BvhN::build(mesh)).
+// Whether pack(mesh) scatters the mesh's triangles to their lanes (in mesh
+// order) rather than gathering them in leaf order: for leaf orders that jump
+// across the mesh (pack.cpp).
+bool scatter_pays(std::span<const std::uint32_t> prim_ids, std::size_t triangles);
+
 template <int N>
 void pack(const Mesh& mesh, std::span<const std::uint32_t> prim_ids, const WideTopology<N>& topo,
           NodesN<N>& nodes, Tri8Blocks& blocks, WideStats& stats, int threads = 1);

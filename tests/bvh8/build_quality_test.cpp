@@ -12,6 +12,7 @@
 #include <cstring>
 #include <string>
 
+#include "collapse.h"  // bvh8/src: scatter_pays
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/scene/scenes.h"
 
@@ -81,6 +82,35 @@ TEST(BuildQuality, TreesAreByteIdenticalForAnyThreadCount) {
             EXPECT_TRUE(same_bytes(a2.triangles(), b2.triangles()));
             EXPECT_TRUE(same_bytes(a8.nodes(), b8.nodes()));
             EXPECT_TRUE(same_bytes(a8.blocks(), b8.blocks()));
+        }
+    }
+}
+
+// Bvh8::build(mesh) packs Tri8 blocks from the mesh, by a gather in leaf
+// order or, for a mesh without locality, a scatter in mesh order
+// (bvh8/src/pack.cpp): both give the bytes packed from a BVH2's own
+// triangles (Bvh8::build(bvh2), the same topology), on one thread and on three.
+TEST(BuildQuality, PackFromTheMeshGathersOrScattersTheSameBytes) {
+    struct Case {
+        const char* scene;
+        bool scatter;  // the random soup's leaves jump across the mesh; the icosphere's stay near
+    };
+    for (const Case c : {Case{"soup-300000", true}, Case{"icosphere-6", false}}) {
+        SCOPED_TRACE(c.scene);
+        const Mesh m = scene::load_scene(c.scene);
+        BuildOptions bo;
+        bo.intersection_cost = Bvh8Options{}.bvh2_intersection_cost;
+        const Bvh2 b2 = Bvh2::build(m, bo);
+        EXPECT_EQ(bvh8::scatter_pays(b2.prim_ids(), m.triangles.size()), c.scatter);
+        const Bvh8 from_bvh2 = Bvh8::build(b2);
+        for (int threads : {1, 3}) {
+            BuildOptions t2 = bo;
+            t2.threads = threads;
+            Bvh8Options w;
+            w.threads = threads;
+            const Bvh8 from_mesh = Bvh8::build(m, t2, w);
+            EXPECT_TRUE(same_bytes(from_mesh.nodes(), from_bvh2.nodes())) << threads;
+            EXPECT_TRUE(same_bytes(from_mesh.blocks(), from_bvh2.blocks())) << threads;
         }
     }
 }
