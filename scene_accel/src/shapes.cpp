@@ -3,6 +3,8 @@
 #include "directed_rounding.h"
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -14,6 +16,39 @@ namespace {
 bool in_range(const PreparedRay& r, float t, float tmax) { return t >= r.tmin && t <= tmax; }  // rejects NaN
 
 float clamp01(double x) { return static_cast<float>(std::clamp(x, 0.0, 1.0)); }
+
+// Branch-free select: the bits of a if c, else b's.
+double pick(bool c, double a, double b) {
+    const std::uint64_t m = std::uint64_t(0) - std::uint64_t(c);
+    return std::bit_cast<double>((std::bit_cast<std::uint64_t>(a) & m) | (std::bit_cast<std::uint64_t>(b) & ~m));
+}
+
+// atan2(y, x) to within 1.1e-14 for finite y, x, in a fixed sequence of
+// operations (the same bits from every caller) and without branches. libm's
+// atan2 and acos cost the sphere's u, v 45 ns per hit, a sixth of an
+// incoherent ray's time on spheres-1000 (this: 11 ns against libm's 25 ns per
+// call on random quadrants, where its branches mispredict). With m = min / max
+// of |x|, |y|: m > tan(pi/8) reduces by atan(m) = pi/4 + atan((m - 1) / (m + 1)),
+// then atan(a) = a P(a^2), P a degree-8 least-squares fit on Chebyshev nodes
+// of [0, tan(pi/8)^2] (worst error 1.1e-14), evaluated by Estrin's scheme.
+// Quadrants and signed zeros as atan2's: atan2(+-0, +0) = +-0, atan2(+-0, -0) = +-pi.
+double poly_atan2(double y, double x) {
+    constexpr double kPi = std::numbers::pi, kTanPi8 = 0.41421356237309503;
+    const double ax = std::fabs(x), ay = std::fabs(y);
+    const bool swap = ay > ax;
+    const double mx = pick(swap, ay, ax), mn = pick(swap, ax, ay);
+    const bool reduce = mn > kTanPi8 * mx;
+    const double a = pick(reduce, mn - mx, mn) / pick(reduce, mn + mx, pick(mx == 0.0, 1.0, mx));
+    const double s = a * a, s2 = s * s, s4 = s2 * s2;
+    constexpr double c0 = 0.9999999999999728, c1 = -0.3333333333086919, c2 = 0.1999999961282265,
+                     c3 = -0.142856907900981, c4 = 0.1111039336712796, c5 = -0.09078494812490004,
+                     c6 = 0.07564406649945972, c7 = -0.058770120425809196, c8 = 0.030698749319849665;
+    const double p = ((c0 + c1 * s) + s2 * (c2 + c3 * s)) + s4 * (((c4 + c5 * s) + s2 * (c6 + c7 * s)) + s4 * c8);
+    double r = pick(reduce, kPi / 4, 0.0) + a * p;  // atan(mn / mx), in [0, pi/4]
+    r = pick(swap, kPi / 2 - r, r);
+    r = pick(std::signbit(x), kPi - r, r);
+    return std::copysign(r, y);
+}
 
 using scene_accel_detail::down;
 using scene_accel_detail::up;
@@ -59,8 +94,8 @@ bool hit_sphere(const PreparedRay& r, const Sphere& s, float tmax, float* t, flo
     *t = tf;
     const double inv_r = s.radius > 0.0f ? 1.0 / double(s.radius) : 0.0;
     const double nx = (fx + th * dx) * inv_r, ny = (fy + th * dy) * inv_r, nz = (fz + th * dz) * inv_r;
-    *u = clamp01((std::atan2(ny, nx) + std::numbers::pi) / (2.0 * std::numbers::pi));
-    *v = clamp01(std::acos(std::clamp(nz, -1.0, 1.0)) / std::numbers::pi);
+    *u = clamp01((poly_atan2(ny, nx) + std::numbers::pi) / (2.0 * std::numbers::pi));
+    *v = clamp01(poly_atan2(std::sqrt(nx * nx + ny * ny), nz) / std::numbers::pi);  // acos(n.z) for a unit n
     return true;
 }
 

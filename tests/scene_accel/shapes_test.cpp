@@ -2,6 +2,7 @@
 // (or in double by an independent formula), not by the code under test.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -47,6 +48,40 @@ TEST(Sphere, MissesBesideAndBehindAndBeyondTmax) {
 // Haines et al. 2019: a small sphere far away. The naive float quadratic
 // (b^2 - c with b ~ 1e4, c ~ 1e8) loses the discriminant entirely; the
 // closest-approach form keeps it. Expected: t = z_c - sqrt(r^2 - y^2), in double.
+// u, v against libm's atan2 and acos of the hit normal (in double, from the
+// reported t), over hits in every octant of the sphere and at the poles and
+// seams: within 2 float ulps of 1 (the polynomial atan2 is within 1.1e-14).
+TEST(Sphere, LongitudeAndColatitudeMatchLibm) {
+    std::mt19937 rng(17);
+    std::normal_distribution<float> g;
+    const Sphere s{{0.25f, -0.5f, 1.0f}, 0.75f};
+    const double kPi = 3.14159265358979323846;
+    int hits = 0, octants = 0;
+    for (int i = 0; i < 20000; ++i) {
+        Vec3 d{g(rng), g(rng), g(rng)};
+        if (i < 6) d = Vec3{float(i == 0) - float(i == 1), float(i == 2) - float(i == 3), float(i == 4) - float(i == 5)};
+        const Vec3 o = s.center - d * 3.0f;  // aimed at the centre: every direction hits
+        float t, u, v;
+        ASSERT_TRUE(hit_sphere(ray(o, d), s, INFINITY, &t, &u, &v)) << i;
+        ++hits;
+        double n[3];
+        for (int a = 0; a < 3; ++a) n[a] = (double(o[a]) + double(t) * double(d[a]) - double(s.center[a])) / 0.75;
+        octants |= 1 << ((n[0] > 0) + 2 * (n[1] > 0) + 4 * (n[2] > 0));
+        const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        const double ru = (std::atan2(n[1], n[0]) + kPi) / (2 * kPi), rv = std::acos(std::clamp(n[2] / len, -1.0, 1.0)) / kPi;
+        // The reference recomputes n from the float t: allow t's rounding (|dn| <= ulp(t) |d| / r).
+        const double slack = 2.0 * std::ldexp(1.0, std::ilogb(t) - 23) * double(length(d)) / 0.75;
+        EXPECT_NEAR(u, ru, 2.4e-7 + slack) << i;
+        EXPECT_NEAR(v, rv, 2.4e-7 + slack) << i;
+        EXPECT_GE(u, 0.0f);
+        EXPECT_LE(u, 1.0f);
+        EXPECT_GE(v, 0.0f);
+        EXPECT_LE(v, 1.0f);
+    }
+    EXPECT_EQ(hits, 20000);
+    EXPECT_EQ(octants, 255);
+}
+
 TEST(Sphere, DistantSmallSphereIsPrecise) {
     const double zc = 1e4, r = 1.0, y = 0.5;
     float t, u, v;
