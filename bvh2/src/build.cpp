@@ -8,6 +8,7 @@
 #include "tree_shape.h"
 #include "simdbvh/bvh2/bvh2.h"
 #include "simdbvh/kernels/error.h"
+#include "simdbvh/kernels/build_threads.h"
 #include "simdbvh/kernels/parallel.h"
 
 namespace simdbvh {
@@ -72,6 +73,7 @@ Bvh2Topology build_topology(std::span<const Aabb> boxes, std::span<const Vec3> c
     check_options(opts);
     detail::BuildContext ctx;
     ctx.opts = opts;
+    ctx.opts.threads = build_threads(opts.threads, boxes.size());
     ctx.refs.reserve(boxes.size());
     for (std::size_t i = 0; i < boxes.size(); ++i)
         if (!boxes[i].is_empty()) ctx.refs.push_back({boxes[i].lo, std::uint32_t(i), boxes[i].hi, 0.0f, centroids[i], 0.0f});
@@ -90,12 +92,13 @@ Bvh2Topology build_topology(const Mesh& mesh, const BuildOptions& opts) {
     const std::size_t nblocks = (n + kBlock - 1) / kBlock;
     detail::BuildContext ctx;
     ctx.opts = opts;
+    ctx.opts.threads = build_threads(opts.threads, n);
     ctx.refs.resize(n);
     std::vector<detail::Bounds> block_bounds(nblocks);
     std::atomic<bool> any_empty{false};
     ParallelOptions po = build_parallel();
     po.grain = 1;
-    parallel_for(nblocks, opts.threads, [&](std::size_t b0, std::size_t e0) {
+    parallel_for(nblocks, ctx.opts.threads, [&](std::size_t b0, std::size_t e0) {
         bool empty = false;
         for (std::size_t blk = b0; blk < e0; ++blk) {
             detail::Bounds bb;
@@ -146,7 +149,7 @@ Bvh2 Bvh2::build(const Mesh& mesh, const BuildOptions& opts) {
     Bvh2 bvh;
     bvh.opts_ = opts;
     bvh.tris_.resize(topo.prim_ids.size());
-    parallel_for(topo.prim_ids.size(), opts.threads, [&](std::size_t b, std::size_t e) {
+    parallel_for(topo.prim_ids.size(), build_threads(opts.threads, topo.prim_ids.size()), [&](std::size_t b, std::size_t e) {
         for (std::size_t i = b; i < e; ++i) {
             const std::uint32_t p = topo.prim_ids[i];
             bvh.tris_[i] = {mesh.vertex(p, 0), mesh.vertex(p, 1), mesh.vertex(p, 2)};

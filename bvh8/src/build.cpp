@@ -4,6 +4,7 @@
 #include "collapse.h"
 #include "quantize.h"
 #include "simdbvh/bvh8/bvh8.h"
+#include "simdbvh/kernels/build_threads.h"
 
 namespace simdbvh {
 
@@ -33,11 +34,13 @@ struct WideAccess {
         check_quantized<N>(opts);
         const auto t0 = std::chrono::steady_clock::now();
         const LargeAllocReuse reuse;  // the collapse's tables become the blocks' pages (large_alloc.h)
-        const bvh8::WideTopology<N> topo = bvh8::collapse<N>(bvh2, opts);
+        WideOptions run = opts;       // the threads worth starting for this size (b.opts_ keeps the caller's)
+        run.threads = build_threads(opts.threads, bvh2.prim_ids().size());
+        const bvh8::WideTopology<N> topo = bvh8::collapse<N>(bvh2, run);
         BvhN<N> b;
         {
             const LargeAllocTake take;  // pack writes every array it allocates
-            bvh8::pack<N>(bvh2, topo, b.nodes_, b.blocks_, b.stats_, opts.threads);
+            bvh8::pack<N>(bvh2, topo, b.nodes_, b.blocks_, b.stats_, run.threads);
         }
         b.stats_.sah_cost = bvh8::sah_cost(topo, opts);
         b.bounds_ = bvh2.bounds();
@@ -61,13 +64,15 @@ struct WideAccess {
         const LargeAllocReuse reuse;
         Bvh2Topology topo2 = build_topology(mesh, b2);
         const auto t0 = std::chrono::steady_clock::now();  // build_ms: collapse + pack, as from a Bvh2
-        const bvh8::WideTopology<N> topo = bvh8::collapse<N>(topo2.nodes, topo2.prim_ids.size(), opts);
+        WideOptions run = opts;  // the threads worth starting for this size (b.opts_ keeps the caller's)
+        run.threads = build_threads(opts.threads, topo2.prim_ids.size());
+        const bvh8::WideTopology<N> topo = bvh8::collapse<N>(topo2.nodes, topo2.prim_ids.size(), run);
         BvhN<N> b;
         b.bounds_ = topo2.nodes.empty() ? Aabb{} : topo2.nodes[0].box;
         Nodes2().swap(topo2.nodes);  // not needed by pack: kept for its arrays
         {
             const LargeAllocTake take;  // pack writes every array it allocates
-            bvh8::pack<N>(mesh, topo2.prim_ids, topo, b.nodes_, b.blocks_, b.stats_, opts.threads);
+            bvh8::pack<N>(mesh, topo2.prim_ids, topo, b.nodes_, b.blocks_, b.stats_, run.threads);
         }
         b.stats_.sah_cost = bvh8::sah_cost(topo, opts);
         b.opts_ = opts;

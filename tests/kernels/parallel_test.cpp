@@ -11,6 +11,7 @@
 #include <thread>
 #include <vector>
 
+#include "simdbvh/kernels/build_threads.h"
 #include "simdbvh/kernels/parallel.h"
 #include "simdbvh/kernels/topology.h"
 
@@ -94,4 +95,13 @@ TEST(Parallel, HostExecutorRunsEveryChunkOnItsThreads) {
 }
 
 }  // namespace
+// Small builds run on one thread; larger ones on the threads asked for.
+TEST(BuildThreads, SmallBuildsRunOnOneThread) {
+    EXPECT_EQ(build_threads(2, 1000), 1);
+    EXPECT_EQ(build_threads(8, kMinPrimsForBuildThreads - 1), 1);
+    EXPECT_EQ(build_threads(8, kMinPrimsForBuildThreads), 8);
+    EXPECT_EQ(build_threads(2, 871414), 2);
+    EXPECT_EQ(build_threads(1, 1u << 30), 1);
+}
+
 }  // namespace simdbvh
