@@ -7,7 +7,8 @@
 // counter cold_ms (the first build of its kind in the process), then
 // repetitions of one timed build each; read the _median rows.
 // Scenes: $SIMDBVH_BENCH_BUILD_SCENES, comma separated (default
-// "dragon,soup-1000000"; dragon is skipped when not cached).
+// "dragon,soup-1000000"; dragon is skipped when not cached); timed builds per
+// row: $SIMDBVH_BENCH_BUILD_REPS (default 5, at least 3).
 // Refit rows (refit/<scene>/...): Bvh2::refit, Bvh8::refit and Embree's
 // refit (RTC_BUILD_QUALITY_REFIT, update_vertices) of a structure built once,
 // each repetition alternating between the mesh twisted by 1 rad and the mesh
@@ -234,6 +235,12 @@ std::vector<std::string> scenes() {
     return out;
 }
 
+// Timed builds per row: $SIMDBVH_BENCH_BUILD_REPS (at least 3, default 5; 3 for long scaling runs).
+int build_reps() {
+    const char* env = std::getenv("SIMDBVH_BENCH_BUILD_REPS");
+    return env && *env ? std::max(3, std::atoi(env)) : 5;
+}
+
 void register_all() {
     const std::pair<Row, const char*> rows[] = {{Row::bvh2, "bvh2"},
                                                 {Row::collapse_pack, "collapse_pack"},
@@ -247,7 +254,7 @@ void register_all() {
                     ->UseManualTime()
                     ->Unit(benchmark::kMillisecond)
                     ->Iterations(1)
-                    ->Repetitions(5)
+                    ->Repetitions(build_reps())
                     ->DisplayAggregatesOnly(true);
             }
     const std::pair<Refit, const char*> refits[] = {{Refit::bvh2, "bvh2"}, {Refit::bvh8, "bvh8"}, {Refit::embree, "embree"}};
