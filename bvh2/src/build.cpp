@@ -149,7 +149,8 @@ Bvh2 Bvh2::build(const Mesh& mesh, const BuildOptions& opts) {
     Bvh2 bvh;
     bvh.opts_ = opts;
     bvh.tris_.resize(topo.prim_ids.size());
-    parallel_for(topo.prim_ids.size(), build_threads(opts.threads, topo.prim_ids.size()), [&](std::size_t b, std::size_t e) {
+    const int threads = build_threads(opts.threads, topo.prim_ids.size());
+    parallel_for(topo.prim_ids.size(), threads, [&](std::size_t b, std::size_t e) {
         for (std::size_t i = b; i < e; ++i) {
             const std::uint32_t p = topo.prim_ids[i];
             bvh.tris_[i] = {mesh.vertex(p, 0), mesh.vertex(p, 1), mesh.vertex(p, 2)};

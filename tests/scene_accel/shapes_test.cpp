@@ -59,7 +59,8 @@ TEST(Sphere, LongitudeAndColatitudeMatchLibm) {
     int hits = 0, octants = 0;
     for (int i = 0; i < 20000; ++i) {
         Vec3 d{g(rng), g(rng), g(rng)};
-        if (i < 6) d = Vec3{float(i == 0) - float(i == 1), float(i == 2) - float(i == 3), float(i == 4) - float(i == 5)};
+        if (i < 6)  // the six poles and seams first
+            d = Vec3{float(i == 0) - float(i == 1), float(i == 2) - float(i == 3), float(i == 4) - float(i == 5)};
         const Vec3 o = s.center - d * 3.0f;  // aimed at the centre: every direction hits
         float t, u, v;
         ASSERT_TRUE(hit_sphere(ray(o, d), s, INFINITY, &t, &u, &v)) << i;
@@ -68,7 +69,8 @@ TEST(Sphere, LongitudeAndColatitudeMatchLibm) {
         for (int a = 0; a < 3; ++a) n[a] = (double(o[a]) + double(t) * double(d[a]) - double(s.center[a])) / 0.75;
         octants |= 1 << ((n[0] > 0) + 2 * (n[1] > 0) + 4 * (n[2] > 0));
         const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-        const double ru = (std::atan2(n[1], n[0]) + kPi) / (2 * kPi), rv = std::acos(std::clamp(n[2] / len, -1.0, 1.0)) / kPi;
+        const double ru = (std::atan2(n[1], n[0]) + kPi) / (2 * kPi);
+        const double rv = std::acos(std::clamp(n[2] / len, -1.0, 1.0)) / kPi;
         // The reference recomputes n from the float t: allow t's rounding (|dn| <= ulp(t) |d| / r).
         const double slack = 2.0 * std::ldexp(1.0, std::ilogb(t) - 23) * double(length(d)) / 0.75;
         EXPECT_NEAR(u, ru, 2.4e-7 + slack) << i;

@@ -31,7 +31,7 @@ struct BuildOptions {
     float traversal_cost = 1.0f;    // SAH: cost of one box test relative to ...
     float intersection_cost = 1.0f; // ... one triangle test
     int max_depth = 64;             // hard cap; the traversal stack is sized from it
-    int threads = 1;                // build threads; the tree is identical for every count
+    int threads = 1;                // build threads (one below 32,768 primitives); the same tree for any count
 };
 inline constexpr int kMaxDepth = 64;
 

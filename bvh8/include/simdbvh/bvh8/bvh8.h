@@ -42,7 +42,7 @@ struct WideOptions {
     // block_cost per Tri8 block, i.e. block_cost * ceil(n / kBlockWidth) for n triangles.
     float node_cost = 1.0f;
     float block_cost = 1.0f;
-    int threads = 1;  // collapse + pack threads; the tree is identical for every count
+    int threads = 1;  // collapse + pack threads (one below 32,768 triangles); the tree is identical for every count
     // BvhN::build(mesh, bvh2_opts, opts) builds its BVH2 topology with this
     // intersection cost in place of bvh2_opts.intersection_cost.
     float bvh2_intersection_cost = kWideIntersectionCost;
