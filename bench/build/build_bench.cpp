@@ -235,10 +235,18 @@ std::vector<std::string> scenes() {
     return out;
 }
 
-// Timed builds per row: $SIMDBVH_BENCH_BUILD_REPS (at least 3, default 5; 3 for long scaling runs).
+// Timed builds per row: $SIMDBVH_BENCH_BUILD_REPS (an integer from 3 to 100, default 5; 3 for long
+// scaling runs). Anything else: a message naming the variable and exit 2.
 int build_reps() {
     const char* env = std::getenv("SIMDBVH_BENCH_BUILD_REPS");
-    return env && *env ? std::max(3, std::atoi(env)) : 5;
+    if (!env || !*env) return 5;
+    char* end = nullptr;
+    const long reps = std::strtol(env, &end, 10);
+    if (*end != '\0' || reps < 3 || reps > 100) {
+        std::fprintf(stderr, "SIMDBVH_BENCH_BUILD_REPS='%s': expected an integer from 3 to 100 (builds are medians of >= 3)\n", env);
+        std::exit(2);
+    }
+    return int(reps);
 }
 
 void register_all() {
