@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "simdbvh/kernels/build_threads.h"
 #include "simdbvh/kernels/soa.h"
 #include "simdbvh/kernels/topology.h"
 #include "simdbvh/mesh.h"
@@ -59,7 +60,9 @@ double predict_ms(const CostModel& model, AccelMethod m, std::size_t triangles, 
     const double t = double(threads < 1 ? 1 : threads);
     const double per_ray = (c.ray0 + c.ray1 * ray_size_term(m, triangles)) / t + c.ray2 * ray_cache_term(m, triangles);
     const double par = std::clamp(c.build_par, 0.0, 1.0);
-    return build * (1.0 - par + par / t) + c.call + double(rays) * per_ray;
+    // The trees' builds run on one thread below kMinPrimsForBuildThreads (build_threads.h).
+    const double tb = is_tree(m) ? double(build_threads(threads < 1 ? 1 : threads, triangles)) : t;
+    return build * (1.0 - par + par / tb) + c.call + double(rays) * per_ray;
 }
 
 AccelChoice choose(const CostModel& model, std::size_t triangles, std::size_t rays, int threads) {

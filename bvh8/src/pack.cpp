@@ -316,7 +316,16 @@ void pack(const Mesh& mesh, std::span<const std::uint32_t> prim_ids, const WideT
           NodesN<N>& nodes, Tri8Blocks& blocks, WideStats& stats, int threads) {
     const std::size_t n = mesh.triangles.size();
     if (!scatter_pays(prim_ids, n)) {
+        // The gather waits on three dependent loads per triangle (its id, its
+        // vertex indices, its vertices): the indices are fetched 16 positions
+        // ahead and the vertices 8 ahead (leaves are runs of positions).
+        const std::size_t m = prim_ids.size();
         pack_with(topo, nodes, blocks, stats, threads, [&](std::uint32_t pos, Tri8& blk, int lane) {
+            if (pos + 16u < m) __builtin_prefetch(&mesh.triangles[prim_ids[pos + 16u]]);
+            if (pos + 8u < m) {
+                const Triangle& t = mesh.triangles[prim_ids[pos + 8u]];
+                for (int k = 0; k < 3; ++k) __builtin_prefetch(&mesh.positions[t[k]]);
+            }
             const std::uint32_t p = prim_ids[pos];
             blk.set(lane, mesh.vertex(p, 0), mesh.vertex(p, 1), mesh.vertex(p, 2), p);
         }, [](Tri8& blk) { blk.clear(); });

@@ -5,7 +5,7 @@
 // coefficients were fitted to `simdbvh bench --sweep` on one machine, one set
 // per ISA (src/cost_model_fit.cpp holds them and names the command).
 //
-//   time_ms = build_ms * (1 - build_par + build_par / threads) + call_ms
+//   time_ms = build_ms * (1 - build_par + build_par / build_threads) + call_ms
 //           + rays * (ray0 + ray1 * f(n)) / threads + rays * ray2 * h(n)
 //   build_ms = build0 + build1 * g(n)   g: n log2(n+1) for the trees, n for brute8, 0 for brute
 //   ray_ms   = ray0   + ray1   * f(n)   f: log2(n+1) for the trees, n for brute and brute8
@@ -13,7 +13,9 @@
 //                                            the last-level cache (n > llc / bytes per triangle), else 0
 //
 // build_par is the parallel fraction of the build (Amdahl), fitted from the
-// sweep's one- and all-core builds of the larger fit scenes. The memory term
+// sweep's one- and all-core builds of the larger fit scenes (>= 50,000
+// triangles). build_threads is `threads`, except for the trees' builds of
+// fewer than 32,768 triangles, which run on one thread (kernels/build_threads.h). The memory term
 // is kept whole (not divided by the threads), a conservative choice for cores
 // that share the memory bus.
 //
