@@ -28,14 +28,23 @@ void check_quantized(const WideOptions& opts) {
         throw Error("BVH4 has no quantized nodes (a QNode4 would take the 128 bytes of a Node4): use BVH8 or BVH16");
 }
 
+namespace {
+// The options a build of `prims` triangles runs with: the threads worth
+// starting for that size (build_threads.h); b.opts_ keeps the caller's.
+WideOptions sized_for(const WideOptions& opts, std::size_t prims) {
+    WideOptions run = opts;
+    run.threads = build_threads(opts.threads, prims);
+    return run;
+}
+}  // namespace
+
 struct WideAccess {
     template <int N>
     static BvhN<N> build(const Bvh2& bvh2, const WideOptions& opts) {
         check_quantized<N>(opts);
         const auto t0 = std::chrono::steady_clock::now();
         const LargeAllocReuse reuse;  // the collapse's tables become the blocks' pages (large_alloc.h)
-        WideOptions run = opts;       // the threads worth starting for this size (b.opts_ keeps the caller's)
-        run.threads = build_threads(opts.threads, bvh2.prim_ids().size());
+        const WideOptions run = sized_for(opts, bvh2.prim_ids().size());
         const bvh8::WideTopology<N> topo = bvh8::collapse<N>(bvh2, run);
         BvhN<N> b;
         {
@@ -64,8 +73,7 @@ struct WideAccess {
         const LargeAllocReuse reuse;
         Bvh2Topology topo2 = build_topology(mesh, b2);
         const auto t0 = std::chrono::steady_clock::now();  // build_ms: collapse + pack, as from a Bvh2
-        WideOptions run = opts;  // the threads worth starting for this size (b.opts_ keeps the caller's)
-        run.threads = build_threads(opts.threads, topo2.prim_ids.size());
+        const WideOptions run = sized_for(opts, topo2.prim_ids.size());
         const bvh8::WideTopology<N> topo = bvh8::collapse<N>(topo2.nodes, topo2.prim_ids.size(), run);
         BvhN<N> b;
         b.bounds_ = topo2.nodes.empty() ? Aabb{} : topo2.nodes[0].box;

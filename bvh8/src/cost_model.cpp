@@ -61,7 +61,7 @@ double predict_ms(const CostModel& model, AccelMethod m, std::size_t triangles, 
     const double per_ray = (c.ray0 + c.ray1 * ray_size_term(m, triangles)) / t + c.ray2 * ray_cache_term(m, triangles);
     const double par = std::clamp(c.build_par, 0.0, 1.0);
     // The trees' builds run on one thread below kMinPrimsForBuildThreads (build_threads.h).
-    const double tb = is_tree(m) ? double(build_threads(threads < 1 ? 1 : threads, triangles)) : t;
+    const double tb = is_tree(m) ? double(build_threads(int(t), triangles)) : t;
     return build * (1.0 - par + par / tb) + c.call + double(rays) * per_ray;
 }
 

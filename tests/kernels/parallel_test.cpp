@@ -94,7 +94,6 @@ TEST(Parallel, HostExecutorRunsEveryChunkOnItsThreads) {
     EXPECT_EQ(calls.load(), 2) << "an empty executor restores the library's own threads";
 }
 
-}  // namespace
 // Small builds run on one thread; larger ones on the threads asked for.
 TEST(BuildThreads, SmallBuildsRunOnOneThread) {
     EXPECT_EQ(build_threads(2, 1000), 1);
@@ -104,4 +103,5 @@ TEST(BuildThreads, SmallBuildsRunOnOneThread) {
     EXPECT_EQ(build_threads(1, 1u << 30), 1);
 }
 
+}  // namespace
 }  // namespace simdbvh
