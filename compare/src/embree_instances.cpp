@@ -82,11 +82,10 @@ struct EmbreeInstanceScene::Impl {
         if (planes.empty()) return;
         const PreparedRay pr = prepare_scaled(r);  // as ours (scene_accel/src/traverse.cpp)
         if (!pr.valid) return;
-        for (std::uint32_t k = 0; k < planes.size(); ++k) {
-            float t = 0;
-            const float tmax = best.hit() ? best.t : r.tmax;
-            if (hit_plane(pr, planes[k], tmax, &t) && (!best.hit() || t < best.t)) best = SceneHit{t, 0.0f, 0.0f, k, kNoGeometry, num_instances + k};
-        }
+        float t = 0;
+        const int k = nearest_plane(pr, planes, best.hit() ? best.t : r.tmax, false, &t);
+        if (k >= 0 && (!best.hit() || t < best.t))
+            best = SceneHit{t, 0.0f, 0.0f, std::uint32_t(k), kNoGeometry, num_instances + std::uint32_t(k)};
     }
     ~Impl() {
         if (top) rtcReleaseScene(top);

@@ -76,16 +76,10 @@ struct ShapeLeaf {
 template <bool kAnyHit>
 SceneHit trace_planes(const std::vector<Plane>& planes, const PreparedRay& r, std::uint32_t first_inst) {
     SceneHit best;
-    float tmax = r.tmax;
-    for (std::uint32_t k = 0; k < planes.size(); ++k) {
-        float t;
-        if (hit_plane(r, planes[k], tmax, &t) && (!best.hit() || t < tmax)) {
-            tmax = t;
-            best = SceneHit{t, 0.0f, 0.0f, k, kNoGeometry, first_inst + k};
-            if constexpr (kAnyHit) break;
-        }
-    }
-    if (best.hit()) best.t = to_caller_t(r, best.t);
+    float t;
+    const int k = nearest_plane(r, planes, r.tmax, kAnyHit, &t);
+    if (k >= 0)
+        best = SceneHit{to_caller_t(r, t), 0.0f, 0.0f, std::uint32_t(k), kNoGeometry, first_inst + std::uint32_t(k)};
     return best;
 }
 

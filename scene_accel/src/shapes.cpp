@@ -144,6 +144,35 @@ bool hit_plane(const PreparedRay& r, const Plane& p, float tmax, float* t) {
     return true;
 }
 
+int nearest_plane(const PreparedRay& r, std::span<const Plane> planes, float tmax, bool any, float* t) {
+    // hit_plane's arithmetic for every plane (the divisions overlap), then the
+    // choice by selects: which planes a ray hits, and which is nearest, is
+    // as good as random per ray, and branches on it mispredicted.
+    const double ox = r.org.x, oy = r.org.y, oz = r.org.z;
+    const double dx = r.dir.x, dy = r.dir.y, dz = r.dir.z;
+    std::uint32_t best = std::uint32_t(planes.size());  // none
+    float bt = std::numeric_limits<float>::infinity();
+    for (std::uint32_t k = 0; k < planes.size(); ++k) {
+        const Plane& p = planes[k];
+        const double nx = p.normal.x, ny = p.normal.y, nz = p.normal.z;
+        const double dn = dx * nx + dy * ny + dz * nz;
+        const double num = (double(p.point.x) - ox) * nx + (double(p.point.y) - oy) * ny + (double(p.point.z) - oz) * nz;
+        const bool parallel = dn == 0.0;
+        const float tv = static_cast<float>(num / pick(parallel, 1.0, dn));
+        // In range, and nearer than the best so far (ties: the lower plane;
+        // any: the first plane hit, so nothing after it replaces it). Bit
+        // masks, not ?: (GCC turned those back into branches).
+        const bool take = !parallel & (tv >= r.tmin) & (tv <= tmax) &
+                          ((best == planes.size()) | (!any & (tv < bt)));
+        const std::uint32_t m = 0u - std::uint32_t(take);
+        best = (k & m) | (best & ~m);
+        bt = std::bit_cast<float>((std::bit_cast<std::uint32_t>(tv) & m) | (std::bit_cast<std::uint32_t>(bt) & ~m));
+    }
+    if (best == planes.size()) return -1;
+    *t = bt;
+    return int(best);
+}
+
 Aabb sphere_bounds(const Sphere& s) {
     double lo[3], hi[3];
     for (int a = 0; a < 3; ++a) {

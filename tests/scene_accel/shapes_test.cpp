@@ -3,8 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/scene_accel/shapes.h"
@@ -150,6 +153,58 @@ TEST(Plane, HitParallelAndBehind) {
     const Plane tilted{{0, 1, 0}, {0, 3, 4}};  // 3y + 4z = 3
     ASSERT_TRUE(hit_plane(ray({0, 0, 0}, {0, 0, 1}), tilted, INFINITY, &t));
     EXPECT_EQ(t, 0.75f);
+}
+
+// nearest_plane (every plane's hit_plane arithmetic, the choice by selects)
+// against hit_plane over the planes one at a time: the nearest t in [tmin,
+// tmax], the lower plane on a tie, the first hit for any; 1 to 9 planes, with
+// repeated planes (exact ties), planes parallel to the ray and behind it,
+// finite tmax and positive tmin.
+TEST(Plane, NearestOfManyIsTheNearestHitPlaneLowerOnTies) {
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(-4.0f, 4.0f);
+    std::uniform_int_distribution<int> axis(0, 2);
+    int hits = 0, ties = 0, parallel = 0;
+    for (int trial = 0; trial < 4000; ++trial) {
+        std::vector<Plane> planes(std::size_t(1 + trial % 9));
+        for (Plane& p : planes) {
+            p.point = {u(rng), u(rng), u(rng)};
+            p.normal = {u(rng), u(rng), u(rng)};
+            if (trial % 3 == 0) p.normal = axis(rng) == 0 ? Vec3{0, 1, 0} : Vec3{0, 0, 2};
+        }
+        if (planes.size() > 2 && trial % 2 == 0) planes.back() = planes[1];  // an exact tie: the later loses
+        Vec3 d{u(rng), u(rng), u(rng)};
+        if (trial % 4 == 1) d.y = 0;  // parallel to the y planes
+        const float tmin = trial % 5 == 0 ? 0.5f : 0.0f, tmax = trial % 7 == 0 ? 1.5f : INFINITY;
+        const PreparedRay r = ray({u(rng), u(rng), u(rng)}, d, tmin, tmax);
+        for (const bool any : {false, true}) {
+            int want = -1;
+            float want_t = 0;
+            for (std::size_t k = 0; k < planes.size(); ++k) {
+                float t;
+                if (!hit_plane(r, planes[k], r.tmax, &t)) {
+                    const Vec3 n = planes[k].normal;
+                    parallel += !any && n.x * r.dir.x + n.y * r.dir.y + n.z * r.dir.z == 0.0f;
+                    continue;
+                }
+                if (want >= 0 && t == want_t) ties += !any;
+                if (want < 0 || t < want_t) {
+                    want = int(k);
+                    want_t = t;
+                    if (any) break;
+                }
+            }
+            float t = -1.0f;
+            ASSERT_EQ(nearest_plane(r, planes, r.tmax, any, &t), want) << "trial " << trial << " any " << any;
+            if (want >= 0) {
+                EXPECT_EQ(std::bit_cast<std::uint32_t>(t), std::bit_cast<std::uint32_t>(want_t)) << "trial " << trial;
+                hits += !any;
+            }
+        }
+    }
+    EXPECT_GT(hits, 2000);
+    EXPECT_GT(ties, 100);
+    EXPECT_GT(parallel, 100);
 }
 
 TEST(Transform, InverseOfScaleRotateTranslate) {

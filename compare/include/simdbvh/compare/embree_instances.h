@@ -5,7 +5,7 @@
 // scene. Sphere sets are RTC_GEOMETRY_TYPE_SPHERE_POINT (Embree's analytic
 // sphere), box sets RTC_GEOMETRY_TYPE_QUAD (six quads per box, prim = quad / 6).
 // Embree has no plane primitive: planes go through the same per-ray loop as
-// ours (hit_plane, shapes.h) after Embree's answer, with the same tie rule
+// ours (nearest_plane, shapes.h) after Embree's answer, with the same tie rule
 // (an instance's hit wins a tie with a plane; planes follow instances). u, v
 // are Embree's (its sphere and quad parameterisations, not scene_hit.h's).
 #include <memory>

@@ -5,6 +5,8 @@
 // hit when tmin <= t <= tmax (t rounded to float), with u, v as in scene_hit.h.
 // All arithmetic is in double from the float inputs, with one rounding of t,
 // u, v to float, so every path that calls these gets the same bits.
+#include <span>
+
 #include "simdbvh/kernels/aabb.h"
 #include "simdbvh/kernels/ray.h"
 
@@ -40,6 +42,11 @@ bool hit_box(const PreparedRay& r, const Aabb& b, float tmax, float* t, float* u
 
 // Ray/plane: t = (p - o).n / d.n in double; a ray parallel to the plane misses.
 bool hit_plane(const PreparedRay& r, const Plane& p, float tmax, float* t);
+
+// The nearest of `planes` that r hits in [tmin, tmax] (ties: the lower index;
+// any: the first in index order), its t in *t; -1 if none. hit_plane's bits
+// for that plane: the same arithmetic per plane, chosen without branches.
+int nearest_plane(const PreparedRay& r, std::span<const Plane> planes, float tmax, bool any, float* t);
 
 // Conservative bounds for the hierarchies over spheres and boxes: the exact
 // bounds widened by 2^-20 of their largest magnitude (plus FLT_MIN), far more
