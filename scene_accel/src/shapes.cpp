@@ -132,33 +132,37 @@ bool hit_box(const PreparedRay& r, const Aabb& b, float tmax, float* t, float* u
     return true;
 }
 
-bool hit_plane(const PreparedRay& r, const Plane& p, float tmax, float* t) {
+namespace {
+// t = (p - o).n / d.n in double, rounded once to float; *parallel when
+// d.n == 0 (then t is meaningless: the division is by 1, never by zero).
+// hit_plane and nearest_plane both take their t here.
+inline float plane_t(const PreparedRay& r, const Plane& p, bool* parallel) {
     const double nx = p.normal.x, ny = p.normal.y, nz = p.normal.z;
     const double dn = double(r.dir.x) * nx + double(r.dir.y) * ny + double(r.dir.z) * nz;
-    if (dn == 0.0) return false;
     const double num = (double(p.point.x) - double(r.org.x)) * nx + (double(p.point.y) - double(r.org.y)) * ny +
                        (double(p.point.z) - double(r.org.z)) * nz;
-    const float tv = static_cast<float>(num / dn);
-    if (!in_range(r, tv, tmax)) return false;
+    *parallel = dn == 0.0;
+    return static_cast<float>(num / pick(*parallel, 1.0, dn));
+}
+}  // namespace
+
+bool hit_plane(const PreparedRay& r, const Plane& p, float tmax, float* t) {
+    bool parallel;
+    const float tv = plane_t(r, p, &parallel);
+    if (parallel || !in_range(r, tv, tmax)) return false;
     *t = tv;
     return true;
 }
 
 int nearest_plane(const PreparedRay& r, std::span<const Plane> planes, float tmax, bool any, float* t) {
-    // hit_plane's arithmetic for every plane (the divisions overlap), then the
-    // choice by selects: which planes a ray hits, and which is nearest, is
-    // as good as random per ray, and branches on it mispredicted.
-    const double ox = r.org.x, oy = r.org.y, oz = r.org.z;
-    const double dx = r.dir.x, dy = r.dir.y, dz = r.dir.z;
+    // Every plane's t (the divisions overlap), then the choice by selects:
+    // which planes a ray hits, and which is nearest, is as good as random per
+    // ray, and branches on it mispredicted.
     std::uint32_t best = std::uint32_t(planes.size());  // none
     float bt = std::numeric_limits<float>::infinity();
     for (std::uint32_t k = 0; k < planes.size(); ++k) {
-        const Plane& p = planes[k];
-        const double nx = p.normal.x, ny = p.normal.y, nz = p.normal.z;
-        const double dn = dx * nx + dy * ny + dz * nz;
-        const double num = (double(p.point.x) - ox) * nx + (double(p.point.y) - oy) * ny + (double(p.point.z) - oz) * nz;
-        const bool parallel = dn == 0.0;
-        const float tv = static_cast<float>(num / pick(parallel, 1.0, dn));
+        bool parallel;
+        const float tv = plane_t(r, planes[k], &parallel);
         // In range, and nearer than the best so far (ties: the lower plane;
         // any: the first plane hit, so nothing after it replaces it). Bit
         // masks, not ?: (GCC turned those back into branches).
