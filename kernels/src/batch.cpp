@@ -127,6 +127,40 @@ void collect_box8_tree(std::span<const Ray> rays, std::span<const std::uint8_t> 
     first[rays.size()] = std::uint32_t(used);
 }
 
+void collect_boxes(std::span<const Ray> rays, std::span<const std::uint8_t> live, std::span<const Aabb> boxes,
+                   std::vector<std::pair<float, std::uint32_t>>& out, std::span<std::uint32_t> first, Isa isa) {
+    require(isa);
+    check_size(first.size(), rays.size() + 1, "first");
+    if (!live.empty()) check_size(live.size(), rays.size(), "live");
+    if (boxes.size() > kCollectBoxesMax)
+        throw Error("simdbvh: collect_boxes: " + std::to_string(boxes.size()) + " boxes, at most " +
+                    std::to_string(kCollectBoxesMax));
+    std::vector<Box8> groups((boxes.size() + 7) / 8);
+    for (Box8& g : groups) g.clear();
+    for (std::size_t b = 0; b < boxes.size(); ++b) groups[b / 8].set(int(b % 8), boxes[b]);
+    const auto walk = isa == Isa::avx512 ? avx512::collect_boxes
+                      : isa == Isa::avx2 ? avx2::collect_boxes
+                                         : scalar::collect_boxes;
+    // As collect_box8_tree: the output grows (by half) until every ray fits;
+    // a call needs room for 8 rays' worst case to make progress.
+    std::size_t used = out.size(), done = 0;
+    constexpr std::size_t kMaxOut = 0xFFFFFFFFu;
+    for (;;) {
+        const std::size_t cap = std::max(used + 8 * boxes.size(), used + used / 2 + 1024);
+        if (cap > kMaxOut) throw Error("simdbvh: collect_boxes: more than 2^32 - 1 results");
+        out.resize(cap);
+        const std::span<const Ray> rest = rays.subspan(done);
+        const std::span<const std::uint8_t> rest_live = live.empty() ? live : live.subspan(done);
+        const detail::TreeWalk w = walk(rest, rest_live, groups, boxes.size(), out.data(), used, cap,
+                                        first.data() + done);
+        used = w.used;
+        done += w.rays_done;
+        if (done == rays.size()) break;
+    }
+    out.resize(used);
+    first[rays.size()] = std::uint32_t(used);
+}
+
 std::uint64_t count_box8_hits(std::span<const Ray> rays, std::span<const Box8> blocks, Isa isa) {
     require(isa);
     switch (isa) {

@@ -89,6 +89,72 @@ protected:
         }
         check_nested(rays, box, what);
         check_tree(rays, box, what);
+        check_boxes(rays, box, what);
+    }
+
+    // collect_boxes over the box's lanes, their middle halves and lane 3 again
+    // (17 boxes: two full groups and one lane of a third), and over the first
+    // 8, 1 and 0 of them: each ray reports exactly the boxes intersect_box
+    // hits, in index order, with its entries in the caller's t, for scalar and
+    // this ISA, with every ray live or only some (whole groups of 8 dead too);
+    // more than kCollectBoxesMax boxes and wrong span sizes throw.
+    void check_boxes(const std::vector<Ray>& rays, const Box8& box, const char* what) {
+        const Isa isa = GetParam();
+        std::vector<Aabb> boxes;
+        for (int j = 0; j < 8; ++j) boxes.push_back(box.get(j));
+        for (int j = 0; j < 8; ++j) boxes.push_back(middle_half(box.get(j)));
+        boxes.push_back(box.get(3));
+        using Found = std::vector<std::pair<float, std::uint32_t>>;
+        std::vector<Found> want(rays.size());
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            const PreparedRay p = prepare(rays[i]);
+            for (std::size_t b = 0; b < boxes.size() && p.valid; ++b) {
+                float e;
+                if (intersect_box(p, boxes[b], p.tmax, &e)) want[i].push_back({to_caller_t(p, e), std::uint32_t(b)});
+            }
+        }
+        std::vector<std::uint8_t> some(rays.size()), groups(rays.size());
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            some[i] = std::uint8_t(i % 3 != 1);
+            groups[i] = std::uint8_t((i / 8) % 2);
+        }
+        const std::vector<std::uint8_t> none;
+        for (Isa run : {Isa::scalar, isa})
+            for (const std::vector<std::uint8_t>* live : std::initializer_list<const std::vector<std::uint8_t>*>{&none, &some, &groups})
+                for (const std::size_t count : {boxes.size(), std::size_t(8), std::size_t(1), std::size_t(0)}) {
+                    Found out{{-1.0f, 7u}};  // appended to: what was there stays
+                    std::vector<std::uint32_t> first(rays.size() + 1);
+                    kernels::collect_boxes(rays, *live, std::span(boxes).first(count), out, first, run);
+                    ASSERT_EQ(kernels::last_isa_used(), run);
+                    ASSERT_EQ(out.size(), first.back()) << what;
+                    ASSERT_EQ(first[0], 1u) << what;
+                    for (std::size_t i = 0; i < rays.size(); ++i) {
+                        const Found got(out.begin() + first[i], out.begin() + first[i + 1]);
+                        Found expect;
+                        if (live->empty() || (*live)[i] != 0)
+                            for (const auto& f : want[i])
+                                if (f.second < count) expect.push_back(f);
+                        ASSERT_EQ(got.size(), expect.size()) << what << ": " << name(run) << " ray " << i << ", "
+                                                             << count << " boxes";
+                        for (std::size_t k = 0; k < got.size(); ++k) {
+                            ASSERT_EQ(got[k].second, expect[k].second) << what << ": " << name(run) << " ray " << i;
+                            ASSERT_EQ(bits_of(got[k].first), bits_of(expect[k].first))
+                                << what << ": " << name(run) << " ray " << i << " box " << got[k].second << " entry "
+                                << got[k].first << " vs " << expect[k].first;
+                        }
+                    }
+                }
+        Found out;
+        std::vector<std::uint32_t> first(rays.size() + 1);
+        const std::vector<Aabb> too_many(kernels::kCollectBoxesMax + 1, box.get(0));
+        EXPECT_THROW(kernels::collect_boxes(rays, {}, too_many, out, first, isa), Error) << what;
+        EXPECT_THROW(kernels::collect_boxes(rays, {}, boxes, out, std::span(first).first(rays.size()), isa), Error)
+            << what;
+        if (!rays.empty()) {
+            EXPECT_THROW(kernels::collect_boxes(rays, std::span(some).first(rays.size() - 1), boxes, out, first, isa),
+                         Error)
+                << what;
+        }
     }
 
     // The box tree: a root whose lanes hold node 1 (the box's 8 lanes, leaves
@@ -400,6 +466,58 @@ TEST_P(KernelsVsScalar, Box8InvalidRaysMiss) {
         EXPECT_EQ(m[i], 0) << "ray " << i;
         for (int j = 0; j < 8; ++j) EXPECT_EQ(e[8 * i + j], kInf);
     }
+}
+
+// Directions prepare() rescales (subnormal and huge: collect_boxes tests
+// those rays one at a time), subnormal components of other directions
+// (flushed to signed zeros), negative tmin whose far slack decides hits, and
+// a ray count that is no multiple of 8.
+TEST_P(KernelsVsScalar, Box8RescaledAndSubnormalDirectionsNegativeTmin) {
+    Rng rng(11);
+    const float scales[] = {1.0f, 0x1p-40f, 0x1p-135f, 0x1p126f};
+    int rescaled_hits = 0, rescale_matters = 0, slack_matters = 0;
+    for (int blk = 0; blk < 40; ++blk) {
+        Box8 box;
+        box.clear();
+        for (int j = 0; j < 8; ++j) box.set(j, random_box(rng));
+        std::vector<Ray> rays;
+        for (int i = 0; i < 61; ++i) {
+            Ray r = random_ray(rng, 2.5f);
+            const float s = scales[rng.below(4)];
+            r.dir = Vec3{r.dir.x * s, r.dir.y * s, r.dir.z * s};
+            if (rng.chance(0.2f)) {  // subnormal: the flushed zero's 1 / 0 = inf differs from 1 / 0x1.8p-127
+                r.dir.y = rng.chance(0.5f) ? 0x1.8p-127f : 1e-40f;
+                if (rng.chance(0.5f)) r.dir.y = -r.dir.y;
+                if (rng.chance(0.5f)) r.org.y = box.get(rng.below(8)).lo.y;  // 0 * inf: NaN, the slab order decides
+            }
+            if (r.dir.x == 0 && r.dir.y == 0 && r.dir.z == 0) r.dir.z = s;
+            if (s != 1.0f) r.tmax = kInf;  // t scales with 1 / s
+            if (rng.chance(0.3f)) r.tmin = -rng.range(0, 3) * (rng.chance(0.5f) ? 1e6f : 1.0f);
+            rays.push_back(r);
+            const PreparedRay p = prepare(r);
+            PreparedRay unscaled = p, no_slack = p;  // as if prepare() skipped either step
+            unscaled.dir = r.dir;
+            auto rcp = [](float d) { return d != 0.0f ? 1.0f / d : std::copysign(kInf, d); };
+            unscaled.rdir = {rcp(r.dir.x), rcp(r.dir.y), rcp(r.dir.z)};
+            unscaled.tmin = r.tmin;
+            unscaled.tmax = r.tmax;
+            no_slack.far_slack = 0.0f;
+            for (int j = 0; j < 8 && p.valid; ++j) {
+                float e, e1;
+                const bool hit = intersect_box(p, box.get(j), p.tmax, &e);
+                rescaled_hits += hit && p.t_exp != 0;
+                rescale_matters += p.t_exp != 0 && (hit != intersect_box(unscaled, box.get(j), r.tmax, &e1) ||
+                                                    (hit && bits_of(to_caller_t(p, e)) != bits_of(e1)));
+                slack_matters += hit != intersect_box(no_slack, box.get(j), p.tmax, &e1);
+            }
+        }
+        check_box8(rays, box, "rescaled");
+        if (HasFatalFailure()) return;
+    }
+    // The cases above occur, and change what the rays hit.
+    EXPECT_GT(rescaled_hits, 100);
+    EXPECT_GT(rescale_matters, 20);
+    EXPECT_GT(slack_matters, 20);
 }
 
 // ---------- triangles ----------

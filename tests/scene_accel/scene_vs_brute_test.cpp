@@ -10,6 +10,7 @@
 #include <random>
 #include <tuple>
 
+#include "simdbvh/kernels/batch.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/scene/scene_desc.h"
 #include "simdbvh/scene/scenes.h"
@@ -225,9 +226,11 @@ TEST(SceneBuiltins, InstancesOfAnIcosphere) {
     const SceneDesc d = scene::instances_scene(scene::icosphere(3), 40);
     check_builtin(d, rays_in({-20, -20, -20}, {20, 20, 20}, {-4, -4, -4}, {4, 4, 4}, 600), 100);
 }
-// The batches collect candidates by walking the 8-wide top level (collect_tree in traverse.cpp, the SIMD
-// kernels::collect_box8_tree): closest hits bit for bit, any hits the same hit/miss, at every width and ISA, for
-// 40, 100 and 150 instances; and for one instance (no top-level box test: its bottom level's own bounds test).
+// The batches collect candidates from the top level (collect_tree in traverse.cpp): every ray against every
+// grown leaf box, 8 rays per vector, up to kernels::kCollectBoxesMax leaves (kernels::collect_boxes), else the
+// walk of the 8-wide top level (kernels::collect_box8_tree): closest hits bit for bit, any hits the same
+// hit/miss, at every width and ISA, for 40 instances (the first way), 100 and 150 (the second); and for one
+// instance (no top-level box test: its bottom level's own bounds test).
 template <int N>
 void check_width(const SceneDesc& d, const std::vector<Ray>& rays, const std::vector<SceneHit>& want,
                  const std::vector<SceneHit>& want_any) {
@@ -253,6 +256,11 @@ void check_any_and_closest(const SceneDesc& d, const std::vector<Ray>& rays) {
 TEST(SceneBuiltins, ManyInstancesThroughTheTopLevelTree) {
     for (std::size_t count : {1u, 40u, 100u, 150u}) {
         const SceneDesc d = scene::instances_scene(scene::icosphere(2), count);
+        if (count > 1) {  // both ways of collecting are tested
+            std::size_t leaves = 0;
+            for (const Node2& n : SceneBvhN<8>::build(d).top().nodes) leaves += n.is_leaf();
+            EXPECT_EQ(leaves <= kernels::kCollectBoxesMax, count == 40) << count << " instances, " << leaves << " leaves";
+        }
         const auto rays = rays_in({-20, -20, -20}, {20, 20, 20}, {-4, -4, -4}, {4, 4, 4}, 400);
         check_any_and_closest(d, rays);
     }

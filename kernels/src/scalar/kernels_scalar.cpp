@@ -170,6 +170,26 @@ detail::TreeWalk collect_box8_tree(std::span<const Ray> rays, std::span<const st
                                           first, ScalarTreeTest{nodes.data()});
 }
 
+detail::TreeWalk collect_boxes(std::span<const Ray> rays, std::span<const std::uint8_t> live,
+                               std::span<const Box8> groups, std::size_t count, std::pair<float, std::uint32_t>* out,
+                               std::size_t used, std::size_t cap, std::uint32_t* first) {
+    detail::note_isa_used(Isa::scalar);
+    std::size_t i = 0;
+    for (; i < rays.size(); ++i) {
+        if (cap - used < count) break;
+        first[i] = std::uint32_t(used);
+        if (!live.empty() && live[i] == 0) continue;
+        const PreparedRay r = prepare(rays[i]);
+        if (!r.valid) continue;
+        for (std::size_t b = 0; b < count; ++b) {
+            float e;
+            if (intersect_box(r, groups[b / 8].get(int(b % 8)), r.tmax, &e))
+                out[used++] = {to_caller_t(r, e), std::uint32_t(b)};
+        }
+    }
+    return {i, used};
+}
+
 std::uint64_t count_box8_hits(std::span<const Ray> rays, std::span<const Box8> blocks) {
     detail::note_isa_used(Isa::scalar);
     std::uint64_t n = 0;

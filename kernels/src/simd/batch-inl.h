@@ -11,6 +11,17 @@
 
 namespace simdbvh::simd {
 
+// The 8 x 8 bit matrix x (row k = byte k, column l = bit l) transposed: bit
+// 8l + k of the result is bit 8k + l of x (Hacker's Delight 7-3).
+SIMDBVH_FORCE_INLINE std::uint64_t transpose_bits8x8(std::uint64_t x) {
+    std::uint64_t t = (x ^ (x >> 7)) & 0x00AA00AA00AA00AAull;
+    x = x ^ t ^ (t << 7);
+    t = (x ^ (x >> 14)) & 0x0000CCCC0000CCCCull;
+    x = x ^ t ^ (t << 14);
+    t = (x ^ (x >> 28)) & 0x00000000F0F0F0F0ull;
+    return x ^ t ^ (t << 28);
+}
+
 template <class Arch>
 struct BatchLoops {
     static SIMDBVH_FORCE_INLINE void box8(std::span<const Ray> rays, const Box8& boxes, std::uint8_t* masks,
@@ -88,6 +99,117 @@ struct BatchLoops {
         std::pair<float, std::uint32_t>* out, std::size_t used, std::size_t cap, std::uint32_t* first) {
         return kernels::detail::walk_box_tree(rays, live, !nodes.empty(), children, leaf_lanes, stack, out, used, cap,
                                               first, TreeTest{nodes.data()});
+    }
+
+    // batch.h's collect_boxes: 8 rays per vector against one box at a time.
+    // Each lane runs intersect_box's arithmetic on its own ray (its near
+    // planes chosen by the signs of its reciprocals, as prepare() does), so
+    // the bits are those of the per-ray tests. A ray whose direction
+    // prepare() rescales (t_exp != 0) is tested alone against the groups.
+    static SIMDBVH_FORCE_INLINE kernels::detail::TreeWalk boxes(std::span<const Ray> rays,
+                                                                std::span<const std::uint8_t> live,
+                                                                std::span<const Box8> groups, std::size_t count,
+                                                                std::pair<float, std::uint32_t>* out,
+                                                                std::size_t used, std::size_t cap,
+                                                                std::uint32_t* first) {
+        using B = Batch<Arch>;
+        constexpr std::size_t kW = B::size;
+        static_assert(kW == 8, "8 rays per batch");
+        // The 8 rays' fields, one array per field (a short final group padded
+        // with zeros, whose lanes are masked off).
+        alignas(32) float f[8][kW];
+        alignas(32) float ent[kernels::kCollectBoxesMax * kW];
+        std::size_t i = 0;
+        for (; i < rays.size(); i += kW) {
+            const std::size_t g = std::min(kW, rays.size() - i);
+            if (cap - used < g * count) break;
+            std::uint32_t lanes = 0;
+            for (std::size_t l = 0; l < g; ++l) lanes |= std::uint32_t(live.empty() || live[i + l] != 0) << l;
+            if (lanes == 0) {  // no live ray (an any-hit query's rays that hit a plane, say)
+                for (std::size_t l = 0; l < g; ++l) first[i + l] = std::uint32_t(used);
+                continue;
+            }
+            for (std::size_t l = 0; l < kW; ++l) {
+                const Ray& r = rays[i + (l < g ? l : 0)];
+                const float v[8] = {r.org.x, r.org.y, r.org.z, r.dir.x, r.dir.y, r.dir.z, r.tmin, r.tmax};
+                for (int k = 0; k < 8; ++k) f[k][l] = v[k];
+            }
+            const B inf(std::numeric_limits<float>::infinity()), zero(0.0f);
+            const B ro_x = B::load_aligned(f[0]), ro_y = B::load_aligned(f[1]), ro_z = B::load_aligned(f[2]);
+            B d_x = B::load_aligned(f[3]), d_y = B::load_aligned(f[4]), d_z = B::load_aligned(f[5]);
+            const B tmin = B::load_aligned(f[6]), tmax = B::load_aligned(f[7]);
+            // prepare_scaled()'s valid_ray(), per lane (NaN compares false).
+            const B a_x = xsimd::abs(d_x), a_y = xsimd::abs(d_y), a_z = xsimd::abs(d_z);
+            const auto valid = (a_x < inf) & (a_y < inf) & (a_z < inf) & (xsimd::abs(ro_x) < inf) &
+                               (xsimd::abs(ro_y) < inf) & (xsimd::abs(ro_z) < inf) &
+                               ((d_x != zero) | (d_y != zero) | (d_z != zero)) & (tmin <= tmax);
+            // Directions prepare_scaled() rescales go alone (below).
+            const B big = xsimd::max(a_x, xsimd::max(a_y, a_z));
+            const auto rescaled = (big < B(kRescaleBelow)) | (big > B(kRescaleAbove));
+            const std::uint32_t ok = bits<Arch>(valid) & lanes;
+            const std::uint32_t alone = ok & bits<Arch>(rescaled);
+            const std::uint32_t vec = ok & ~alone;
+            // Box b's hit lanes are byte b % 8 of rows[b / 8]; transposed, byte l
+            // of rows[q] holds lane l's hits among boxes 8q .. 8q + 7 (no branch
+            // per hit: which rays hit which boxes is close to random).
+            std::uint64_t rows[kernels::kCollectBoxesMax / kW] = {};
+            if (vec != 0) {
+                // prepare_scaled()'s flush of subnormal components to signed zeros.
+                const B tiny(std::numeric_limits<float>::min()), sign(-0.0f);
+                d_x = xsimd::select(a_x < tiny, d_x & sign, d_x);
+                d_y = xsimd::select(a_y < tiny, d_y & sign, d_y);
+                d_z = xsimd::select(a_z < tiny, d_z & sign, d_z);
+                // prepare()'s far slack: far_slack_for(tmin).
+                const B slack = xsimd::select(tmin < zero, (-tmin) * B(2.0f * (kFarWiden - 1.0f)), zero);
+                const B one(1.0f);
+                // prepare()'s reciprocals (1 / +-0 = +-inf) and near planes (the
+                // reciprocal's sign bit: it is never 0 or NaN for a finite direction).
+                const B rd_x = one / d_x, rd_y = one / d_y, rd_z = one / d_z;
+                const auto hi_x = rd_x < zero, hi_y = rd_y < zero, hi_z = rd_z < zero;
+                for (std::size_t b = 0; b < count; ++b) {
+                    const Box8& grp = groups[b / kW];
+                    const std::size_t j = b % kW;
+                    const B lx(grp.lo_x[j]), ux(grp.hi_x[j]), ly(grp.lo_y[j]), uy(grp.hi_y[j]), lz(grp.lo_z[j]),
+                        uz(grp.hi_z[j]);
+                    const B t0x = (xsimd::select(hi_x, ux, lx) - ro_x) * rd_x;
+                    const B t1x = (xsimd::select(hi_x, lx, ux) - ro_x) * rd_x;
+                    const B t0y = (xsimd::select(hi_y, uy, ly) - ro_y) * rd_y;
+                    const B t1y = (xsimd::select(hi_y, ly, uy) - ro_y) * rd_y;
+                    const B t0z = (xsimd::select(hi_z, uz, lz) - ro_z) * rd_z;
+                    const B t1z = (xsimd::select(hi_z, lz, uz) - ro_z) * rd_z;
+                    const B tn = max_ps<Arch>(t0x, max_ps<Arch>(t0y, max_ps<Arch>(t0z, tmin)));
+                    const B tf = min_ps<Arch>(t1x, min_ps<Arch>(t1y, min_ps<Arch>(t1z, tmax))) * B(kFarWiden) + slack;
+                    tn.store_aligned(ent + kW * b);
+                    rows[b / kW] |= std::uint64_t(bits<Arch>(tn <= tf) & vec) << (8 * (b % kW));
+                }
+            }
+            const std::size_t nrows = (count + kW - 1) / kW;
+            for (std::size_t q = 0; q < nrows; ++q) rows[q] = transpose_bits8x8(rows[q]);
+            for (std::size_t l = 0; l < g; ++l) {
+                first[i + l] = std::uint32_t(used);
+                if ((alone >> l & 1u) == 0) {
+                    std::uint64_t hit = 0;  // the boxes lane l's ray hits
+                    for (std::size_t q = 0; q < nrows; ++q) hit |= ((rows[q] >> (8 * l)) & 0xFFu) << (8 * q);
+                    for (std::uint64_t m = hit; m != 0; m &= m - 1) {
+                        const std::size_t b = std::size_t(__builtin_ctzll(m));
+                        out[used++] = {ent[kW * b + l], std::uint32_t(b)};
+                    }
+                    continue;
+                }
+                const PreparedRay r = prepare(rays[i + l]);
+                const RayPack<Arch> p = pack_ray<Arch>(r);
+                for (std::size_t gi = 0; gi * kW < count; ++gi) {
+                    alignas(32) float e[kW];
+                    const std::size_t in_group = std::min(kW, count - gi * kW);
+                    for (std::uint32_t m = intersect_box8<Arch>(p, groups[gi], r.tmax, e) & ((1u << in_group) - 1u);
+                         m != 0; m &= m - 1) {
+                        const int j = __builtin_ctz(m);
+                        out[used++] = {to_caller_t(r, e[j]), std::uint32_t(gi * kW + std::size_t(j))};
+                    }
+                }
+            }
+        }
+        return {std::min(i, rays.size()), used};
     }
 
     static SIMDBVH_FORCE_INLINE std::uint64_t count_box8(std::span<const Ray> rays, std::span<const Box8> blocks) {

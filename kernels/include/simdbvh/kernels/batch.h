@@ -64,6 +64,19 @@ inline constexpr std::uint32_t kBoxTreeEmpty = 0xFFFFFFFFu;
 void collect_box8_tree(std::span<const Ray> rays, std::span<const std::uint8_t> live, std::span<const Box8> nodes,
                        std::span<const std::uint32_t> children, std::vector<std::pair<float, std::uint32_t>>& out,
                        std::span<std::uint32_t> first, Isa isa = active_isa());
+// Each ray (with live[i] != 0, when `live` is not empty) against every box
+// of `boxes`: appends (entry distance in the caller's t, box index) for each
+// box it hits, the boxes in index order; ray i's are out[first[i] ..
+// first[i + 1]) (first: rays.size() + 1 values). The hits and entries are
+// intersect_box's (box.h) per box, so for a tree whose leaves are these boxes
+// they are what collect_box8_tree reports. The SIMD paths test 8 rays per
+// vector (rays with rescaled directions one at a time), which beats a tree
+// walk for the few boxes of a small scene's top level. At most
+// kCollectBoxesMax boxes, else simdbvh::Error.
+inline constexpr std::size_t kCollectBoxesMax = 64;
+void collect_boxes(std::span<const Ray> rays, std::span<const std::uint8_t> live, std::span<const Aabb> boxes,
+                   std::vector<std::pair<float, std::uint32_t>>& out, std::span<std::uint32_t> first,
+                   Isa isa = active_isa());
 // Closest hit of each ray over all blocks (ties: lower prim id); Hit{} on a miss.
 // The SIMD loops walk the blocks in L1-sized tiles for kBruteRayTile rays at a
 // time (each block is read once per tile): callers that split rays over
