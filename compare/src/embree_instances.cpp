@@ -4,6 +4,7 @@
 
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <string>
@@ -13,6 +14,16 @@
 #include "simdbvh/kernels/error.h"
 
 namespace simdbvh::compare {
+
+namespace {
+struct PlaneScratch {
+    std::vector<Ray> clamped;
+    std::vector<int> plane;
+    std::vector<float> t;
+};
+// Rays per plane pass: the chunk our batches trace (scene_accel/src/traverse.cpp).
+constexpr std::size_t kPlaneChunk = 2048;
+}  // namespace
 
 struct EmbreeInstanceScene::Impl {
     RTCDevice device = nullptr;
@@ -77,15 +88,26 @@ struct EmbreeInstanceScene::Impl {
         }
         return g;
     }
-    // The nearest plane hit strictly before `best` (planes lose ties to instances and to lower planes).
-    void planes_after(const Ray& r, SceneHit& best) const {
+    // Planes, as ours (scene_accel/src/traverse.cpp): one batched pass of
+    // shapes.h's nearest_planes over the rays Embree takes (check_embree_ray),
+    // each clamped to its hit so far (in the caller's parameter, which
+    // prepare_scaled rescales with the ray); a plane replaces a hit only when
+    // strictly nearer (planes lose ties to instances and to lower planes).
+    // any: the first plane hit, as our any-hit query takes it.
+    void planes_before(std::span<const Ray> rays, std::span<SceneHit> hits, bool any, PlaneScratch& w) const {
         if (planes.empty()) return;
-        const PreparedRay pr = prepare_scaled(r);  // as ours (scene_accel/src/traverse.cpp)
-        if (!pr.valid) return;
-        float t = 0;
-        const int k = nearest_plane(pr, planes, best.hit() ? best.t : r.tmax, false, &t);
-        if (k >= 0 && (!best.hit() || t < best.t))
-            best = SceneHit{t, 0.0f, 0.0f, std::uint32_t(k), kNoGeometry, num_instances + std::uint32_t(k)};
+        w.clamped.assign(rays.begin(), rays.end());
+        for (std::size_t i = 0; i < rays.size(); ++i)
+            if (hits[i].hit()) w.clamped[i].tmax = hits[i].t;
+        w.plane.resize(rays.size());
+        w.t.resize(rays.size());
+        nearest_planes(w.clamped, planes, any, w.plane, w.t);
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            const int k = w.plane[i];
+            if (k < 0 || check_embree_ray(rays[i]) != EmbreeRayCheck::ok || (hits[i].hit() && !(w.t[i] < hits[i].t)))
+                continue;
+            hits[i] = SceneHit{w.t[i], 0.0f, 0.0f, std::uint32_t(k), kNoGeometry, num_instances + std::uint32_t(k)};
+        }
     }
     ~Impl() {
         if (top) rtcReleaseScene(top);
@@ -162,30 +184,43 @@ void for_each_ray(std::span<const Ray> rays, std::span<SceneHit> hits, Fn&& fn) 
 
 void EmbreeInstanceScene::intersect(std::span<const Ray> rays, std::span<SceneHit> hits) const {
     const Impl& s = *impl_;
-    for_each_ray(rays, hits, [&s](const Ray& r, SceneHit& hit) {
-        alignas(16) RTCRayHit rh = embree_ray_hit(r);
-        RTCIntersectContext ctx;
-        rtcInitIntersectContext(&ctx);
-        rtcIntersect1(s.top, &ctx, &rh);
-        if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
-            const std::uint32_t inst = rh.hit.instID[0], geom = s.geometry_of[inst];
-            hit = SceneHit{rh.ray.tfar, rh.hit.u, rh.hit.v, rh.hit.primID / s.prim_divisor[geom], geom, inst};
-        }
-        s.planes_after(r, hit);
-    });
+    if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
+    PlaneScratch w;
+    for (std::size_t b = 0; b < rays.size(); b += kPlaneChunk) {
+        const std::size_t n = std::min(kPlaneChunk, rays.size() - b);
+        for_each_ray(rays.subspan(b, n), hits.subspan(b, n), [&s](const Ray& r, SceneHit& hit) {
+            alignas(16) RTCRayHit rh = embree_ray_hit(r);
+            RTCIntersectContext ctx;
+            rtcInitIntersectContext(&ctx);
+            rtcIntersect1(s.top, &ctx, &rh);
+            if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
+                const std::uint32_t inst = rh.hit.instID[0], geom = s.geometry_of[inst];
+                hit = SceneHit{rh.ray.tfar, rh.hit.u, rh.hit.v, rh.hit.primID / s.prim_divisor[geom], geom, inst};
+            }
+        });
+        s.planes_before(rays.subspan(b, n), hits.subspan(b, n), false, w);
+    }
 }
 
 void EmbreeInstanceScene::occluded(std::span<const Ray> rays, std::span<SceneHit> hits) const {
     const Impl& s = *impl_;
-    for_each_ray(rays, hits, [&s](const Ray& r, SceneHit& hit) {
-        s.planes_after(r, hit);
-        if (hit.hit()) return;
-        alignas(16) RTCRay ray = embree_ray_hit(r).ray;
-        RTCIntersectContext ctx;
-        rtcInitIntersectContext(&ctx);
-        rtcOccluded1(s.top, &ctx, &ray);
-        if (ray.tfar < 0.0f) hit = SceneHit{0.0f, 0.0f, 0.0f, 0, kNoGeometry, kInvalidPrim};
-    });
+    if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
+    PlaneScratch w;
+    for (std::size_t b = 0; b < rays.size(); b += kPlaneChunk) {
+        const std::size_t n = std::min(kPlaneChunk, rays.size() - b);
+        const std::span<SceneHit> out = hits.subspan(b, n);
+        for (SceneHit& h : out) h = SceneHit{};
+        s.planes_before(rays.subspan(b, n), out, true, w);  // planes first, as ours
+        for (std::size_t i = 0; i < n; ++i) {
+            const Ray& r = rays[b + i];
+            if (out[i].hit() || check_embree_ray(r) != EmbreeRayCheck::ok) continue;
+            alignas(16) RTCRay ray = embree_ray_hit(r).ray;
+            RTCIntersectContext ctx;
+            rtcInitIntersectContext(&ctx);
+            rtcOccluded1(s.top, &ctx, &ray);
+            if (ray.tfar < 0.0f) out[i] = SceneHit{0.0f, 0.0f, 0.0f, 0, kNoGeometry, kInvalidPrim};
+        }
+    }
 }
 
 }  // namespace simdbvh::compare

@@ -1,6 +1,8 @@
 // Ray tests of the analytic primitives, in double from the float inputs.
 #include "simdbvh/scene_accel/shapes.h"
 #include "directed_rounding.h"
+#include "plane_batch.h"
+#include "simdbvh/kernels/error.h"
 
 #include <algorithm>
 #include <bit>
@@ -175,6 +177,25 @@ int nearest_plane(const PreparedRay& r, std::span<const Plane> planes, float tma
     if (best == planes.size()) return -1;
     *t = bt;
     return int(best);
+}
+
+void nearest_planes(std::span<const Ray> rays, std::span<const Plane> planes, bool any, std::span<int> plane,
+                    std::span<float> t, Isa isa) {
+    require(isa);
+    if (plane.size() < rays.size() || t.size() < rays.size())
+        throw Error("simdbvh: nearest_planes: output spans smaller than the rays");
+    using scene_accel::PlaneBatch;
+    switch (isa) {
+    case Isa::avx512: return PlaneBatch<scene_accel::avx512::PlaneTag>::nearest(rays, planes, any, plane.data(), t.data());
+    case Isa::avx2: return PlaneBatch<scene_accel::avx2::PlaneTag>::nearest(rays, planes, any, plane.data(), t.data());
+    case Isa::scalar: break;
+    }
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        const PreparedRay r = prepare_scaled(rays[i]);
+        float ti = 0.0f;
+        plane[i] = r.valid ? nearest_plane(r, planes, r.tmax, any, &ti) : -1;
+        t[i] = plane[i] < 0 ? 0.0f : to_caller_t(r, ti);
+    }
 }
 
 Aabb sphere_bounds(const Sphere& s) {

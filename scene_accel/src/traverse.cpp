@@ -241,29 +241,30 @@ void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Sce
     std::vector<std::pair<float, std::uint32_t>> cand;  // (entry, instance)
     std::vector<std::uint32_t> first(n + 1, 0);
     std::vector<std::uint8_t> done(n, 0), live(n, 0);
+    // The planes of every ray first, four rays per vector (nearest_planes:
+    // trace_planes' nearest_plane per ray, the same bits).
+    std::vector<int> plane;
+    std::vector<float> plane_t;
+    if (planes) {
+        plane.resize(n);
+        plane_t.resize(n);
+        nearest_planes(rays, s.planes(), kAny, plane, plane_t, isa);
+    }
     float max_slack = 0.0f;
     for (std::size_t i = 0; i < n; ++i) {
         first[i] = std::uint32_t(cand.size());
-        if (!planes) {
-            hits[i] = SceneHit{};
-            if (!valid_ray(rays[i])) {
+        hits[i] = SceneHit{};
+        if (!valid_ray(rays[i])) {
+            done[i] = 1;
+            continue;
+        }
+        if (planes && plane[i] >= 0) {
+            const std::uint32_t k = std::uint32_t(plane[i]);
+            hits[i] = SceneHit{plane_t[i], 0.0f, 0.0f, k, kNoGeometry, ni + k};
+            clamped[i].tmax = hits[i].t;
+            if (kAny) {
                 done[i] = 1;
                 continue;
-            }
-        } else {
-            const PreparedRay pr = prepare_scaled(rays[i]);  // all that the plane tests read
-            if (!pr.valid) {
-                hits[i] = SceneHit{};
-                done[i] = 1;
-                continue;
-            }
-            hits[i] = scene_accel::trace_planes<kAny>(s.planes(), pr, ni);
-            if (hits[i].hit()) {
-                clamped[i].tmax = hits[i].t;
-                if (kAny) {
-                    done[i] = 1;
-                    continue;
-                }
             }
         }
         if (s.top().nodes.empty()) continue;

@@ -258,7 +258,8 @@ TEST(SceneBuiltins, ManyInstancesThroughTheTopLevelTree) {
         const SceneDesc d = scene::instances_scene(scene::icosphere(2), count);
         if (count > 1) {  // both ways of collecting are tested
             std::size_t leaves = 0;
-            for (const Node2& n : SceneBvhN<8>::build(d).top().nodes) leaves += n.is_leaf();
+            const SceneBvhN<8> s = SceneBvhN<8>::build(d);
+            for (const Node2& n : s.top().nodes) leaves += n.is_leaf();
             EXPECT_EQ(leaves <= kernels::kCollectBoxesMax, count == 40) << count << " instances, " << leaves << " leaves";
         }
         const auto rays = rays_in({-20, -20, -20}, {20, 20, 20}, {-4, -4, -4}, {4, 4, 4}, 400);

@@ -6,10 +6,12 @@
 #include <bit>
 #include <cstdint>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <vector>
 
 #include "simdbvh/kernels/error.h"
+#include "simdbvh/kernels/isa.h"
 #include "simdbvh/scene_accel/shapes.h"
 #include "simdbvh/scene_accel/transform.h"
 
@@ -205,6 +207,62 @@ TEST(Plane, NearestOfManyIsTheNearestHitPlaneLowerOnTies) {
     EXPECT_GT(hits, 2000);
     EXPECT_GT(ties, 100);
     EXPECT_GT(parallel, 100);
+}
+
+// The batch form: nearest_plane on prepare_scaled(ray) per ray, the index and
+// the bits of t in the caller's parameter, for batches of every length mod 4,
+// with invalid rays, rescaled directions, negative tmin, finite tmax, exact
+// ties and parallel rays, closest and any.
+TEST(Plane, BatchIsNearestPlaneOfEachRay) {
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<float> u(-4.0f, 4.0f);
+    int hits = 0, rescaled = 0, invalid = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+        std::vector<Plane> planes(std::size_t(1 + trial % 7));
+        for (Plane& p : planes) {
+            p.point = {u(rng), u(rng), u(rng)};
+            p.normal = trial % 3 == 0 ? Vec3{0, 1, 0} : Vec3{u(rng), u(rng), u(rng)};
+        }
+        if (planes.size() > 2) planes.back() = planes[1];  // an exact tie
+        std::vector<Ray> rays(std::size_t(1 + trial % 13));
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            Ray& r = rays[i];
+            r.org = {u(rng), u(rng), u(rng)};
+            r.dir = {u(rng), u(rng), u(rng)};
+            if (i % 5 == 1) r.dir.y = 0;  // parallel to the y planes
+            if (i % 7 == 2) r.dir = r.dir * 0x1p-60f;  // rescaled: t in the caller's parameter is 2^60 larger
+            if (i % 4 == 3) r.tmin = -1.0f;
+            if (i % 6 == 4) r.tmax = 1.5f;
+            if (i % 11 == 5) r.org.x = std::numeric_limits<float>::quiet_NaN();
+        }
+        for (const bool any : {false, true})
+            for (const Isa isa : supported_isas()) {
+                std::vector<int> plane(rays.size(), 99);
+                std::vector<float> t(rays.size(), -7.0f);
+                nearest_planes(rays, planes, any, plane, t, isa);
+                for (std::size_t i = 0; i < rays.size(); ++i) {
+                    const PreparedRay pr = prepare_scaled(rays[i]);
+                    float want_t = 0.0f;
+                    const int want = pr.valid ? nearest_plane(pr, planes, pr.tmax, any, &want_t) : -1;
+                    ASSERT_EQ(plane[i], want) << name(isa) << " trial " << trial << " ray " << i << " any " << any;
+                    if (want < 0) {
+                        invalid += !pr.valid && !any && isa == Isa::scalar;
+                        continue;
+                    }
+                    EXPECT_EQ(std::bit_cast<std::uint32_t>(t[i]), std::bit_cast<std::uint32_t>(to_caller_t(pr, want_t)))
+                        << name(isa) << " trial " << trial << " ray " << i;
+                    hits += !any && isa == Isa::scalar;
+                    rescaled += !any && isa == Isa::scalar && pr.t_exp != 0;
+                }
+            }
+    }
+    EXPECT_GT(hits, 500);
+    EXPECT_GT(rescaled, 20);
+    EXPECT_GT(invalid, 20);
+    std::vector<int> plane(1);
+    std::vector<float> t(2);
+    const std::vector<Ray> two(2);
+    EXPECT_THROW(nearest_planes(two, {}, false, plane, t), Error);
 }
 
 TEST(Transform, InverseOfScaleRotateTranslate) {

@@ -8,6 +8,7 @@
 #include <span>
 
 #include "simdbvh/kernels/aabb.h"
+#include "simdbvh/kernels/isa.h"
 #include "simdbvh/kernels/ray.h"
 
 namespace simdbvh {
@@ -47,6 +48,15 @@ bool hit_plane(const PreparedRay& r, const Plane& p, float tmax, float* t);
 // any: the first in index order), its t in *t; -1 if none. hit_plane's bits
 // for that plane: the same arithmetic per plane, chosen without branches.
 int nearest_plane(const PreparedRay& r, std::span<const Plane> planes, float tmax, bool any, float* t);
+
+// nearest_plane for a batch: for each ray, on prepare_scaled(rays[i]) with
+// its own tmax, plane[i] = the plane's index or -1 (none, or an invalid ray)
+// and t[i] = its t in the caller's parameter (to_caller_t). The SIMD ISAs
+// test four rays per vector of doubles with the same operations per lane as
+// nearest_plane (the scalar one calls it per ray), so every ISA gives its
+// bits. Throws simdbvh::Error when plane or t is smaller than rays.
+void nearest_planes(std::span<const Ray> rays, std::span<const Plane> planes, bool any, std::span<int> plane,
+                    std::span<float> t, Isa isa = active_isa());
 
 // Conservative bounds for the hierarchies over spheres and boxes: the exact
 // bounds widened by 2^-20 of their largest magnitude (plus FLT_MIN), far more
