@@ -190,9 +190,10 @@ const char* kNote =
     "room's walls), incoherent = origins uniform in the scene's bounds and directions uniform on the sphere. "
     "Mrays/s: median of the timed traces after an untimed warm-up, the methods interleaved; builds: median of the "
     "builds after an untimed first one. Ours: the two-level scene (BVH8 bottom levels, an 8-wide top level over "
-    "the instances for batches (a BVH2 for single rays), planes outside the tree), active ISA. Embree: one "
-    "RTC_GEOMETRY_TYPE_INSTANCE per instance, spheres as RTC_GEOMETRY_TYPE_SPHERE_POINT, boxes as six quads, "
-    "planes through the same per-ray loop as ours (Embree has no plane primitive); its bytes are its device memory "
+    "the instances for batches (a BVH2 for single rays), planes outside the tree, tested four rays per vector), "
+    "active ISA. Embree: one RTC_GEOMETRY_TYPE_INSTANCE per instance, spheres as RTC_GEOMETRY_TYPE_SPHERE_POINT, "
+    "boxes as six quads, planes through the same batched plane pass as ours (Embree has no plane primitive), "
+    "2048 rays at a time; its bytes are its device memory "
     "(buffers and BVHs), ours our structures (which hold their own triangle copies). In parentheses: the ratio to "
     "Embree's instanced scene in the same run.";
 

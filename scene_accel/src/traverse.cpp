@@ -138,8 +138,9 @@ void collect_tree(const SceneBvhN<N>& s, std::span<const Ray> world, const std::
     // Up to kCollectBoxesMax leaves, every ray against every grown leaf box,
     // 8 rays per vector: the leaves a ray reaches in the wide tree are exactly
     // those whose grown boxes it hits (below), with the same entries, and the
-    // tree walk's per-ray setup and branches cost about twice as much
-    // (instances-16: 47 -> 23 ns per ray, instances-64: 56 -> 35).
+    // tree walk's per-ray setup and branches cost more (ns per ray, tree ->
+    // this, interleaved: room 31 -> 19, instances-16 37 -> 19, instances-64
+    // 51 -> 42, instances-100 67 -> 53, instances-128 75 -> 66).
     std::vector<std::uint32_t> leaf_ids;
     for (const std::uint32_t c : w.children)
         if (c != kernels::kBoxTreeEmpty && (c & kernels::kBoxTreeLeaf) != 0) leaf_ids.push_back(c & ~kernels::kBoxTreeLeaf);

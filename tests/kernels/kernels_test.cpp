@@ -93,8 +93,9 @@ protected:
     }
 
     // collect_boxes over the box's lanes, their middle halves and lane 3 again
-    // (17 boxes: two full groups and one lane of a third), and over the first
-    // 8, 1 and 0 of them: each ray reports exactly the boxes intersect_box
+    // (17 boxes: two full groups and one lane of a third), that pattern
+    // repeated to 100 boxes (more than the 64 a mask word holds), and over
+    // the first 8, 1 and 0: each ray reports exactly the boxes intersect_box
     // hits, in index order, with its entries in the caller's t, for scalar and
     // this ISA, with every ray live or only some (whole groups of 8 dead too);
     // more than kCollectBoxesMax boxes and wrong span sizes throw.
@@ -104,6 +105,7 @@ protected:
         for (int j = 0; j < 8; ++j) boxes.push_back(box.get(j));
         for (int j = 0; j < 8; ++j) boxes.push_back(middle_half(box.get(j)));
         boxes.push_back(box.get(3));
+        while (boxes.size() < 100) boxes.push_back(boxes[boxes.size() % 17]);
         using Found = std::vector<std::pair<float, std::uint32_t>>;
         std::vector<Found> want(rays.size());
         for (std::size_t i = 0; i < rays.size(); ++i) {
@@ -121,7 +123,7 @@ protected:
         const std::vector<std::uint8_t> none;
         for (Isa run : {Isa::scalar, isa})
             for (const std::vector<std::uint8_t>* live : std::initializer_list<const std::vector<std::uint8_t>*>{&none, &some, &groups})
-                for (const std::size_t count : {boxes.size(), std::size_t(8), std::size_t(1), std::size_t(0)}) {
+                for (const std::size_t count : {boxes.size(), std::size_t(17), std::size_t(8), std::size_t(1), std::size_t(0)}) {
                     Found out{{-1.0f, 7u}};  // appended to: what was there stays
                     std::vector<std::uint32_t> first(rays.size() + 1);
                     kernels::collect_boxes(rays, *live, std::span(boxes).first(count), out, first, run);

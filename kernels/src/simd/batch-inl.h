@@ -188,11 +188,14 @@ struct BatchLoops {
             for (std::size_t l = 0; l < g; ++l) {
                 first[i + l] = std::uint32_t(used);
                 if ((alone >> l & 1u) == 0) {
-                    std::uint64_t hit = 0;  // the boxes lane l's ray hits
-                    for (std::size_t q = 0; q < nrows; ++q) hit |= ((rows[q] >> (8 * l)) & 0xFFu) << (8 * q);
-                    for (std::uint64_t m = hit; m != 0; m &= m - 1) {
-                        const std::size_t b = std::size_t(__builtin_ctzll(m));
-                        out[used++] = {ent[kW * b + l], std::uint32_t(b)};
+                    for (std::size_t q0 = 0; q0 < nrows; q0 += 8) {  // 64 boxes per word
+                        std::uint64_t hit = 0;  // lane l's ray hits box q0 * 8 + bit
+                        for (std::size_t q = q0; q < std::min(nrows, q0 + 8); ++q)
+                            hit |= ((rows[q] >> (8 * l)) & 0xFFu) << (8 * (q - q0));
+                        for (std::uint64_t m = hit; m != 0; m &= m - 1) {
+                            const std::size_t b = kW * q0 + std::size_t(__builtin_ctzll(m));
+                            out[used++] = {ent[kW * b + l], std::uint32_t(b)};
+                        }
                     }
                     continue;
                 }

@@ -71,9 +71,9 @@ void collect_box8_tree(std::span<const Ray> rays, std::span<const std::uint8_t> 
 // intersect_box's (box.h) per box, so for a tree whose leaves are these boxes
 // they are what collect_box8_tree reports. The SIMD paths test 8 rays per
 // vector (rays with rescaled directions one at a time), which beats a tree
-// walk for the few boxes of a small scene's top level. At most
+// walk for the boxes of a small scene's top level. At most
 // kCollectBoxesMax boxes, else simdbvh::Error.
-inline constexpr std::size_t kCollectBoxesMax = 64;
+inline constexpr std::size_t kCollectBoxesMax = 128;
 void collect_boxes(std::span<const Ray> rays, std::span<const std::uint8_t> live, std::span<const Aabb> boxes,
                    std::vector<std::pair<float, std::uint32_t>>& out, std::span<std::uint32_t> first,
                    Isa isa = active_isa());
