@@ -135,16 +135,17 @@ void collect_tree(const SceneBvhN<N>& s, std::span<const Ray> world, const std::
     const SlackBox2Test grow{slack};
     std::vector<std::pair<float, std::uint32_t>> leaves;  // (entry, top-level BVH2 leaf)
     std::vector<std::uint32_t> at(n + 1);
-    // Up to kCollectBoxesMax leaves, every ray against every grown leaf box,
+    // Up to kTopLeafBoxesMax leaves, every ray against every grown leaf box,
     // 8 rays per vector: the leaves a ray reaches in the wide tree are exactly
-    // those whose grown boxes it hits (below), with the same entries, and the
-    // tree walk's per-ray setup and branches cost more (ns per ray, tree ->
-    // this, interleaved: room 31 -> 19, instances-16 37 -> 19, instances-64
-    // 51 -> 42, instances-100 67 -> 53, instances-128 75 -> 66).
+    // those whose grown boxes it hits (below), with the same entries. ns per
+    // ray, tree walk -> boxes, interleaved, incoherent rays: room (5 leaves)
+    // 31 -> 19, instances-16 37 -> 19, -32 45 -> 27, -48 49 -> 32, -100 67 ->
+    // 53; camera rays, which the walk culls well: instances-16 15 -> 16, -32
+    // 20 -> 23, -48 24 -> 29, -100 31 -> 44.
     std::vector<std::uint32_t> leaf_ids;
     for (const std::uint32_t c : w.children)
         if (c != kernels::kBoxTreeEmpty && (c & kernels::kBoxTreeLeaf) != 0) leaf_ids.push_back(c & ~kernels::kBoxTreeLeaf);
-    if (leaf_ids.size() <= kernels::kCollectBoxesMax) {
+    if (leaf_ids.size() <= kTopLeafBoxesMax) {  // <= kernels::kCollectBoxesMax
         std::vector<Aabb> boxes(leaf_ids.size());
         for (std::size_t k = 0; k < leaf_ids.size(); ++k) boxes[k] = grow.grow(top.nodes[leaf_ids[k]].box);
         kernels::collect_boxes(world, live, boxes, leaves, at, isa);

@@ -227,10 +227,10 @@ TEST(SceneBuiltins, InstancesOfAnIcosphere) {
     check_builtin(d, rays_in({-20, -20, -20}, {20, 20, 20}, {-4, -4, -4}, {4, 4, 4}, 600), 100);
 }
 // The batches collect candidates from the top level (collect_tree in traverse.cpp): every ray against every
-// grown leaf box, 8 rays per vector, up to kernels::kCollectBoxesMax leaves (kernels::collect_boxes), else the
-// walk of the 8-wide top level (kernels::collect_box8_tree): closest hits bit for bit, any hits the same
-// hit/miss, at every width and ISA, for 40 and 100 instances (the first way) and 150 (the second); and for one
-// instance (no top-level box test: its bottom level's own bounds test).
+// grown leaf box, 8 rays per vector, up to kTopLeafBoxesMax leaves (kernels::collect_boxes), else the walk of
+// the 8-wide top level (kernels::collect_box8_tree): closest hits bit for bit, any hits the same hit/miss, at
+// every width and ISA, for 24 instances (the first way), 100 and 150 (the second); and for one instance (no
+// top-level box test: its bottom level's own bounds test).
 template <int N>
 void check_width(const SceneDesc& d, const std::vector<Ray>& rays, const std::vector<SceneHit>& want,
                  const std::vector<SceneHit>& want_any) {
@@ -254,13 +254,13 @@ void check_any_and_closest(const SceneDesc& d, const std::vector<Ray>& rays) {
     check_width<16>(d, rays, want, want_any);
 }
 TEST(SceneBuiltins, ManyInstancesThroughTheTopLevelTree) {
-    for (std::size_t count : {1u, 40u, 100u, 150u}) {
+    for (std::size_t count : {1u, 24u, 100u, 150u}) {
         const SceneDesc d = scene::instances_scene(scene::icosphere(2), count);
         if (count > 1) {  // both ways of collecting are tested
             std::size_t leaves = 0;
             const SceneBvhN<8> s = SceneBvhN<8>::build(d);
             for (const Node2& n : s.top().nodes) leaves += n.is_leaf();
-            EXPECT_EQ(leaves <= kernels::kCollectBoxesMax, count < 150) << count << " instances, " << leaves << " leaves";
+            EXPECT_EQ(leaves <= kTopLeafBoxesMax, count == 24) << count << " instances, " << leaves << " leaves";
         }
         const auto rays = rays_in({-20, -20, -20}, {20, 20, 20}, {-4, -4, -4}, {4, 4, 4}, 400);
         check_any_and_closest(d, rays);

@@ -106,7 +106,10 @@ struct InstanceRecord {  // what a trace reads per instance visit (52 bytes)
 static_assert(sizeof(InstanceRecord) == 52);
 
 // The top level collapsed to 8 children per node (the SAH collapse of the wide
-// trees, over the top BVH2), walked by batches (kernels::collect_box8_tree).
+// trees, over the top BVH2), walked by batches (kernels::collect_box8_tree)
+// when it has more than kTopLeafBoxesMax leaves; up to that many, batches test
+// every ray against every leaf box instead (kernels::collect_boxes), which is
+// faster for incoherent rays and level for camera rays at that size.
 // Lane j of wide node n: children[8 n + j] is kernels::kBoxTreeEmpty (unused),
 // a wide node m > n, or kernels::kBoxTreeLeaf | k for the top BVH2's leaf node
 // k (its box and its instances, top_instance(first, 0 .. count - 1)). An
@@ -115,6 +118,7 @@ static_assert(sizeof(InstanceRecord) == 52);
 struct TopWide {
     std::vector<std::uint32_t> children;  // 8 per wide node
 };
+inline constexpr std::size_t kTopLeafBoxesMax = 32;
 
 template <int N>
 class SceneBvhN {
