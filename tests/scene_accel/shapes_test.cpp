@@ -211,8 +211,9 @@ TEST(Plane, NearestOfManyIsTheNearestHitPlaneLowerOnTies) {
 
 // The batch form: nearest_plane on prepare_scaled(ray) per ray, the index and
 // the bits of t in the caller's parameter, for batches of every length mod 4,
-// with invalid rays, rescaled directions, negative tmin, finite tmax, exact
-// ties and parallel rays, closest and any.
+// with invalid rays, rescaled directions (subnormal ones too), subnormal
+// components (flushed: parallel to a plane), negative tmin, finite tmax,
+// exact ties and parallel rays, closest and any, on every ISA.
 TEST(Plane, BatchIsNearestPlaneOfEachRay) {
     std::mt19937 rng(9);
     std::uniform_real_distribution<float> u(-4.0f, 4.0f);
@@ -221,7 +222,7 @@ TEST(Plane, BatchIsNearestPlaneOfEachRay) {
         std::vector<Plane> planes(std::size_t(1 + trial % 7));
         for (Plane& p : planes) {
             p.point = {u(rng), u(rng), u(rng)};
-            p.normal = trial % 3 == 0 ? Vec3{0, 1, 0} : Vec3{u(rng), u(rng), u(rng)};
+            p.normal = trial % 3 == 0 ? Vec3{0, 1, 0} : trial % 3 == 1 ? Vec3{0, 0, 1} : Vec3{u(rng), u(rng), u(rng)};
         }
         if (planes.size() > 2) planes.back() = planes[1];  // an exact tie
         std::vector<Ray> rays(std::size_t(1 + trial % 13));
@@ -231,6 +232,9 @@ TEST(Plane, BatchIsNearestPlaneOfEachRay) {
             r.dir = {u(rng), u(rng), u(rng)};
             if (i % 5 == 1) r.dir.y = 0;  // parallel to the y planes
             if (i % 7 == 2) r.dir = r.dir * 0x1p-60f;  // rescaled: t in the caller's parameter is 2^60 larger
+            if (i % 7 == 6) r.dir = r.dir * 0x1p-135f;  // rescaled from subnormal components
+            if (i % 9 == 3) r.dir.z = 1e-40f;  // a subnormal component prepare_scaled flushes to zero
+            if (i % 9 == 4) r.dir.y = -1e-40f;
             if (i % 4 == 3) r.tmin = -1.0f;
             if (i % 6 == 4) r.tmax = 1.5f;
             if (i % 11 == 5) r.org.x = std::numeric_limits<float>::quiet_NaN();
