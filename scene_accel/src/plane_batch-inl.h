@@ -72,3 +72,12 @@ void PlaneBatch<Tag>::nearest(std::span<const Ray> rays, std::span<const Plane> 
 }
 
 }  // namespace simdbvh::scene_accel
+
+// The one line of each per-ISA translation unit: its tag and its instantiation.
+#define SIMDBVH_PLANE_BATCH_INSTANTIATE(isa)                      \
+    namespace simdbvh::scene_accel {                              \
+    namespace isa {                                               \
+    struct PlaneTag {};                                           \
+    }                                                             \
+    template struct PlaneBatch<isa::PlaneTag>;                    \
+    }

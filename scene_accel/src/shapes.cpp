@@ -184,10 +184,10 @@ void nearest_planes(std::span<const Ray> rays, std::span<const Plane> planes, bo
     require(isa);
     if (plane.size() < rays.size() || t.size() < rays.size())
         throw Error("simdbvh: nearest_planes: output spans smaller than the rays");
-    using scene_accel::PlaneBatch;
+    namespace sa = scene_accel;
     switch (isa) {
-    case Isa::avx512: return PlaneBatch<scene_accel::avx512::PlaneTag>::nearest(rays, planes, any, plane.data(), t.data());
-    case Isa::avx2: return PlaneBatch<scene_accel::avx2::PlaneTag>::nearest(rays, planes, any, plane.data(), t.data());
+    case Isa::avx512: return sa::PlaneBatch<sa::avx512::PlaneTag>::nearest(rays, planes, any, plane.data(), t.data());
+    case Isa::avx2: return sa::PlaneBatch<sa::avx2::PlaneTag>::nearest(rays, planes, any, plane.data(), t.data());
     case Isa::scalar: break;
     }
     for (std::size_t i = 0; i < rays.size(); ++i) {

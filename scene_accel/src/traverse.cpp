@@ -111,6 +111,8 @@ SceneHit trace(const SceneBvhN<N>& s, const Ray& ray, Isa isa) {
 // The candidates: the chunk's live rays walk the wide top level (TopWide)
 // in one batched kernel call (kernels::collect_box8_tree), which reports each
 // ray's leaves with their entry distances; a leaf's instances share its entry.
+// (Up to kTopLeafBoxesMax leaves, kernels::collect_boxes tests the rays
+// against the grown leaf boxes directly, with the same leaves and entries.)
 // The leaf boxes are grown by the largest slack of the chunk's live rays, and
 // each inner lane's box is the union of the lanes below it, so a ray reaches
 // exactly the leaves whose grown boxes it enters: a superset of what the
@@ -144,7 +146,8 @@ void collect_tree(const SceneBvhN<N>& s, std::span<const Ray> world, const std::
     // 20 -> 23, -48 24 -> 29, -100 31 -> 44.
     std::vector<std::uint32_t> leaf_ids;
     for (const std::uint32_t c : w.children)
-        if (c != kernels::kBoxTreeEmpty && (c & kernels::kBoxTreeLeaf) != 0) leaf_ids.push_back(c & ~kernels::kBoxTreeLeaf);
+        if (c != kernels::kBoxTreeEmpty && (c & kernels::kBoxTreeLeaf) != 0)
+            leaf_ids.push_back(c & ~kernels::kBoxTreeLeaf);
     if (leaf_ids.size() <= kTopLeafBoxesMax) {  // <= kernels::kCollectBoxesMax
         std::vector<Aabb> boxes(leaf_ids.size());
         for (std::size_t k = 0; k < leaf_ids.size(); ++k) boxes[k] = grow.grow(top.nodes[leaf_ids[k]].box);

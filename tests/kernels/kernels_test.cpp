@@ -121,9 +121,11 @@ protected:
             groups[i] = std::uint8_t((i / 8) % 2);
         }
         const std::vector<std::uint8_t> none;
+        const std::vector<const std::vector<std::uint8_t>*> lives = {&none, &some, &groups};
+        const std::vector<std::size_t> counts = {boxes.size(), 17, 8, 1, 0};
         for (Isa run : {Isa::scalar, isa})
-            for (const std::vector<std::uint8_t>* live : std::initializer_list<const std::vector<std::uint8_t>*>{&none, &some, &groups})
-                for (const std::size_t count : {boxes.size(), std::size_t(17), std::size_t(8), std::size_t(1), std::size_t(0)}) {
+            for (const std::vector<std::uint8_t>* live : lives)
+                for (const std::size_t count : counts) {
                     Found out{{-1.0f, 7u}};  // appended to: what was there stays
                     std::vector<std::uint32_t> first(rays.size() + 1);
                     kernels::collect_boxes(rays, *live, std::span(boxes).first(count), out, first, run);
