@@ -111,8 +111,8 @@ SceneHit trace(const SceneBvhN<N>& s, const Ray& ray, Isa isa) {
 // The candidates: the chunk's live rays walk the wide top level (TopWide)
 // in one batched kernel call (kernels::collect_box8_tree), which reports each
 // ray's leaves with their entry distances; a leaf's instances share its entry.
-// (Up to kTopLeafBoxesMax leaves, kernels::collect_boxes tests the rays
-// against the grown leaf boxes directly, with the same leaves and entries.)
+// (With few leaves, kernels::collect_boxes tests the rays against the grown
+// leaf boxes directly, with the same leaves and entries; TopWide in scene.h.)
 // The leaf boxes are grown by the largest slack of the chunk's live rays, and
 // each inner lane's box is the union of the lanes below it, so a ray reaches
 // exactly the leaves whose grown boxes it enters: a superset of what the
@@ -127,6 +127,25 @@ SceneHit trace(const SceneBvhN<N>& s, const Ray& ray, Isa isa) {
 // instructions and primary 1,946M -> 813M (walk -> this); instances-100
 // 711M -> 654M and 553M -> 489M, room 572M -> 568M and 340M -> 319M (groups ->
 // this); the same hits.
+// Whether at least 3 in 4 pairs of consecutive live rays share a direction
+// octant (a camera's rays, shadow rays towards one light), the coherence
+// collect_tree's choice reads.
+bool mostly_one_octant(std::span<const Ray> rays, const std::vector<std::uint8_t>& live) {
+    auto octant = [](const Vec3& d) {
+        return int(std::signbit(d.x)) | int(std::signbit(d.y)) << 1 | int(std::signbit(d.z)) << 2;
+    };
+    std::size_t pairs = 0, same = 0;
+    int prev = -1;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        if (!live[i]) continue;
+        const int o = octant(rays[i].dir);
+        pairs += prev >= 0;
+        same += o == prev;
+        prev = o;
+    }
+    return 4 * same >= 3 * pairs;
+}
+
 template <int N>
 void collect_tree(const SceneBvhN<N>& s, std::span<const Ray> world, const std::vector<std::uint8_t>& live,
                   float slack, Isa isa, std::vector<std::pair<float, std::uint32_t>>& cand,
@@ -137,18 +156,21 @@ void collect_tree(const SceneBvhN<N>& s, std::span<const Ray> world, const std::
     const SlackBox2Test grow{slack};
     std::vector<std::pair<float, std::uint32_t>> leaves;  // (entry, top-level BVH2 leaf)
     std::vector<std::uint32_t> at(n + 1);
-    // Up to kTopLeafBoxesMax leaves, every ray against every grown leaf box,
-    // 8 rays per vector: the leaves a ray reaches in the wide tree are exactly
-    // those whose grown boxes it hits (below), with the same entries. ns per
-    // ray, tree walk -> boxes, interleaved, incoherent rays: room (5 leaves)
-    // 31 -> 19, instances-16 37 -> 19, -32 45 -> 27, -48 49 -> 32, -100 67 ->
-    // 53; camera rays, which the walk culls well: instances-16 15 -> 16, -32
-    // 20 -> 23, -48 24 -> 29, -100 31 -> 44.
+    // With few leaves, every ray against every grown leaf box, 8 rays per
+    // vector: the leaves a ray reaches in the wide tree are exactly those whose
+    // grown boxes it hits (below), with the same entries. ns per ray, tree
+    // walk -> boxes, interleaved: incoherent rays, room (5 leaves) 31 -> 19,
+    // instances-16 37 -> 19, -32 45 -> 27, -48 49 -> 32, -100 67 -> 53,
+    // -128 75 -> 66; camera rays, which the walk culls well, instances-16
+    // 15 -> 16, -32 20 -> 23, -48 24 -> 29, -100 31 -> 44. So a chunk whose
+    // consecutive live rays mostly share a direction octant takes the boxes
+    // up to kTopLeafBoxesMax leaves, any other up to kCollectBoxesMax.
     std::vector<std::uint32_t> leaf_ids;
     for (const std::uint32_t c : w.children)
         if (c != kernels::kBoxTreeEmpty && (c & kernels::kBoxTreeLeaf) != 0)
             leaf_ids.push_back(c & ~kernels::kBoxTreeLeaf);
-    if (leaf_ids.size() <= kTopLeafBoxesMax) {  // <= kernels::kCollectBoxesMax
+    const bool boxes_fit = leaf_ids.size() <= kernels::kCollectBoxesMax;
+    if (leaf_ids.size() <= kTopLeafBoxesMax || (boxes_fit && !mostly_one_octant(world, live))) {
         std::vector<Aabb> boxes(leaf_ids.size());
         for (std::size_t k = 0; k < leaf_ids.size(); ++k) boxes[k] = grow.grow(top.nodes[leaf_ids[k]].box);
         kernels::collect_boxes(world, live, boxes, leaves, at, isa);

@@ -227,10 +227,11 @@ TEST(SceneBuiltins, InstancesOfAnIcosphere) {
     check_builtin(d, rays_in({-20, -20, -20}, {20, 20, 20}, {-4, -4, -4}, {4, 4, 4}, 600), 100);
 }
 // The batches collect candidates from the top level (collect_tree in traverse.cpp): every ray against every
-// grown leaf box, 8 rays per vector, up to kTopLeafBoxesMax leaves (kernels::collect_boxes), else the walk of
-// the 8-wide top level (kernels::collect_box8_tree): closest hits bit for bit, any hits the same hit/miss, at
-// every width and ISA, for 24 instances (the first way), 100 and 150 (the second); and for one instance (no
-// top-level box test: its bottom level's own bounds test).
+// grown leaf box, 8 rays per vector (kernels::collect_boxes: up to kTopLeafBoxesMax leaves for coherent rays, up
+// to kernels::kCollectBoxesMax for incoherent ones, as these), else the walk of the 8-wide top level
+// (kernels::collect_box8_tree): closest hits bit for bit, any hits the same hit/miss, at every width and ISA, for
+// 24 and 100 instances (the first way) and 150 (the second); and for one instance (no top-level box test: its
+// bottom level's own bounds test).
 template <int N>
 void check_width(const SceneDesc& d, const std::vector<Ray>& rays, const std::vector<SceneHit>& want,
                  const std::vector<SceneHit>& want_any) {
@@ -261,6 +262,7 @@ TEST(SceneBuiltins, ManyInstancesThroughTheTopLevelTree) {
             const SceneBvhN<8> s = SceneBvhN<8>::build(d);
             for (const Node2& n : s.top().nodes) leaves += n.is_leaf();
             EXPECT_EQ(leaves <= kTopLeafBoxesMax, count == 24) << count << " instances, " << leaves << " leaves";
+            EXPECT_EQ(leaves <= kernels::kCollectBoxesMax, count < 150) << count << " instances, " << leaves;
         }
         const auto rays = rays_in({-20, -20, -20}, {20, 20, 20}, {-4, -4, -4}, {4, 4, 4}, 400);
         check_any_and_closest(d, rays);

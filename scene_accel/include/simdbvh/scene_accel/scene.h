@@ -106,10 +106,12 @@ struct InstanceRecord {  // what a trace reads per instance visit (52 bytes)
 static_assert(sizeof(InstanceRecord) == 52);
 
 // The top level collapsed to 8 children per node (the SAH collapse of the wide
-// trees, over the top BVH2), walked by batches (kernels::collect_box8_tree)
-// when it has more than kTopLeafBoxesMax leaves; up to that many, batches test
-// every ray against every leaf box instead (kernels::collect_boxes), which is
-// faster for incoherent rays and level for camera rays at that size.
+// trees, over the top BVH2), walked by batches (kernels::collect_box8_tree);
+// with few leaves, batches test every ray against every leaf box instead
+// (kernels::collect_boxes): up to kernels::kCollectBoxesMax leaves for a chunk
+// of incoherent rays, up to kTopLeafBoxesMax for a coherent one (most
+// consecutive rays share a direction octant: a camera's), whose rays the
+// walk culls well.
 // Lane j of wide node n: children[8 n + j] is kernels::kBoxTreeEmpty (unused),
 // a wide node m > n, or kernels::kBoxTreeLeaf | k for the top BVH2's leaf node
 // k (its box and its instances, top_instance(first, 0 .. count - 1)). An
