@@ -16,7 +16,10 @@
 namespace simdbvh::compare {
 
 namespace {
+// Per chunk of rays: which ones Embree may see (check_embree_ray), and the
+// plane pass's buffers.
 struct PlaneScratch {
+    std::vector<std::uint8_t> ok;
     std::vector<Ray> clamped;
     std::vector<int> plane;
     std::vector<float> t;
@@ -89,7 +92,7 @@ struct EmbreeInstanceScene::Impl {
         return g;
     }
     // Planes, as ours (scene_accel/src/traverse.cpp): one batched pass of
-    // shapes.h's nearest_planes over the rays Embree takes (check_embree_ray),
+    // shapes.h's nearest_planes over the rays Embree takes (w.ok),
     // each clamped to its hit so far (in the caller's parameter, which
     // prepare_scaled rescales with the ray); a plane replaces a hit only when
     // strictly nearer (planes lose ties to instances and to lower planes).
@@ -104,7 +107,7 @@ struct EmbreeInstanceScene::Impl {
         nearest_planes(w.clamped, planes, any, w.plane, w.t);
         for (std::size_t i = 0; i < rays.size(); ++i) {
             const int k = w.plane[i];
-            if (k < 0 || check_embree_ray(rays[i]) != EmbreeRayCheck::ok || (hits[i].hit() && !(w.t[i] < hits[i].t)))
+            if (k < 0 || !w.ok[i] || (hits[i].hit() && !(w.t[i] < hits[i].t)))
                 continue;
             hits[i] = SceneHit{w.t[i], 0.0f, 0.0f, std::uint32_t(k), kNoGeometry, num_instances + std::uint32_t(k)};
         }
@@ -170,13 +173,20 @@ std::size_t EmbreeInstanceScene::bytes() const {
 
 namespace {
 
-// The loop both queries share: each ray's answer starts as a miss; rays Embree must not see stay misses.
+// The loop both queries share, a chunk of rays at a time (as our batches):
+// each ray's answer starts as a miss, and w.ok marks the rays Embree may see
+// (the others stay misses).
 template <class Fn>
-void for_each_ray(std::span<const Ray> rays, std::span<SceneHit> hits, Fn&& fn) {
+void for_each_chunk(std::span<const Ray> rays, std::span<SceneHit> hits, PlaneScratch& w, Fn&& fn) {
     if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
-    for (std::size_t i = 0; i < rays.size(); ++i) {
-        hits[i] = SceneHit{};
-        if (check_embree_ray(rays[i]) == EmbreeRayCheck::ok) fn(rays[i], hits[i]);
+    for (std::size_t b = 0; b < rays.size(); b += kPlaneChunk) {
+        const std::size_t n = std::min(kPlaneChunk, rays.size() - b);
+        w.ok.resize(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            hits[b + i] = SceneHit{};
+            w.ok[i] = check_embree_ray(rays[b + i]) == EmbreeRayCheck::ok;
+        }
+        fn(rays.subspan(b, n), hits.subspan(b, n));
     }
 }
 
@@ -184,43 +194,37 @@ void for_each_ray(std::span<const Ray> rays, std::span<SceneHit> hits, Fn&& fn) 
 
 void EmbreeInstanceScene::intersect(std::span<const Ray> rays, std::span<SceneHit> hits) const {
     const Impl& s = *impl_;
-    if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
     PlaneScratch w;
-    for (std::size_t b = 0; b < rays.size(); b += kPlaneChunk) {
-        const std::size_t n = std::min(kPlaneChunk, rays.size() - b);
-        for_each_ray(rays.subspan(b, n), hits.subspan(b, n), [&s](const Ray& r, SceneHit& hit) {
-            alignas(16) RTCRayHit rh = embree_ray_hit(r);
+    for_each_chunk(rays, hits, w, [&](std::span<const Ray> chunk, std::span<SceneHit> out) {
+        for (std::size_t i = 0; i < chunk.size(); ++i) {
+            if (!w.ok[i]) continue;
+            alignas(16) RTCRayHit rh = embree_ray_hit(chunk[i]);
             RTCIntersectContext ctx;
             rtcInitIntersectContext(&ctx);
             rtcIntersect1(s.top, &ctx, &rh);
             if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
                 const std::uint32_t inst = rh.hit.instID[0], geom = s.geometry_of[inst];
-                hit = SceneHit{rh.ray.tfar, rh.hit.u, rh.hit.v, rh.hit.primID / s.prim_divisor[geom], geom, inst};
+                out[i] = SceneHit{rh.ray.tfar, rh.hit.u, rh.hit.v, rh.hit.primID / s.prim_divisor[geom], geom, inst};
             }
-        });
-        s.planes_before(rays.subspan(b, n), hits.subspan(b, n), false, w);
-    }
+        }
+        s.planes_before(chunk, out, false, w);
+    });
 }
 
 void EmbreeInstanceScene::occluded(std::span<const Ray> rays, std::span<SceneHit> hits) const {
     const Impl& s = *impl_;
-    if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
     PlaneScratch w;
-    for (std::size_t b = 0; b < rays.size(); b += kPlaneChunk) {
-        const std::size_t n = std::min(kPlaneChunk, rays.size() - b);
-        const std::span<SceneHit> out = hits.subspan(b, n);
-        for (SceneHit& h : out) h = SceneHit{};
-        s.planes_before(rays.subspan(b, n), out, true, w);  // planes first, as ours
-        for (std::size_t i = 0; i < n; ++i) {
-            const Ray& r = rays[b + i];
-            if (out[i].hit() || check_embree_ray(r) != EmbreeRayCheck::ok) continue;
-            alignas(16) RTCRay ray = embree_ray_hit(r).ray;
+    for_each_chunk(rays, hits, w, [&](std::span<const Ray> chunk, std::span<SceneHit> out) {
+        s.planes_before(chunk, out, true, w);  // planes first, as ours
+        for (std::size_t i = 0; i < chunk.size(); ++i) {
+            if (out[i].hit() || !w.ok[i]) continue;
+            alignas(16) RTCRay ray = embree_ray_hit(chunk[i]).ray;
             RTCIntersectContext ctx;
             rtcInitIntersectContext(&ctx);
             rtcOccluded1(s.top, &ctx, &ray);
             if (ray.tfar < 0.0f) out[i] = SceneHit{0.0f, 0.0f, 0.0f, 0, kNoGeometry, kInvalidPrim};
         }
-    }
+    });
 }
 
 }  // namespace simdbvh::compare
