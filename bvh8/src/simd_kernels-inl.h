@@ -6,6 +6,7 @@
 
 #include "qbox-inl.h"
 #include "simd/box8-inl.h"
+#include "simd/prepare8-inl.h"
 #include "simd/tri8-inl.h"
 
 namespace simdbvh::bvh8 {
@@ -15,6 +16,11 @@ struct SimdKernels {
     using RayData = simd::RayPack<Arch>;
     static SIMDBVH_FORCE_INLINE void pack(RayData& d, const PreparedRay& r, const Ray& src) {
         simd::pack_ray_into<Arch>(d, r, &src);
+    }
+    // Rays [0, g) (g <= 8) prepared and tested against the tree's bounds in vector lanes (simd/prepare8-inl.h).
+    static SIMDBVH_FORCE_INLINE std::uint32_t prepare8(const Ray* rays, std::size_t g, const Aabb* root,
+                                                       PreparedRay* out, std::uint32_t* valid) {
+        return simd::prepare8<Arch>(rays, g, root, out, valid);
     }
     template <int N>
     static SIMDBVH_FORCE_INLINE std::uint32_t box(const RayData& r, const BoxN<N>& b, float tmax, float* entries) {

@@ -104,6 +104,7 @@ SIMDBVH_STREAM_INLINE void trace_stream(const NodeN<N>* nodes, const Aabb* root,
     };
     constexpr int kLanes = (N + 7) / 8 * 8;  // per-child floats, N rounded up to 8 (K::stream_nearest_*)
     StreamRay<K, N, Keep> sr[kStream];
+    PreparedRay pr[8];
     alignas(64) float cull[kStream];  // each ray's cull_bound(best.t); -inf for no ray
     Entry stack[kStackSize<N>];
     typename K::StreamMasks masks;  // each active ray's child hit mask at the current node
@@ -114,10 +115,18 @@ SIMDBVH_STREAM_INLINE void trace_stream(const NodeN<N>* nodes, const Aabb* root,
         const int cnt = int(std::min<std::size_t>(kStream, n - base));
         std::uint32_t live = 0;
         for (int r = 0; r < kStream; ++r) cull[r] = -std::numeric_limits<float>::infinity();
-        for (int r = 0; r < cnt; ++r) {
-            if (!start<K, N, Query, false>(sr[r], rays[base + r], base + r, root, hits.data(), nullptr)) continue;
-            cull[r] = cull_bound(sr[r].best.t);
-            live |= 1u << r;
+        for (int g0 = 0; g0 < cnt; g0 += 8) {  // prepared 8 at a time (RayFeed, traverse-inl.h)
+            const std::size_t g = std::size_t(std::min(8, cnt - g0));
+            std::uint32_t valid;
+            const std::uint32_t m = K::prepare8(rays.data() + base + std::size_t(g0), g, root, pr, &valid);
+            for (std::uint32_t q = ~m & ((1u << g) - 1u); q != 0; q &= q - 1)
+                Query::finish(Hit{}, 0, hits[base + std::size_t(g0 + __builtin_ctz(q))]);
+            for (std::uint32_t q = m; q != 0; q &= q - 1) {
+                const int l = __builtin_ctz(q), r = g0 + l;
+                start<K, N>(sr[r], pr[l], rays[base + std::size_t(r)], base + std::size_t(r));
+                cull[r] = cull_bound(sr[r].best.t);
+                live |= 1u << r;
+            }
         }
         if (live == 0) continue;
         const std::uint32_t started = live;

@@ -216,27 +216,9 @@ inline __attribute__((always_inline)) bool step(const Node* nodes, const Leaf& l
     }
 }
 
-// Starts ray `i` in `s`; false (and hits[i] written) when it cannot hit
-// anything: an invalid ray, an empty tree, or a ray that misses the tree's
-// bounds. The bounds are tested by the BVH2's own root test (intersect_box,
-// the conservative slab test with tmax = the ray's): the BVH2 and the BVH2's
-// root box are these bounds (the union of the triangles' boxes), and the BVH2
-// is bit-identical to brute force, so a ray that misses them hits nothing.
-// Rays that miss the scene (a camera's sky) then cost a prepare and one
-// scalar box test, not a packed ray state and a node test.
-template <class K, int N, class Query, bool kStats, class State>
-inline __attribute__((always_inline)) bool start(State& s, const Ray& ray, std::size_t i, const Aabb* root,
-                                                 Hit* hits, TraceStats* stats) {
-    const PreparedRay r = prepare(ray);
-    if constexpr (kStats) {
-        stats->rays++;
-        if (r.valid && root) stats->box_tests++;
-    }
-    float entry;
-    if (!r.valid || !root || !intersect_box(r, *root, r.tmax, &entry)) {
-        Query::finish(Hit{}, 0, hits[i]);
-        return false;
-    }
+// Starts ray `i` (prepared as `r`, which need not outlive the call) in `s`.
+template <class K, int N, class State>
+inline __attribute__((always_inline)) void start(State& s, const PreparedRay& r, const Ray& ray, std::size_t i) {
     K::pack(s.rd, r, ray);  // a pack keeps no pointer to r (a copy of r here was a store-forwarding stall)
     if constexpr (std::is_same_v<decltype(s.pr), PreparedRay>) s.pr = r;
     s.best = Hit{};
@@ -245,8 +227,53 @@ inline __attribute__((always_inline)) bool start(State& s, const Ray& ray, std::
     s.sp = 0;
     s.t_exp = r.t_exp;
     s.ray = i;
-    return true;
 }
+
+// The rays of a batch prepared 8 at a time (K::prepare8: on the SIMD paths
+// in vector lanes, without prepare()'s per-ray branches and divisions) and
+// handed out one by one. A ray that cannot hit anything is finished as a
+// miss when its group is prepared: an invalid ray, an empty tree (no bounds),
+// or a ray that misses the tree's bounds. The bounds test is the BVH2's own
+// root test (intersect_box, the conservative slab test with tmax = the
+// ray's): the BVH2 and the BVH2's root box are these bounds (the union of
+// the triangles' boxes), and the BVH2 is bit-identical to brute force, so a
+// ray that misses them hits nothing. Rays that miss the scene (a camera's
+// sky) then cost their share of a prepare8 and no ray state or node test.
+template <class K, class Query, bool kStats>
+struct RayFeed {
+    RayFeed(std::span<const Ray> rays_, const Aabb* root_, Hit* hits_, TraceStats* stats_)
+        : rays(rays_), root(root_), hits(hits_), stats(stats_) {}
+    std::span<const Ray> rays;
+    const Aabb* root;
+    Hit* hits;
+    TraceStats* stats;
+    std::size_t base = 0, next = 0;  // the group's first ray, the first ray not yet prepared
+    std::uint32_t pending = 0;       // the group's rays not yet handed out
+    PreparedRay pr[8];
+    // The next ray that can hit: its index in the batch and its PreparedRay
+    // (valid until the next call); false when none is left.
+    inline __attribute__((always_inline)) bool pop(std::size_t& i, const PreparedRay*& r) {
+        while (pending == 0) {
+            if (next >= rays.size()) return false;
+            base = next;
+            const std::size_t g = std::min<std::size_t>(8, rays.size() - base);
+            next += g;
+            std::uint32_t valid;
+            pending = K::prepare8(rays.data() + base, g, root, pr, &valid);
+            if constexpr (kStats) {
+                stats->rays += g;
+                stats->box_tests += std::uint64_t(__builtin_popcount(valid));
+            }
+            for (std::uint32_t m = ~pending & ((1u << g) - 1u); m != 0; m &= m - 1)
+                Query::finish(Hit{}, 0, hits[base + std::size_t(__builtin_ctz(m))]);
+        }
+        const int l = __builtin_ctz(pending);
+        pending &= pending - 1;
+        i = base + std::size_t(l);
+        r = &pr[l];
+        return true;
+    }
+};
 
 // The batch loop over any wide tree: `nodes` (NodeN or QNodeN, root at 0), its bounds (nullptr:
 // an empty tree) and the leaf intersector, kFlight rays in flight (1 for a
@@ -256,17 +283,16 @@ inline __attribute__((always_inline)) void trace_span(const Node* nodes, const A
                                                       std::span<const Ray> rays, std::span<Hit> hits,
                                                       TraceStats* stats) {
     using State = RayState<K, N, typename Leaf::Keep>;
-    const std::size_t n = rays.size();
     State states[kFlight];
     int live[kFlight];
     int nlive = 0;
-    std::size_t next = 0;
+    RayFeed<K, Query, kStats> feed(rays, root, hits.data(), stats);
     auto refill = [&](int slot) {
-        while (next < n) {
-            const std::size_t i = next++;
-            if (start<K, N, Query, kStats>(states[slot], rays[i], i, root, hits.data(), stats)) return true;
-        }
-        return false;
+        std::size_t i;
+        const PreparedRay* r;
+        if (!feed.pop(i, r)) return false;
+        start<K, N>(states[slot], *r, rays[i], i);
+        return true;
     };
     for (int w = 0; w < kFlight; ++w)
         if (refill(w)) live[nlive++] = w;

@@ -161,6 +161,16 @@ void collect_boxes(std::span<const Ray> rays, std::span<const std::uint8_t> live
     first[rays.size()] = std::uint32_t(used);
 }
 
+void prepare_rays(std::span<const Ray> rays, const Aabb* bounds, std::span<PreparedRay> out,
+                  std::span<std::uint8_t> ok, Isa isa) {
+    require(isa);
+    check_size(out.size(), rays.size(), "out");
+    check_size(ok.size(), rays.size(), "ok");
+    const auto run = isa == Isa::avx512 ? avx512::prepare_rays : isa == Isa::avx2 ? avx2::prepare_rays
+                                                                                   : scalar::prepare_rays;
+    run(rays, bounds, out.data(), ok.data());
+}
+
 std::uint64_t count_box8_hits(std::span<const Ray> rays, std::span<const Box8> blocks, Isa isa) {
     require(isa);
     switch (isa) {

@@ -387,6 +387,114 @@ Ray random_ray(Rng& rng, float span) {
     return r;
 }
 
+// ---------- ray set-up ----------
+
+// prepare_rays on every ISA is prepare() and intersect_box per ray, every
+// field bit for bit: ties between the largest direction components (the
+// watertight permutation's first of equals), signed zeros, subnormal, tiny and
+// huge (rescaled) directions, negative tmin, invalid rays, origins on the
+// bounds' planes, batches that are no multiple of 8, and no bounds at all.
+TEST_P(KernelsVsScalar, PrepareRaysIsPrepareAndTheBoundsTest) {
+    const Isa isa = GetParam();
+    Rng rng(29);
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const Aabb bounds{{-1.0f, -0.5f, -2.0f}, {1.5f, 0.75f, 0.25f}};
+    int ok_count = 0, missed = 0, ties = 0, rescaled = 0, flushed = 0, negative_tmin = 0, invalid = 0;
+    for (const std::size_t n : {std::size_t(1), std::size_t(7), std::size_t(8), std::size_t(203), std::size_t(3000)}) {
+        std::vector<Ray> rays;
+        for (std::size_t i = 0; i < n; ++i) {
+            Ray r = random_ray(rng, 1.5f);
+            switch (rng.below(10)) {
+            case 0: {  // ties among the largest components, any signs
+                const float a = rng.range(0.1f, 2.0f);
+                r.dir = {rng.chance(0.5f) ? a : -a, rng.chance(0.5f) ? a : -a, rng.chance(0.5f) ? a : -a};
+                if (rng.chance(0.5f)) r.dir[rng.below(3)] = rng.chance(0.5f) ? 0.0f : -0.0f;
+                break;
+            }
+            case 1: {  // tiny, huge and subnormal directions
+                const float scales[] = {0x1p-40f, 0x1p-135f, 0x1p40f, 0x1p-20f};
+                const float sc = scales[rng.below(4)];
+                r.dir = {r.dir.x * sc, r.dir.y * sc, r.dir.z * sc};
+                if (rng.chance(0.7f)) r.dir[rng.below(3)] = rng.chance(0.5f) ? 0x1.8p-127f : -1e-40f;
+                if (r.dir.x == 0 && r.dir.y == 0 && r.dir.z == 0) r.dir.z = sc;
+                break;
+            }
+            case 2:  // an origin on a plane of the bounds
+                r.org[rng.below(3)] = rng.chance(0.5f) ? bounds.lo[rng.below(3)] : bounds.hi[rng.below(3)];
+                break;
+            case 3:
+                r.tmin = -rng.range(0.0f, 4.0f);
+                break;
+            case 4: {  // invalid
+                const int k = rng.below(6);
+                if (k == 0) r.org.y = nan;
+                if (k == 1) r.dir.x = kInf;
+                if (k == 2) r.dir = {0.0f, -0.0f, 0.0f};
+                if (k == 3) r.tmin = nan;
+                if (k == 4) r.tmax = -1.0f;
+                if (k == 5) r.org.z = -kInf;
+                break;
+            }
+            default: break;
+            }
+            rays.push_back(r);
+        }
+        for (const Aabb* b : {&bounds, static_cast<const Aabb*>(nullptr)}) {
+            std::vector<PreparedRay> out(n);
+            std::vector<std::uint8_t> ok(n, 7);
+            kernels::prepare_rays(rays, b, out, ok, isa);
+            for (std::size_t i = 0; i < n; ++i) {
+                const PreparedRay p = prepare(rays[i]);
+                float entry;
+                const bool want = b && p.valid && intersect_box(p, *b, p.tmax, &entry);
+                ASSERT_EQ(ok[i], want ? 1 : 0) << "n " << n << " ray " << i;
+                if (!b) continue;
+                invalid += !p.valid;
+                if (!want) {
+                    missed += p.valid;
+                    continue;
+                }
+                ++ok_count;
+                const Vec3 ad{std::fabs(p.dir.x), std::fabs(p.dir.y), std::fabs(p.dir.z)};
+                ties += ad[p.kz] == ad[(p.kz + 1) % 3] || ad[p.kz] == ad[(p.kz + 2) % 3];
+                rescaled += p.t_exp != 0;
+                flushed += (p.dir.x == 0.0f) != (rays[i].dir.x == 0.0f) || (p.dir.y == 0.0f) != (rays[i].dir.y == 0.0f);
+                negative_tmin += p.tmin < 0.0f;
+                const PreparedRay& q = out[i];
+                for (int k = 0; k < 3; ++k) {
+                    ASSERT_EQ(bits_of(q.org[k]), bits_of(p.org[k])) << "ray " << i;
+                    ASSERT_EQ(bits_of(q.dir[k]), bits_of(p.dir[k])) << "ray " << i;
+                    ASSERT_EQ(bits_of(q.rdir[k]), bits_of(p.rdir[k])) << "ray " << i;
+                }
+                ASSERT_EQ(bits_of(q.tmin), bits_of(p.tmin)) << "ray " << i;
+                ASSERT_EQ(bits_of(q.tmax), bits_of(p.tmax)) << "ray " << i;
+                ASSERT_EQ(q.near_x, p.near_x) << "ray " << i;
+                ASSERT_EQ(q.near_y, p.near_y) << "ray " << i;
+                ASSERT_EQ(q.near_z, p.near_z) << "ray " << i;
+                ASSERT_EQ(q.octant, p.octant) << "ray " << i;
+                ASSERT_EQ(q.kx, p.kx) << "ray " << i;
+                ASSERT_EQ(q.ky, p.ky) << "ray " << i;
+                ASSERT_EQ(q.kz, p.kz) << "ray " << i;
+                ASSERT_EQ(bits_of(q.sx), bits_of(p.sx)) << "ray " << i;
+                ASSERT_EQ(bits_of(q.sy), bits_of(p.sy)) << "ray " << i;
+                ASSERT_EQ(bits_of(q.sz), bits_of(p.sz)) << "ray " << i;
+                ASSERT_EQ(q.valid, p.valid) << "ray " << i;
+                ASSERT_EQ(q.t_exp, p.t_exp) << "ray " << i;
+                ASSERT_EQ(bits_of(q.far_slack), bits_of(p.far_slack)) << "ray " << i;
+            }
+        }
+    }
+    // The cases above occurred among the rays that hit the bounds.
+    EXPECT_GT(ok_count, 200);
+    EXPECT_GT(missed, 50);
+    EXPECT_GT(invalid, 20);
+    EXPECT_GT(ties, 20);
+    EXPECT_GT(rescaled, 10);
+    EXPECT_GT(flushed, 5);
+    EXPECT_GT(negative_tmin, 20);
+}
+
+
 TEST_P(KernelsVsScalar, Box8Random) {
     Rng rng(1);
     for (int blk = 0; blk < 300; ++blk) {

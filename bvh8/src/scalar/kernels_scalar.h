@@ -16,6 +16,20 @@ struct Kernels {
     using RayData = PreparedRay;
     static constexpr bool kStreams = false;  // no stream path (stream-inl.h) for the baseline ISA
     static void pack(RayData& d, const PreparedRay& r, const Ray&) { d = r; }
+    // Rays [0, g) prepared and tested against the tree's bounds, one at a time
+    // (the SIMD kernels' prepare8 gives the same bits).
+    static std::uint32_t prepare8(const Ray* rays, std::size_t g, const Aabb* root, PreparedRay* out,
+                                  std::uint32_t* valid) {
+        std::uint32_t hit = 0, v = 0;
+        for (std::size_t l = 0; l < g; ++l) {
+            out[l] = prepare(rays[l]);
+            v |= std::uint32_t(out[l].valid) << l;
+            float entry;
+            if (root && out[l].valid && intersect_box(out[l], *root, out[l].tmax, &entry)) hit |= 1u << l;
+        }
+        *valid = root ? v : 0;
+        return hit;
+    }
     template <int N>
     static std::uint32_t box(const PreparedRay& r, const BoxN<N>& b, float tmax, float* entries) {
         std::uint32_t m = 0;

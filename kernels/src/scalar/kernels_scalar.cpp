@@ -107,6 +107,15 @@ void any(std::span<const Ray> rays, std::span<const Tri8> blocks, std::uint8_t* 
 
 Isa compiled_isa() { return Isa::scalar; }
 
+void prepare_rays(std::span<const Ray> rays, const Aabb* bounds, PreparedRay* out, std::uint8_t* ok) {
+    detail::note_isa_used(Isa::scalar);
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        out[i] = prepare(rays[i]);
+        float entry;
+        ok[i] = bounds && out[i].valid && intersect_box(out[i], *bounds, out[i].tmax, &entry) ? 1 : 0;
+    }
+}
+
 void intersect_box8(std::span<const Ray> rays, const Box8& boxes, std::uint8_t* masks, float* entries) {
     detail::note_isa_used(Isa::scalar);
     for (std::size_t i = 0; i < rays.size(); ++i) {

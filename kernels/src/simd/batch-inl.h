@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "simd/box8-inl.h"
+#include "simd/prepare8-inl.h"
 #include "simdbvh/kernels/batch.h"
 #include "simd/dispatch.h"
 #include "simd/tri8-inl.h"
@@ -24,6 +25,16 @@ SIMDBVH_FORCE_INLINE std::uint64_t transpose_bits8x8(std::uint64_t x) {
 
 template <class Arch>
 struct BatchLoops {
+    // batch.h's prepare_rays: prepare8() per 8 rays.
+    static SIMDBVH_FORCE_INLINE void prepare_rays(std::span<const Ray> rays, const Aabb* bounds, PreparedRay* out,
+                                                  std::uint8_t* ok) {
+        for (std::size_t i = 0; i < rays.size(); i += 8) {
+            const std::size_t g = std::min<std::size_t>(8, rays.size() - i);
+            std::uint32_t valid;
+            const std::uint32_t m = prepare8<Arch>(rays.data() + i, g, bounds, out + i, &valid);
+            for (std::size_t l = 0; l < g; ++l) ok[i + l] = std::uint8_t(m >> l & 1u);
+        }
+    }
     static SIMDBVH_FORCE_INLINE void box8(std::span<const Ray> rays, const Box8& boxes, std::uint8_t* masks,
                                           float* entries) {
         for (std::size_t i = 0; i < rays.size(); ++i) {

@@ -26,6 +26,15 @@
 namespace simdbvh::kernels {
 
 // --- 8-wide forms (SoA blocks; one implementation per ISA) ---
+// Each ray's prepare() (ray.h) and its test against `bounds` (box.h's
+// intersect_box, the ray's own interval): ok[i] = 1 when ray i is valid and
+// hits them (0 for every ray when bounds is null), and then out[i] =
+// prepare(rays[i]) bit for bit (out[i] is unspecified where ok[i] = 0). The
+// wide traversals start their rays this way, 8 at a time; the SIMD paths
+// compute the 8 rays' fields in vector lanes (rays whose direction prepare()
+// rescales one at a time).
+void prepare_rays(std::span<const Ray> rays, const Aabb* bounds, std::span<PreparedRay> out,
+                  std::span<std::uint8_t> ok, Isa isa = active_isa());
 // Every ray against one Box8, interval [tmin, tmax] of the ray: masks[i] bit j =
 // ray i hits box j; entries[8*i + j] = its entry distance (lanes that miss:
 // whatever the slab test computed; invalid rays: +inf).
