@@ -18,7 +18,7 @@
 //
 // Counters (TraceOptions::stats): nodes_visited = wide nodes visited;
 // box_tests and triangle_tests count lanes, N per node test and kBlockWidth
-// per Tri8 block, plus one box test per valid ray for the bounds (start()) (empty slots and lanes included; a block shared by several
+// per Tri8 block, plus one box test per valid ray for the bounds (RayFeed) (empty slots and lanes included; a block shared by several
 // hit leaves of one node counts once).
 #include <algorithm>
 #include <cstdint>

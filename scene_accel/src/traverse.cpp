@@ -208,7 +208,7 @@ void collect_tree(const SceneBvhN<N>& s, std::span<const Ray> world, const std::
 // One instance (a sphere set, a single mesh, any one-object scene): the live
 // rays go to the bottom level as one batch, without candidates or rounds. The
 // rounds would give each live ray this one candidate, at entry -inf (never
-// culled), and the bottom level tests its own bounds first (start() in
+// culled), and the bottom level tests its own bounds first (RayFeed in
 // bvh8/src/traverse-inl.h), so a top-level box test would only repeat that
 // work; the merge is the rounds' own (closer() against a plane's hit).
 template <class Query, int N>
