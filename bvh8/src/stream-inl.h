@@ -118,9 +118,8 @@ SIMDBVH_STREAM_INLINE void trace_stream(const NodeN<N>* nodes, const Aabb* root,
         for (int g0 = 0; g0 < cnt; g0 += 8) {  // prepared 8 at a time (RayFeed, traverse-inl.h)
             const std::size_t g = std::size_t(std::min(8, cnt - g0));
             std::uint32_t valid;
-            const std::uint32_t m = K::prepare8(rays.data() + base + std::size_t(g0), g, root, pr, &valid);
-            for (std::uint32_t q = ~m & ((1u << g) - 1u); q != 0; q &= q - 1)
-                Query::finish(Hit{}, 0, hits[base + std::size_t(g0 + __builtin_ctz(q))]);
+            const std::uint32_t m =
+                prepare_group<K, Query>(rays, base + std::size_t(g0), g, root, hits.data(), pr, &valid);
             for (std::uint32_t q = m; q != 0; q &= q - 1) {
                 const int l = __builtin_ctz(q), r = g0 + l;
                 start<K, N>(sr[r], pr[l], rays[base + std::size_t(r)], base + std::size_t(r));

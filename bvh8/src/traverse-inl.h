@@ -239,6 +239,19 @@ inline __attribute__((always_inline)) void start(State& s, const PreparedRay& r,
 // the triangles' boxes), and the BVH2 is bit-identical to brute force, so a
 // ray that misses them hits nothing. Rays that miss the scene (a camera's
 // sky) then cost their share of a prepare8 and no ray state or node test.
+// One group of that: rays [base, base + g), g <= 8, prepared into pr[0 .. g);
+// the ones that cannot hit are finished as misses. Returns the others
+// (*valid: the valid ones).
+template <class K, class Query>
+inline __attribute__((always_inline)) std::uint32_t prepare_group(std::span<const Ray> rays, std::size_t base,
+                                                                  std::size_t g, const Aabb* root, Hit* hits,
+                                                                  PreparedRay* pr, std::uint32_t* valid) {
+    const std::uint32_t m = K::prepare8(rays.data() + base, g, root, pr, valid);
+    for (std::uint32_t q = ~m & ((1u << g) - 1u); q != 0; q &= q - 1)
+        Query::finish(Hit{}, 0, hits[base + std::size_t(__builtin_ctz(q))]);
+    return m;
+}
+
 template <class K, class Query, bool kStats>
 struct RayFeed {
     RayFeed(std::span<const Ray> rays_, const Aabb* root_, Hit* hits_, TraceStats* stats_)
@@ -259,13 +272,11 @@ struct RayFeed {
             const std::size_t g = std::min<std::size_t>(8, rays.size() - base);
             next += g;
             std::uint32_t valid;
-            pending = K::prepare8(rays.data() + base, g, root, pr, &valid);
+            pending = prepare_group<K, Query>(rays, base, g, root, hits, pr, &valid);
             if constexpr (kStats) {
                 stats->rays += g;
                 stats->box_tests += std::uint64_t(__builtin_popcount(valid));
             }
-            for (std::uint32_t m = ~pending & ((1u << g) - 1u); m != 0; m &= m - 1)
-                Query::finish(Hit{}, 0, hits[base + std::size_t(__builtin_ctz(m))]);
         }
         const int l = __builtin_ctz(pending);
         pending &= pending - 1;

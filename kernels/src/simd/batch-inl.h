@@ -126,9 +126,6 @@ struct BatchLoops {
         using B = Batch<Arch>;
         constexpr std::size_t kW = B::size;
         static_assert(kW == 8, "8 rays per batch");
-        // The 8 rays' fields, one array per field (a short final group padded
-        // with zeros, whose lanes are masked off).
-        alignas(32) float f[8][kW];
         alignas(32) float ent[kernels::kCollectBoxesMax * kW];
         std::size_t i = 0;
         for (; i < rays.size(); i += kW) {
@@ -140,58 +137,21 @@ struct BatchLoops {
                 for (std::size_t l = 0; l < g; ++l) first[i + l] = std::uint32_t(used);
                 continue;
             }
-            for (std::size_t l = 0; l < kW; ++l) {
-                const Ray& r = rays[i + (l < g ? l : 0)];
-                const float v[8] = {r.org.x, r.org.y, r.org.z, r.dir.x, r.dir.y, r.dir.z, r.tmin, r.tmax};
-                for (int k = 0; k < 8; ++k) f[k][l] = v[k];
-            }
-            const B inf(std::numeric_limits<float>::infinity()), zero(0.0f);
-            const B ro_x = B::load_aligned(f[0]), ro_y = B::load_aligned(f[1]), ro_z = B::load_aligned(f[2]);
-            B d_x = B::load_aligned(f[3]), d_y = B::load_aligned(f[4]), d_z = B::load_aligned(f[5]);
-            const B tmin = B::load_aligned(f[6]), tmax = B::load_aligned(f[7]);
-            // prepare_scaled()'s valid_ray(), per lane (NaN compares false).
-            const B a_x = xsimd::abs(d_x), a_y = xsimd::abs(d_y), a_z = xsimd::abs(d_z);
-            const auto valid = (a_x < inf) & (a_y < inf) & (a_z < inf) & (xsimd::abs(ro_x) < inf) &
-                               (xsimd::abs(ro_y) < inf) & (xsimd::abs(ro_z) < inf) &
-                               ((d_x != zero) | (d_y != zero) | (d_z != zero)) & (tmin <= tmax);
-            // Directions prepare_scaled() rescales go alone (below).
-            const B big = xsimd::max(a_x, xsimd::max(a_y, a_z));
-            const auto rescaled = (big < B(kRescaleBelow)) | (big > B(kRescaleAbove));
-            const std::uint32_t ok = bits<Arch>(valid) & lanes;
-            const std::uint32_t alone = ok & bits<Arch>(rescaled);
-            const std::uint32_t vec = ok & ~alone;
+            // The rays' prepare() as far as the slab test needs it (prepare8-inl.h);
+            // directions prepare() rescales go alone (below).
+            const RayLanes8<Arch> r = ray_lanes8<Arch>(rays.data() + i, g);
+            const std::uint32_t alone = r.alone & lanes;
+            const std::uint32_t vec = r.valid & lanes & ~alone;
             // Box b's hit lanes are byte b % 8 of rows[b / 8]; transposed, byte l
             // of rows[q] holds lane l's hits among boxes 8q .. 8q + 7 (no branch
             // per hit: which rays hit which boxes is close to random).
             std::uint64_t rows[kernels::kCollectBoxesMax / kW] = {};
             if (vec != 0) {
-                // prepare_scaled()'s flush of subnormal components to signed zeros.
-                const B tiny(std::numeric_limits<float>::min()), sign(-0.0f);
-                d_x = xsimd::select(a_x < tiny, d_x & sign, d_x);
-                d_y = xsimd::select(a_y < tiny, d_y & sign, d_y);
-                d_z = xsimd::select(a_z < tiny, d_z & sign, d_z);
-                // prepare()'s far slack: far_slack_for(tmin).
-                const B slack = xsimd::select(tmin < zero, (-tmin) * B(2.0f * (kFarWiden - 1.0f)), zero);
-                const B one(1.0f);
-                // prepare()'s reciprocals (1 / +-0 = +-inf) and near planes (the
-                // reciprocal's sign bit: it is never 0 or NaN for a finite direction).
-                const B rd_x = one / d_x, rd_y = one / d_y, rd_z = one / d_z;
-                const auto hi_x = rd_x < zero, hi_y = rd_y < zero, hi_z = rd_z < zero;
                 for (std::size_t b = 0; b < count; ++b) {
-                    const Box8& grp = groups[b / kW];
-                    const std::size_t j = b % kW;
-                    const B lx(grp.lo_x[j]), ux(grp.hi_x[j]), ly(grp.lo_y[j]), uy(grp.hi_y[j]), lz(grp.lo_z[j]),
-                        uz(grp.hi_z[j]);
-                    const B t0x = (xsimd::select(hi_x, ux, lx) - ro_x) * rd_x;
-                    const B t1x = (xsimd::select(hi_x, lx, ux) - ro_x) * rd_x;
-                    const B t0y = (xsimd::select(hi_y, uy, ly) - ro_y) * rd_y;
-                    const B t1y = (xsimd::select(hi_y, ly, uy) - ro_y) * rd_y;
-                    const B t0z = (xsimd::select(hi_z, uz, lz) - ro_z) * rd_z;
-                    const B t1z = (xsimd::select(hi_z, lz, uz) - ro_z) * rd_z;
-                    const B tn = max_ps<Arch>(t0x, max_ps<Arch>(t0y, max_ps<Arch>(t0z, tmin)));
-                    const B tf = min_ps<Arch>(t1x, min_ps<Arch>(t1y, min_ps<Arch>(t1z, tmax))) * B(kFarWiden) + slack;
+                    B tn;
+                    const std::uint32_t h = box_lanes8<Arch>(r, groups[b / kW].get(int(b % kW)), tn);
                     tn.store_aligned(ent + kW * b);
-                    rows[b / kW] |= std::uint64_t(bits<Arch>(tn <= tf) & vec) << (8 * (b % kW));
+                    rows[b / kW] |= std::uint64_t(h & vec) << (8 * (b % kW));
                 }
             }
             const std::size_t nrows = (count + kW - 1) / kW;

@@ -44,6 +44,64 @@ SIMDBVH_FORCE_INLINE void transpose_rays8(const Ray* rays, std::size_t g, __m256
     c[7] = _mm256_permute2f128_ps(u3, u7, 0x31);
 }
 
+// Eight rays in vector lanes, as far as the slab test needs them:
+// prepare_scaled()'s validity and flush of subnormal components, prepare()'s
+// reciprocals, near planes and far slack. `alone`: the valid lanes whose
+// direction prepare() rescales, whose fields here are not prepare()'s (they
+// go through prepare() itself). Shared by prepare8 and collect_boxes.
+template <class Arch>
+struct RayLanes8 {
+    Batch<Arch> ox, oy, oz, dx, dy, dz, tmin, tmax;  // dx, dy, dz flushed
+    Batch<Arch> rdx, rdy, rdz, slack;
+    Mask<Arch> hx, hy, hz;  // the near plane is the box's upper bound (the reciprocal is negative)
+    std::uint32_t valid, alone;
+};
+
+// rays[0 .. g), 1 <= g <= 8 (lanes >= g repeat ray 0 and are never valid).
+template <class Arch>
+SIMDBVH_FORCE_INLINE RayLanes8<Arch> ray_lanes8(const Ray* rays, std::size_t g) {
+    using B = Batch<Arch>;
+    static_assert(B::size == 8, "8 rays per batch");
+    __m256 c[8];
+    transpose_rays8<Arch>(rays, g, c);
+    const B ox(c[0]), oy(c[1]), oz(c[2]), tmin(c[3]), tmax(c[7]);
+    B dx(c[4]), dy(c[5]), dz(c[6]);
+    const B inf(std::numeric_limits<float>::infinity()), zero(0.0f), one(1.0f);
+    // valid_ray() (NaN compares false), and which directions prepare_scaled() rescales.
+    const B ax = xsimd::abs(dx), ay = xsimd::abs(dy), az = xsimd::abs(dz);
+    const auto ok = (ax < inf) & (ay < inf) & (az < inf) & (xsimd::abs(ox) < inf) & (xsimd::abs(oy) < inf) &
+                    (xsimd::abs(oz) < inf) & ((dx != zero) | (dy != zero) | (dz != zero)) & (tmin <= tmax);
+    const B big = xsimd::max(ax, xsimd::max(ay, az));
+    const auto rescaled = (big < B(kRescaleBelow)) | (big > B(kRescaleAbove));
+    const std::uint32_t valid = bits<Arch>(ok) & ((1u << g) - 1u);
+    // The flush of subnormal components to zeros of the same sign.
+    const B tiny(std::numeric_limits<float>::min()), sign(-0.0f);
+    dx = xsimd::select(ax < tiny, dx & sign, dx);
+    dy = xsimd::select(ay < tiny, dy & sign, dy);
+    dz = xsimd::select(az < tiny, dz & sign, dz);
+    // Reciprocals (1 / +-0 = +-inf), whose sign bits pick the near planes
+    // (never 0 or NaN for a finite direction), and far_slack_for(tmin).
+    const B rdx = one / dx, rdy = one / dy, rdz = one / dz;
+    const B slack = xsimd::select(tmin < zero, (-tmin) * B(2.0f * (kFarWiden - 1.0f)), zero);
+    return {ox,  oy,  oz,  dx,    dy,          dz,          tmin,        tmax,
+            rdx, rdy, rdz, slack, rdx < zero, rdy < zero, rdz < zero, valid, valid & bits<Arch>(rescaled)};
+}
+
+// intersect_box(r, b, r.tmax) in every lane (box.h's conservative slab test,
+// the same operations in the same order): the lanes whose ray hits `b`
+// (including lanes that are not valid or go alone: mask them), entries in `tn`.
+template <class Arch>
+SIMDBVH_FORCE_INLINE std::uint32_t box_lanes8(const RayLanes8<Arch>& r, const Aabb& b, Batch<Arch>& tn) {
+    using B = Batch<Arch>;
+    const B lx(b.lo.x), ux(b.hi.x), ly(b.lo.y), uy(b.hi.y), lz(b.lo.z), uz(b.hi.z);
+    const B t0x = (xsimd::select(r.hx, ux, lx) - r.ox) * r.rdx, t1x = (xsimd::select(r.hx, lx, ux) - r.ox) * r.rdx;
+    const B t0y = (xsimd::select(r.hy, uy, ly) - r.oy) * r.rdy, t1y = (xsimd::select(r.hy, ly, uy) - r.oy) * r.rdy;
+    const B t0z = (xsimd::select(r.hz, uz, lz) - r.oz) * r.rdz, t1z = (xsimd::select(r.hz, lz, uz) - r.oz) * r.rdz;
+    tn = max_ps<Arch>(t0x, max_ps<Arch>(t0y, max_ps<Arch>(t0z, r.tmin)));
+    const B tf = min_ps<Arch>(t1x, min_ps<Arch>(t1y, min_ps<Arch>(t1z, r.tmax))) * B(kFarWiden) + r.slack;
+    return bits<Arch>(tn <= tf);
+}
+
 // rays[0 .. g), 1 <= g <= 8. Returns bit l set when ray l is valid and hits
 // `bounds` (none when bounds is null), with out[l] = prepare(rays[l]) for
 // those rays (the other entries are left unspecified); *valid gets bit l
@@ -54,104 +112,72 @@ SIMDBVH_FORCE_INLINE std::uint32_t prepare8(const Ray* rays, std::size_t g, cons
     *valid = 0;
     if (!bounds) return 0;
     using B = Batch<Arch>;
-    static_assert(B::size == 8, "8 rays per batch");
-    __m256 c[8];
-    transpose_rays8<Arch>(rays, g, c);
-    const B ox(c[0]), oy(c[1]), oz(c[2]), tmin(c[3]), tmax(c[7]);
-    B dx(c[4]), dy(c[5]), dz(c[6]);
-    const B inf(std::numeric_limits<float>::infinity()), zero(0.0f), one(1.0f);
-    // prepare_scaled(): valid_ray() (NaN compares false), and which directions it rescales.
-    B ax = xsimd::abs(dx), ay = xsimd::abs(dy), az = xsimd::abs(dz);
-    const auto ok = (ax < inf) & (ay < inf) & (az < inf) & (xsimd::abs(ox) < inf) & (xsimd::abs(oy) < inf) &
-                    (xsimd::abs(oz) < inf) & ((dx != zero) | (dy != zero) | (dz != zero)) & (tmin <= tmax);
-    const B big = xsimd::max(ax, xsimd::max(ay, az));
-    const auto rescaled = (big < B(kRescaleBelow)) | (big > B(kRescaleAbove));
-    const std::uint32_t lanes = (1u << g) - 1u;
-    const std::uint32_t v = bits<Arch>(ok) & lanes;
-    *valid = v;
-    const std::uint32_t alone = v & bits<Arch>(rescaled);
-    const std::uint32_t vec = v & ~alone;
+    const RayLanes8<Arch> r = ray_lanes8<Arch>(rays, g);
+    *valid = r.valid;
+    const std::uint32_t vec = r.valid & ~r.alone;
     std::uint32_t hit = 0;
     if (vec != 0) {
-        // The flush of subnormal components to zeros of the same sign.
-        const B tiny(std::numeric_limits<float>::min()), sign(-0.0f);
-        dx = xsimd::select(ax < tiny, dx & sign, dx);
-        dy = xsimd::select(ay < tiny, dy & sign, dy);
-        dz = xsimd::select(az < tiny, dz & sign, dz);
-        ax = xsimd::abs(dx);
-        ay = xsimd::abs(dy);
-        az = xsimd::abs(dz);
-        // prepare(): reciprocals (1 / +-0 = +-inf), whose sign bits pick the
-        // near planes (never 0 or NaN for a finite direction).
-        const B rdx = one / dx, rdy = one / dy, rdz = one / dz;
-        const auto hx = rdx < zero, hy = rdy < zero, hz = rdz < zero;
+        B tn;
+        hit = box_lanes8<Arch>(r, *bounds, tn) & vec;
+    }
+    if (hit != 0) {
         // The watertight permutation: kz the largest |d| (the first of equals),
         // kx, ky the next two cyclically, swapped when d[kz] < 0.
+        const B zero(0.0f), one(1.0f);
+        const B ax = xsimd::abs(r.dx), ay = xsimd::abs(r.dy), az = xsimd::abs(r.dz);
         const auto c0 = (ax >= ay) & (ax >= az), c1 = ay >= az;
-        const B dkz = xsimd::select(c0, dx, xsimd::select(c1, dy, dz));
-        const B dkx0 = xsimd::select(c0, dy, xsimd::select(c1, dz, dx));
-        const B dky0 = xsimd::select(c0, dz, xsimd::select(c1, dx, dy));
+        const B dkz = xsimd::select(c0, r.dx, xsimd::select(c1, r.dy, r.dz));
+        const B dkx0 = xsimd::select(c0, r.dy, xsimd::select(c1, r.dz, r.dx));
+        const B dky0 = xsimd::select(c0, r.dz, xsimd::select(c1, r.dx, r.dy));
         const auto neg = dkz < zero;
         const B dkx = xsimd::select(neg, dky0, dkx0), dky = xsimd::select(neg, dkx0, dky0);
         const B sx = dkx / dkz, sy = dky / dkz, sz = one / dkz;
-        const B slack = xsimd::select(tmin < zero, (-tmin) * B(2.0f * (kFarWiden - 1.0f)), zero);
-        // intersect_box(r, *bounds, r.tmax): the conservative slab test.
-        const B lx(bounds->lo.x), ux(bounds->hi.x), ly(bounds->lo.y), uy(bounds->hi.y), lz(bounds->lo.z),
-            uz(bounds->hi.z);
-        const B t0x = (xsimd::select(hx, ux, lx) - ox) * rdx, t1x = (xsimd::select(hx, lx, ux) - ox) * rdx;
-        const B t0y = (xsimd::select(hy, uy, ly) - oy) * rdy, t1y = (xsimd::select(hy, ly, uy) - oy) * rdy;
-        const B t0z = (xsimd::select(hz, uz, lz) - oz) * rdz, t1z = (xsimd::select(hz, lz, uz) - oz) * rdz;
-        const B tn = max_ps<Arch>(t0x, max_ps<Arch>(t0y, max_ps<Arch>(t0z, tmin)));
-        const B tf = min_ps<Arch>(t1x, min_ps<Arch>(t1y, min_ps<Arch>(t1z, tmax))) * B(kFarWiden) + slack;
-        hit = bits<Arch>(tn <= tf) & vec;
-        if (hit != 0) {
-            alignas(32) float f[15][8];
-            ox.store_aligned(f[0]);
-            oy.store_aligned(f[1]);
-            oz.store_aligned(f[2]);
-            dx.store_aligned(f[3]);
-            dy.store_aligned(f[4]);
-            dz.store_aligned(f[5]);
-            rdx.store_aligned(f[6]);
-            rdy.store_aligned(f[7]);
-            rdz.store_aligned(f[8]);
-            tmin.store_aligned(f[9]);
-            tmax.store_aligned(f[10]);
-            sx.store_aligned(f[11]);
-            sy.store_aligned(f[12]);
-            sz.store_aligned(f[13]);
-            slack.store_aligned(f[14]);
-            const std::uint32_t bx = bits<Arch>(hx), by = bits<Arch>(hy), bz = bits<Arch>(hz);
-            const std::uint32_t b0 = bits<Arch>(c0), b1 = bits<Arch>(c1), bn = bits<Arch>(neg);
-            for (std::uint32_t m = hit; m != 0; m &= m - 1) {
-                const int l = __builtin_ctz(m);
-                // kz = 0 when c0, else 1 when c1, else 2; kx = kz + 1, ky = kz + 2 (mod 3), swapped when neg.
-                const int kz = (b0 >> l & 1u) ? 0 : ((b1 >> l & 1u) ? 1 : 2);
-                const int k1 = kz == 2 ? 0 : kz + 1, k2 = k1 == 2 ? 0 : k1 + 1;
-                const bool sw = (bn >> l & 1u) != 0;
-                PreparedRay& p = out[l];
-                p.org = {f[0][l], f[1][l], f[2][l]};
-                p.dir = {f[3][l], f[4][l], f[5][l]};
-                p.rdir = {f[6][l], f[7][l], f[8][l]};
-                p.tmin = f[9][l];
-                p.tmax = f[10][l];
-                p.near_x = int(bx >> l & 1u);
-                p.near_y = int(by >> l & 1u);
-                p.near_z = int(bz >> l & 1u);
-                p.octant = p.near_x | (p.near_y << 1) | (p.near_z << 2);
-                p.kx = sw ? k2 : k1;
-                p.ky = sw ? k1 : k2;
-                p.kz = kz;
-                p.sx = f[11][l];
-                p.sy = f[12][l];
-                p.sz = f[13][l];
-                p.valid = true;
-                p.t_exp = 0;
-                p.far_slack = f[14][l];
-            }
+        alignas(32) float f[15][8];
+        r.ox.store_aligned(f[0]);
+        r.oy.store_aligned(f[1]);
+        r.oz.store_aligned(f[2]);
+        r.dx.store_aligned(f[3]);
+        r.dy.store_aligned(f[4]);
+        r.dz.store_aligned(f[5]);
+        r.rdx.store_aligned(f[6]);
+        r.rdy.store_aligned(f[7]);
+        r.rdz.store_aligned(f[8]);
+        r.tmin.store_aligned(f[9]);
+        r.tmax.store_aligned(f[10]);
+        sx.store_aligned(f[11]);
+        sy.store_aligned(f[12]);
+        sz.store_aligned(f[13]);
+        r.slack.store_aligned(f[14]);
+        const std::uint32_t bx = bits<Arch>(r.hx), by = bits<Arch>(r.hy), bz = bits<Arch>(r.hz);
+        const std::uint32_t b0 = bits<Arch>(c0), b1 = bits<Arch>(c1), bn = bits<Arch>(neg);
+        for (std::uint32_t m = hit; m != 0; m &= m - 1) {
+            const int l = __builtin_ctz(m);
+            // kz = 0 when c0, else 1 when c1, else 2; kx = kz + 1, ky = kz + 2 (mod 3), swapped when neg.
+            const int kz = (b0 >> l & 1u) ? 0 : ((b1 >> l & 1u) ? 1 : 2);
+            const int k1 = kz == 2 ? 0 : kz + 1, k2 = k1 == 2 ? 0 : k1 + 1;
+            const bool sw = (bn >> l & 1u) != 0;
+            PreparedRay& p = out[l];
+            p.org = {f[0][l], f[1][l], f[2][l]};
+            p.dir = {f[3][l], f[4][l], f[5][l]};
+            p.rdir = {f[6][l], f[7][l], f[8][l]};
+            p.tmin = f[9][l];
+            p.tmax = f[10][l];
+            p.near_x = int(bx >> l & 1u);
+            p.near_y = int(by >> l & 1u);
+            p.near_z = int(bz >> l & 1u);
+            p.octant = p.near_x | (p.near_y << 1) | (p.near_z << 2);
+            p.kx = sw ? k2 : k1;
+            p.ky = sw ? k1 : k2;
+            p.kz = kz;
+            p.sx = f[11][l];
+            p.sy = f[12][l];
+            p.sz = f[13][l];
+            p.valid = true;
+            p.t_exp = 0;
+            p.far_slack = f[14][l];
         }
     }
-    for (std::uint32_t m = alone; m != 0; m &= m - 1) {
+    for (std::uint32_t m = r.alone; m != 0; m &= m - 1) {
         const int l = __builtin_ctz(m);
         out[l] = prepare(rays[l]);
         float entry;
