@@ -52,7 +52,19 @@ if [ "$k" -gt 0 ] && commits=$(git -C "$root" rev-list --count HEAD 2>/dev/null)
   sample=(-I "$(( 1 + commits % k )),,$k")
   echo "asan: sampling every test $k from test $(( 1 + commits % k )) (commit $commits; ASAN_SAMPLE=all runs all)"
 fi
-cmake --preset asan -DSIMDBVH_BUILD_BENCH=OFF
+# On a CPU with AVX-512F one SIMD ISA's objects are instrumented per run
+# (SIMDBVH_SANITIZE_SIMD_ISA, cmake/SimdbvhIsa.cmake): AVX-512 on even commit
+# counts, AVX2 on odd ones (scripts/tsan.sh takes the other one), so each runs
+# under ASan every second commit on main. SANITIZE_SIMD_ISA=all|avx2|avx512 overrides.
+simd_isa="${SANITIZE_SIMD_ISA:-}"
+if [ -z "$simd_isa" ]; then
+  simd_isa=all
+  if c=$(git -C "$root" rev-list --count HEAD 2>/dev/null); then
+    simd_isa=$([ $(( c % 2 )) -eq 0 ] && echo avx512 || echo avx2)
+  fi
+fi
+echo "asan: SIMD objects instrumented: $simd_isa (on a CPU with AVX-512F; without it: avx2)"
+cmake --preset asan -DSIMDBVH_BUILD_BENCH=OFF -DSIMDBVH_SANITIZE_SIMD_ISA="$simd_isa"
 if [ -n "${TARGETS:-}" ]; then
   # shellcheck disable=SC2086
   cmake --build --preset asan -j"$jobs" --target $TARGETS

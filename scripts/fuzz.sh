@@ -2,7 +2,7 @@
 # Fuzz the mesh loaders and the ray/hit readers with libFuzzer + ASan + UBSan
 # (docs/accuracy.md). Configures a Clang build in build/fuzz (fuzz/ as the top
 # level), builds fuzz_load_mesh and fuzz_read_rays, and runs each for SECONDS
-# (default 60) over a working copy of fuzz/corpus/<target>.
+# (default 60) over a working copy of fuzz/corpus/<target>, JOBS (default 2) at a time.
 # The targets link simdbvh_scene_io (the loaders and the ray/hit file readers)
 # and simdbvh_kernels only, so the instrumented build compiles those 22 files
 # and not the BVH libraries or the rest of the scene code, which the fuzzed
@@ -36,21 +36,36 @@ cmake --build "$build" -j"$jobs" --target "${targets[@]}"
 
 export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:symbolize=1}"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
-status=0
-for t in "${targets[@]}"; do
+# The targets run side by side, up to JOBS at a time (each libFuzzer run is one
+# process): CI's two 30 s runs take 30 s of wall time on 2 cores, not 60.
+run_one() {
+  local t="$1" max_len work log
   case "$t" in
     fuzz_load_mesh) max_len=65536 ;;
     fuzz_read_rays) max_len=4096 ;;
     *) max_len=4096 ;;
   esac
   work="$build/corpus/$t"
+  log="$build/$t.log"
+  "$build/$t" "$work" -max_total_time="$secs" -max_len="$max_len" -rss_limit_mb="$rss" -timeout=20 \
+    -seed=1 -print_final_stats=1 -artifact_prefix="$build/artifacts/$t-" >"$log" 2>&1
+}
+status=0
+pids=()
+for t in "${targets[@]}"; do
+  work="$build/corpus/$t"
   mkdir -p "$work" "$build/artifacts"
   cp -n "$root/fuzz/corpus/$t"/* "$work"/ 2>/dev/null || true
-  echo "== $t: ${secs}s, corpus $(ls "$work" | wc -l) inputs, -max_len=$max_len -rss_limit_mb=$rss"
+  echo "== $t: ${secs}s, corpus $(ls "$work" | wc -l) inputs, -rss_limit_mb=$rss"
+  while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do sleep 1; done
+  run_one "$t" &
+  pids+=($!)
+done
+for i in "${!targets[@]}"; do
+  t="${targets[$i]}"
   log="$build/$t.log"
-  if "$build/$t" "$work" -max_total_time="$secs" -max_len="$max_len" -rss_limit_mb="$rss" -timeout=20 \
-       -seed=1 -print_final_stats=1 -artifact_prefix="$build/artifacts/$t-" >"$log" 2>&1; then
-    echo "   ok: $(grep -E '^#[0-9]+.*DONE' "$log" | tail -1 || tail -1 "$log")"
+  if wait "${pids[$i]}"; then
+    echo "== $t ok: $(grep -E '^#[0-9]+.*DONE' "$log" | tail -1 || tail -1 "$log")"
     grep -E 'stat::number_of_executed_units|stat::peak_rss_mb' "$log" | sed 's/^/   /'
   else
     status=1
