@@ -10,16 +10,15 @@ set(SIMDBVH_AVX512_FLAGS ${SIMDBVH_AVX2_FLAGS} -mavx512f -mavx512vl -mavx512dq -
 # picks AVX-512 only when the CPU has F, VL, DQ, BW and CD), so instrumenting
 # it only costs build time: under the asan preset bvh8's traverse_avx512.cpp
 # takes 137 s of CPU instrumented, the most of any file. On a machine with
-# AVX-512F everything stays instrumented.
+# AVX-512F, SIMDBVH_SANITIZE_SIMD_ISA below.
 option(SIMDBVH_SANITIZE_HOST_ISAS_ONLY "Sanitized builds: no instrumentation for ISAs this CPU lacks" OFF)
 # SIMDBVH_SANITIZE_SIMD_ISA (scripts/asan.sh and scripts/tsan.sh set it): all, or
 # avx2 or avx512: on a CPU with AVX-512F, only that SIMD ISA's objects are
 # instrumented, the other one's compiled without sanitizers. The two are
 # instantiations of the same templates (traverse-inl.h, kernels/src/simd), so
-# either checks the shared code; the scripts alternate them by commit count (and
-# ASan and TSan take opposite ones in one CI run), so each ISA's objects run
-# under each sanitizer every second commit on main. Without AVX-512F the AVX2
-# objects are always the instrumented ones (see above).
+# either checks the shared code; the scripts alternate them by commit count, so
+# each ISA's objects run under each sanitizer every few commits on main. Without
+# AVX-512F the AVX2 objects are always the instrumented ones (see above).
 set(SIMDBVH_SANITIZE_SIMD_ISA "all" CACHE STRING "Sanitized builds on an AVX-512 CPU: all, avx2 or avx512")
 set_property(CACHE SIMDBVH_SANITIZE_SIMD_ISA PROPERTY STRINGS all avx2 avx512)
 if(NOT SIMDBVH_SANITIZE_SIMD_ISA MATCHES "^(all|avx2|avx512)$")
