@@ -50,7 +50,8 @@ case "$mode" in
   all) k=0 ;;
   *) echo "asan: ASAN_SAMPLE must be sixth, fifth, quarter, third, half or all (got '$mode')" >&2; exit 2 ;;
 esac
-if [ "$k" -gt 0 ] && commits=$(git -C "$root" rev-list --count HEAD 2>/dev/null); then
+commits=$(git -C "$root" rev-list --count HEAD 2>/dev/null || true)
+if [ "$k" -gt 0 ] && [ -n "$commits" ]; then
   sample=(-I "$(( 1 + commits % k )),,$k")
   echo "asan: sampling every test $k from test $(( 1 + commits % k )) (commit $commits; ASAN_SAMPLE=all runs all)"
 fi
@@ -58,14 +59,10 @@ fi
 # (SIMDBVH_SANITIZE_SIMD_ISA, cmake/SimdbvhIsa.cmake): AVX-512 and AVX2 by turns
 # of the sample's cycle (commit count / k, so every sample meets both ISAs: with
 # count % 2 a sixth would always meet the same one). SANITIZE_SIMD_ISA=all|avx2|avx512
-# overrides.
-simd_isa="${SANITIZE_SIMD_ISA:-}"
-if [ -z "$simd_isa" ]; then
-  simd_isa=all
-  if c=$(git -C "$root" rev-list --count HEAD 2>/dev/null); then
-    simd_isa=$([ $(( c / (k > 0 ? k : 1) % 2 )) -eq 0 ] && echo avx512 || echo avx2)
-  fi
-fi
+# overrides (scripts/lib/simd_isa.sh).
+# shellcheck source=lib/simd_isa.sh
+. "$root/scripts/lib/simd_isa.sh"
+simd_isa=$(sanitize_simd_isa "${commits:+$(( commits / (k > 0 ? k : 1) ))}")
 echo "asan: SIMD objects instrumented: $simd_isa (on a CPU with AVX-512F; without it: avx2)"
 cmake --preset asan -DSIMDBVH_BUILD_BENCH=OFF -DSIMDBVH_SANITIZE_SIMD_ISA="$simd_isa"
 if [ -n "${TARGETS:-}" ]; then

@@ -5,15 +5,12 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 # One SIMD ISA's objects instrumented on a CPU with AVX-512F (cmake/SimdbvhIsa.cmake):
-# AVX2 on even commit counts, AVX-512 on odd ones. SANITIZE_SIMD_ISA=all|avx2|avx512
-# overrides.
-simd_isa="${SANITIZE_SIMD_ISA:-}"
-if [ -z "$simd_isa" ]; then
-  simd_isa=all
-  if c=$(git rev-list --count HEAD 2>/dev/null); then
-    simd_isa=$([ $(( c % 2 )) -eq 0 ] && echo avx2 || echo avx512)
-  fi
-fi
+# AVX2 on even commit counts, AVX-512 on odd ones (scripts/lib/simd_isa.sh).
+# SANITIZE_SIMD_ISA=all|avx2|avx512 overrides.
+# shellcheck source=lib/simd_isa.sh
+. scripts/lib/simd_isa.sh
+commits=$(git rev-list --count HEAD 2>/dev/null || true)
+simd_isa=$(sanitize_simd_isa "${commits:+$(( commits + 1 ))}")
 # The tests below trace through the dispatch's choice: force the instrumented ISA.
 # (A CPU without AVX-512F: AVX2 is the instrumented one; without AVX2 either: the default.)
 grep -qw avx512f /proc/cpuinfo 2>/dev/null || [ "$simd_isa" = all ] || simd_isa=avx2

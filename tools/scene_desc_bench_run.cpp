@@ -10,7 +10,6 @@
 #include <cmath>
 #include <functional>
 #include <memory>
-#include <random>
 
 #include "common.h"
 #include "scene_cmds.h"
@@ -60,24 +59,6 @@ std::vector<double> time_methods(const std::vector<Method*>& ms, std::span<const
     std::vector<double> out;
     for (auto& v : mr) out.push_back(median(v));
     return out;
-}
-
-// Origins uniform in the box, directions uniform on the sphere.
-std::vector<Ray> interior_rays(const Aabb& b, std::size_t n, std::uint64_t seed) {
-    std::mt19937_64 rng(seed);
-    std::uniform_real_distribution<float> u(0.0f, 1.0f);
-    std::normal_distribution<float> g(0.0f, 1.0f);
-    std::vector<Ray> rays(n);
-    const Vec3 e = b.extent();
-    for (Ray& r : rays) {
-        r.org = b.lo + Vec3{u(rng) * e.x, u(rng) * e.y, u(rng) * e.z};
-        Vec3 d{0, 0, 0};
-        while (length(d) < 1e-3f) d = Vec3{g(rng), g(rng), g(rng)};
-        r.dir = d * (1.0f / length(d));
-        r.tmin = 0.0f;
-        r.tmax = std::numeric_limits<float>::infinity();
-    }
-    return rays;
 }
 
 std::vector<Ray> camera_rays(const SceneDesc& d, std::size_t n) {
@@ -188,7 +169,7 @@ void tessellation(const BenchConfig& c, const SphereSet& all, SceneDescBenchResu
     const auto& spheres = std::get<SphereSet>(analytic.geometries[0]).spheres;
     const std::size_t n = std::min<std::size_t>(c.rays, 65536);
     const std::vector<Ray> primary = camera_rays(analytic, n);
-    const std::vector<Ray> incoherent = interior_rays(world_bounds(analytic), n, 5);
+    const std::vector<Ray> incoherent = scene::interior_rays(world_bounds(analytic), n, 5);
 
     constexpr int kLevels = 6;
     progress("tessellation: analytic spheres and icosphere levels 0.." + std::to_string(kLevels - 1), true);
@@ -382,7 +363,7 @@ SceneDescBenchResults run_scene_desc_bench(const BenchConfig& c, const SceneDesc
     }
 
     const Aabb box = world_bounds(desc);
-    const std::vector<Ray> rays[2] = {camera_rays(desc, c.rays), interior_rays(box, c.rays, 9)};
+    const std::vector<Ray> rays[2] = {camera_rays(desc, c.rays), scene::interior_rays(box, c.rays, 9)};
     res.rays = rays[1].size();
     const char* kinds[2] = {"primary", "incoherent"};
     std::vector<Method*> ptrs;

@@ -1,8 +1,12 @@
 // Deterministic ray generation: pinhole camera, incoherent rays, diffuse
-// bounces. Float math with + - * /, sqrt, sin and cos only; own PRNG.
+// bounces. Float math with + - * /, sqrt, sin and cos only; own PRNG (except
+// interior_rays: std::mt19937_64 and libstdc++'s normal distribution, as the
+// scene bench has always drawn them).
 #include "simdbvh/scene/rays.h"
 
 #include <cmath>
+#include <limits>
+#include <random>
 
 #include "rng.h"
 #include "simdbvh/kernels/error.h"
@@ -153,6 +157,23 @@ std::vector<Ray> diffuse_rays(const Mesh& mesh, std::span<const Ray> primary, st
         ray.org = offset_ray_origin(p, ng, scale);  // Wachter and Binder, RT Gems ch. 6
         ray.dir = normalize(t * (r * std::cos(phi)) + bt * (r * std::sin(phi)) + ng * lz);
         rays.push_back(ray);
+    }
+    return rays;
+}
+
+std::vector<Ray> interior_rays(const Aabb& b, std::size_t n, std::uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    std::normal_distribution<float> g(0.0f, 1.0f);
+    std::vector<Ray> rays(n);
+    const Vec3 e = b.extent();
+    for (Ray& r : rays) {
+        r.org = b.lo + Vec3{u(rng) * e.x, u(rng) * e.y, u(rng) * e.z};
+        Vec3 d{0, 0, 0};
+        while (length(d) < 1e-3f) d = Vec3{g(rng), g(rng), g(rng)};
+        r.dir = d * (1.0f / length(d));
+        r.tmin = 0.0f;
+        r.tmax = std::numeric_limits<float>::infinity();
     }
     return rays;
 }

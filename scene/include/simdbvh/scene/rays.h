@@ -31,6 +31,10 @@ std::vector<Ray> primary_rays(const Camera& cam);
 // points; diffuse: cosine-weighted bounces from primary hits (origin offset
 // along the normal), which needs closest hits: `hits` of the primary rays.
 std::vector<Ray> incoherent_rays(const Aabb& bounds, std::size_t count, std::uint64_t seed);
+// Origins uniform in the box, directions uniform on the sphere (std::mt19937_64
+// from `seed`): the incoherent rays of simdbvh bench --scene, which start among
+// the objects.
+std::vector<Ray> interior_rays(const Aabb& bounds, std::size_t count, std::uint64_t seed);
 std::vector<Ray> diffuse_rays(const Mesh& mesh, std::span<const Ray> primary, std::span<const Hit> hits,
                               std::size_t count, std::uint64_t seed);
 // Convenience: builds a BVH2 internally for diffuse rays.

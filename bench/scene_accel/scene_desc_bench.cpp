@@ -1,0 +1,102 @@
+// A scene description (SIMDBVH_BENCH_SCENE: a built-in name or a JSON file;
+// default spheres-1000) traced by our two-level scene (BVH8 bottom levels,
+// child-corner instance bounds) and by Embree's instanced scene
+// (compare/embree_instances.h) on the same rays, one thread: closest and any
+// hit, per ISA. Rays: SIMDBVH_BENCH_RAYS (default 100000) interior rays
+// (scene::interior_rays over the world bounds, seed 9: the rays of simdbvh
+// bench --scene) and a default camera's primary rays over the world bounds.
+// Run with --benchmark_enable_random_interleaving=true and repetitions, so
+// ours and Embree's rows alternate.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <memory>
+#include <string>
+
+#include "simdbvh/compare/embree_instances.h"
+#include "simdbvh/scene/rays.h"
+#include "simdbvh/scene/scene_desc.h"
+
+namespace {
+
+using namespace simdbvh;
+
+struct Fixture {
+    std::string name;
+    SceneDesc desc;
+    SceneBvhN<8> scene;
+    std::unique_ptr<compare::EmbreeInstanceScene> embree;
+    std::vector<Ray> rays[2];  // primary, interior
+};
+
+const Fixture& fixture() {
+    static const Fixture f = [] {
+        Fixture x;
+        const char* env = std::getenv("SIMDBVH_BENCH_SCENE");
+        x.name = env && *env ? env : "spheres-1000";
+        x.desc = scene::load_scene_desc(x.name);
+        x.scene = SceneBvhN<8>::build(x.desc);
+        x.embree = std::make_unique<compare::EmbreeInstanceScene>(x.desc);
+        const char* n = std::getenv("SIMDBVH_BENCH_RAYS");
+        const std::size_t count = n && *n ? std::strtoull(n, nullptr, 10) : 100000;
+        const Aabb box = world_bounds(x.desc);
+        const int side = std::max(16, int(std::lround(std::sqrt(double(count)))));
+        x.rays[0] = scene::primary_rays(scene::default_camera(box, side, side));
+        x.rays[1] = scene::interior_rays(box, count, 9);
+        return x;
+    }();
+    return f;
+}
+
+void rate(benchmark::State& st, std::size_t rays) {
+    st.counters["rays/s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void BM_Ours(benchmark::State& st, Isa isa, int kind, bool any) {
+    if (!supported(isa)) return st.SkipWithError("CPU lacks ISA");
+    const Fixture& f = fixture();
+    std::vector<SceneHit> hits(f.rays[kind].size());
+    const std::span<const Ray> rays(f.rays[kind]);
+    for (auto _ : st) {
+        if (any) occluded(f.scene, rays, std::span<SceneHit>(hits), isa);
+        else intersect(f.scene, rays, std::span<SceneHit>(hits), isa);
+    }
+    rate(st, hits.size());
+}
+
+void BM_Embree(benchmark::State& st, int kind, bool any) {
+    const Fixture& f = fixture();
+    std::vector<SceneHit> hits(f.rays[kind].size());
+    for (auto _ : st) {
+        if (any) f.embree->occluded(f.rays[kind], hits);
+        else f.embree->intersect(f.rays[kind], hits);
+    }
+    rate(st, hits.size());
+}
+
+}  // namespace
+
+#define SIMDBVH_SCENE_ROWS(kind_name, kind)                                                                  \
+    BENCHMARK_CAPTURE(BM_Ours, avx2_##kind_name##_closest, Isa::avx2, kind, false)->Unit(benchmark::kMillisecond);   \
+    BENCHMARK_CAPTURE(BM_Ours, avx512_##kind_name##_closest, Isa::avx512, kind, false)->Unit(benchmark::kMillisecond); \
+    BENCHMARK_CAPTURE(BM_Embree, kind_name##_closest, kind, false)->Unit(benchmark::kMillisecond);                   \
+    BENCHMARK_CAPTURE(BM_Ours, avx2_##kind_name##_any, Isa::avx2, kind, true)->Unit(benchmark::kMillisecond);        \
+    BENCHMARK_CAPTURE(BM_Ours, avx512_##kind_name##_any, Isa::avx512, kind, true)->Unit(benchmark::kMillisecond);    \
+    BENCHMARK_CAPTURE(BM_Embree, kind_name##_any, kind, true)->Unit(benchmark::kMillisecond);
+SIMDBVH_SCENE_ROWS(primary, 0)
+SIMDBVH_SCENE_ROWS(interior, 1)
+
+int main(int argc, char** argv) {
+    benchmark::Initialize(&argc, argv);
+    if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+    const Fixture& f = fixture();
+    benchmark::AddCustomContext("scene", f.name);
+    benchmark::AddCustomContext("rays_per_kind", std::to_string(f.rays[1].size()));
+    benchmark::AddCustomContext("active_isa", std::string(name(active_isa())));
+    benchmark::AddCustomContext("scene_bytes", std::to_string(f.scene.stats().bytes));
+    benchmark::AddCustomContext("embree_bytes", std::to_string(f.embree->bytes()));
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+    return 0;
+}
