@@ -10,11 +10,13 @@
 #include <benchmark/benchmark.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <memory>
 #include <string>
 
 #include "simdbvh/compare/embree_instances.h"
+#include "simdbvh/kernels/error.h"
 #include "simdbvh/scene/rays.h"
 #include "simdbvh/scene/scene_desc.h"
 
@@ -90,6 +92,12 @@ SIMDBVH_SCENE_ROWS(interior, 1)
 int main(int argc, char** argv) {
     benchmark::Initialize(&argc, argv);
     if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+    try {
+        fixture();
+    } catch (const Error& e) {  // an unknown scene, a bad JSON file: say so, exit 2
+        std::fprintf(stderr, "simdbvh_bench_scene_desc: %s\n", e.what());
+        return 2;
+    }
     const Fixture& f = fixture();
     benchmark::AddCustomContext("scene", f.name);
     benchmark::AddCustomContext("rays_per_kind", std::to_string(f.rays[1].size()));

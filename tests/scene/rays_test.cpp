@@ -91,6 +91,31 @@ TEST(Rays, IncoherentProperties) {
     EXPECT_EQ(sc::incoherent_rays(Aabb{}, 10, 1).size(), 10u);  // empty bounds: still rays
 }
 
+TEST(Rays, InteriorProperties) {
+    // Origins inside the box, unit directions spread over the whole sphere (every octant, both signs of
+    // every axis), deterministic by seed.
+    const Aabb b{{-1, 2, 3}, {1, 6, 4}};
+    const auto rays = sc::interior_rays(b, 20000, 9);
+    ASSERT_EQ(rays.size(), 20000u);
+    int octants[8] = {};
+    double mean[3] = {0, 0, 0};
+    for (const Ray& ray : rays) {
+        for (int a = 0; a < 3; ++a) {
+            EXPECT_GE(ray.org[a], b.lo[a]);
+            EXPECT_LE(ray.org[a], b.hi[a]);
+            mean[a] += ray.dir[a] / double(rays.size());
+        }
+        EXPECT_NEAR(simdbvh::length(ray.dir), 1.0f, 1e-6f);
+        EXPECT_EQ(ray.tmin, 0.0f);
+        EXPECT_TRUE(std::isinf(ray.tmax));
+        ++octants[(ray.dir.x < 0) | ((ray.dir.y < 0) << 1) | ((ray.dir.z < 0) << 2)];
+    }
+    for (int o = 0; o < 8; ++o) EXPECT_GT(octants[o], 2000) << "octant " << o;  // 2500 expected each
+    for (int a = 0; a < 3; ++a) EXPECT_LT(std::fabs(mean[a]), 0.03) << "axis " << a;
+    EXPECT_TRUE(same_bytes(rays, sc::interior_rays(b, 20000, 9)));
+    EXPECT_FALSE(same_bytes(rays, sc::interior_rays(b, 20000, 10)));
+}
+
 TEST(Rays, DiffuseFromHandMadeHits) {
     // A unit square in the z = 0 plane seen from above; hits at known barycentrics.
     Mesh m;
