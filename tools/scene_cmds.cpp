@@ -140,25 +140,11 @@ Mesh scene_bounds_proxy(const std::string& name) {
     return m;
 }
 
-scene::Camera scene_camera(const SceneDesc& desc, int w, int h) {
-    Aabb box = world_bounds(desc);
-    if (box.is_empty()) box = Aabb{{-1, -1, -1}, {1, 1, 1}};  // planes only
-    scene::Camera cam = scene::default_camera(box, w, h);
-    const Vec3 c = box.center();
-    float keep = 1.0f;  // eye = c + keep * (eye - c)
-    for (const Plane& p : desc.planes) {
-        const float dc = dot(c - p.point, p.normal), de = dot(cam.eye - p.point, p.normal);
-        if (dc > 0 && de <= 0) keep = std::min(keep, 0.9f * dc / (dc - de));
-    }
-    cam.eye = c + (cam.eye - c) * keep;
-    return cam;
-}
-
 int render_scene(const std::string& name, const MethodSpec& spec, InstanceBounds bounds, int w, int h,
                  const std::string& out) {
     const int width = scene_width(spec);
     const SceneDesc desc = scene::load_scene_desc(name);
-    const scene::Camera cam = scene_camera(desc, w, h);
+    const scene::Camera cam = scene::scene_camera(desc, w, h);
     const auto rays = scene::primary_rays(cam);
     std::vector<SceneHit> hits(rays.size());
     double build_ms = 0;

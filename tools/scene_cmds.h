@@ -23,11 +23,6 @@ int trace_scene(const Options& o, const std::string& name, const std::string& ra
 // (world_bounds), enough for primary and incoherent rays (diffuse needs a mesh).
 Mesh scene_bounds_proxy(const std::string& name);
 
-// The camera of render_scene and of the scene bench's primary rays: scene::default_camera over the bounded
-// part, with the eye moved toward the centre until it is in front of every plane whose front side holds the
-// centre (a room's walls).
-scene::Camera scene_camera(const SceneDesc& desc, int width, int height);
-
 // Eye-light picture (|cos| of ray and normal), tinted per instance; planes grey.
 int render_scene(const std::string& name, const MethodSpec& spec, InstanceBounds bounds, int width, int height,
                  const std::string& out);

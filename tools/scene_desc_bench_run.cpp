@@ -12,11 +12,11 @@
 #include <memory>
 
 #include "common.h"
-#include "scene_cmds.h"
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/compare/embree.h"
 #include "simdbvh/compare/embree_instances.h"
 #include "simdbvh/compare/reference.h"
+#include "simdbvh/scene/scene_desc.h"
 #include "simdbvh/scene/scenes.h"
 
 namespace simdbvh::cli {
@@ -59,11 +59,6 @@ std::vector<double> time_methods(const std::vector<Method*>& ms, std::span<const
     std::vector<double> out;
     for (auto& v : mr) out.push_back(median(v));
     return out;
-}
-
-std::vector<Ray> camera_rays(const SceneDesc& d, std::size_t n) {
-    const int side = std::max(16, int(std::lround(std::sqrt(double(n)))));
-    return scene::primary_rays(scene_camera(d, side, side));
 }
 
 bool meshes_only(const SceneDesc& d) {
@@ -168,7 +163,7 @@ void tessellation(const BenchConfig& c, const SphereSet& all, SceneDescBenchResu
     analytic.instances.push_back({0, Affine3{}});
     const auto& spheres = std::get<SphereSet>(analytic.geometries[0]).spheres;
     const std::size_t n = std::min<std::size_t>(c.rays, 65536);
-    const std::vector<Ray> primary = camera_rays(analytic, n);
+    const std::vector<Ray> primary = scene::scene_camera_rays(analytic, n);
     const std::vector<Ray> incoherent = scene::interior_rays(world_bounds(analytic), n, 5);
 
     constexpr int kLevels = 6;
@@ -363,7 +358,7 @@ SceneDescBenchResults run_scene_desc_bench(const BenchConfig& c, const SceneDesc
     }
 
     const Aabb box = world_bounds(desc);
-    const std::vector<Ray> rays[2] = {camera_rays(desc, c.rays), scene::interior_rays(box, c.rays, 9)};
+    const std::vector<Ray> rays[2] = {scene::scene_camera_rays(desc, c.rays), scene::interior_rays(box, c.rays, 9)};
     res.rays = rays[1].size();
     const char* kinds[2] = {"primary", "incoherent"};
     std::vector<Method*> ptrs;

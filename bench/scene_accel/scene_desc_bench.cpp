@@ -4,12 +4,11 @@
 // (compare/embree_instances.h) on the same rays, one thread: closest and any
 // hit, per ISA. Rays: SIMDBVH_BENCH_RAYS (default 100000) interior rays
 // (scene::interior_rays over the world bounds, seed 9: the rays of simdbvh
-// bench --scene) and a default camera's primary rays over the world bounds.
+// bench --scene) and its camera's primary rays (scene::scene_camera_rays).
 // Run with --benchmark_enable_random_interleaving=true and repetitions, so
 // ours and Embree's rows alternate.
 #include <benchmark/benchmark.h>
 
-#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
@@ -42,10 +41,8 @@ const Fixture& fixture() {
         x.embree = std::make_unique<compare::EmbreeInstanceScene>(x.desc);
         const char* n = std::getenv("SIMDBVH_BENCH_RAYS");
         const std::size_t count = n && *n ? std::strtoull(n, nullptr, 10) : 100000;
-        const Aabb box = world_bounds(x.desc);
-        const int side = std::max(16, int(std::lround(std::sqrt(double(count)))));
-        x.rays[0] = scene::primary_rays(scene::default_camera(box, side, side));
-        x.rays[1] = scene::interior_rays(box, count, 9);
+        x.rays[0] = scene::scene_camera_rays(x.desc, count);
+        x.rays[1] = scene::interior_rays(world_bounds(x.desc), count, 9);
         return x;
     }();
     return f;

@@ -4,7 +4,9 @@
 #include <cstdint>
 #include <filesystem>
 #include <string_view>
+#include <vector>
 
+#include "simdbvh/scene/rays.h"
 #include "simdbvh/scene_accel/scene.h"
 
 namespace simdbvh::scene {
@@ -35,5 +37,13 @@ SceneDesc parse_scene_json(std::string_view text, const std::filesystem::path& b
 // A built-in name, a .json file, or any mesh load_scene() takes (as one
 // geometry with one identity instance).
 SceneDesc load_scene_desc(std::string_view name_or_path);
+
+// The camera of simdbvh render --scene and of the scene benches' primary rays:
+// default_camera over the bounded part (world_bounds), with the eye moved
+// toward the centre until it is in front of every plane whose front side
+// holds the centre (a room's walls).
+Camera scene_camera(const SceneDesc& desc, int width, int height);
+// Its rays on a square image of about n pixels (at least 16 x 16).
+std::vector<Ray> scene_camera_rays(const SceneDesc& desc, std::size_t n);
 
 }  // namespace simdbvh::scene
