@@ -1,6 +1,7 @@
 // A scene description (SIMDBVH_BENCH_SCENE: a built-in name or a JSON file;
-// default spheres-1000) traced by our two-level scene (BVH8 bottom levels,
-// child-corner instance bounds) and by Embree's instanced scene
+// default spheres-1000) traced by our two-level scene (child-corner instance
+// bounds; BVH8 bottom levels per ISA, and BVH4 and BVH16 rows: the width a
+// scene's shape trees pay most for) and by Embree's instanced scene
 // (compare/embree_instances.h) on the same rays, one thread: closest and any
 // hit, per ISA. Rays: SIMDBVH_BENCH_RAYS (default 100000) interior rays
 // (scene::interior_rays over the world bounds, seed 9: the rays of simdbvh
@@ -26,7 +27,9 @@ using namespace simdbvh;
 struct Fixture {
     std::string name;
     SceneDesc desc;
+    SceneBvhN<4> scene4;
     SceneBvhN<8> scene;
+    SceneBvhN<16> scene16;
     std::unique_ptr<compare::EmbreeInstanceScene> embree;
     std::vector<Ray> rays[2];  // primary, interior
 };
@@ -37,7 +40,9 @@ const Fixture& fixture() {
         const char* env = std::getenv("SIMDBVH_BENCH_SCENE");
         x.name = env && *env ? env : "spheres-1000";
         x.desc = scene::load_scene_desc(x.name);
+        x.scene4 = SceneBvhN<4>::build(x.desc);
         x.scene = SceneBvhN<8>::build(x.desc);
+        x.scene16 = SceneBvhN<16>::build(x.desc);
         x.embree = std::make_unique<compare::EmbreeInstanceScene>(x.desc);
         const char* n = std::getenv("SIMDBVH_BENCH_RAYS");
         const std::size_t count = n && *n ? std::strtoull(n, nullptr, 10) : 100000;
@@ -52,17 +57,29 @@ void rate(benchmark::State& st, std::size_t rays) {
     st.counters["rays/s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsIterationInvariantRate);
 }
 
-void BM_Ours(benchmark::State& st, Isa isa, int kind, bool any) {
+template <int N>
+const SceneBvhN<N>& scene_of(const Fixture& f) {
+    if constexpr (N == 4) return f.scene4;
+    else if constexpr (N == 8) return f.scene;
+    else return f.scene16;
+}
+
+template <int N>
+void trace_rows(benchmark::State& st, Isa isa, int kind, bool any) {
     if (!supported(isa)) return st.SkipWithError("CPU lacks ISA");
     const Fixture& f = fixture();
+    const SceneBvhN<N>& scene = scene_of<N>(f);
     std::vector<SceneHit> hits(f.rays[kind].size());
     const std::span<const Ray> rays(f.rays[kind]);
     for (auto _ : st) {
-        if (any) occluded(f.scene, rays, std::span<SceneHit>(hits), isa);
-        else intersect(f.scene, rays, std::span<SceneHit>(hits), isa);
+        if (any) occluded(scene, rays, std::span<SceneHit>(hits), isa);
+        else intersect(scene, rays, std::span<SceneHit>(hits), isa);
     }
     rate(st, hits.size());
 }
+void BM_Ours(benchmark::State& st, Isa isa, int kind, bool any) { trace_rows<8>(st, isa, kind, any); }
+void BM_Bvh4(benchmark::State& st, Isa isa, int kind, bool any) { trace_rows<4>(st, isa, kind, any); }
+void BM_Bvh16(benchmark::State& st, Isa isa, int kind, bool any) { trace_rows<16>(st, isa, kind, any); }
 
 void BM_Embree(benchmark::State& st, int kind, bool any) {
     const Fixture& f = fixture();
@@ -76,13 +93,17 @@ void BM_Embree(benchmark::State& st, int kind, bool any) {
 
 }  // namespace
 
-#define SIMDBVH_SCENE_ROWS(kind_name, kind)                                                                  \
-    BENCHMARK_CAPTURE(BM_Ours, avx2_##kind_name##_closest, Isa::avx2, kind, false)->Unit(benchmark::kMillisecond);   \
-    BENCHMARK_CAPTURE(BM_Ours, avx512_##kind_name##_closest, Isa::avx512, kind, false)->Unit(benchmark::kMillisecond); \
-    BENCHMARK_CAPTURE(BM_Embree, kind_name##_closest, kind, false)->Unit(benchmark::kMillisecond);                   \
-    BENCHMARK_CAPTURE(BM_Ours, avx2_##kind_name##_any, Isa::avx2, kind, true)->Unit(benchmark::kMillisecond);        \
-    BENCHMARK_CAPTURE(BM_Ours, avx512_##kind_name##_any, Isa::avx512, kind, true)->Unit(benchmark::kMillisecond);    \
-    BENCHMARK_CAPTURE(BM_Embree, kind_name##_any, kind, true)->Unit(benchmark::kMillisecond);
+// BM_Ours/<isa>_<kind>_<query> is the BVH8 (the rows of earlier notes);
+// BM_Bvh4 and BM_Bvh16 the other widths.
+#define SIMDBVH_SCENE_QUERY(kind_name, kind, q, any)                                                                  \
+    BENCHMARK_CAPTURE(BM_Ours, avx2_##kind_name##_##q, Isa::avx2, kind, any)->Unit(benchmark::kMillisecond);      \
+    BENCHMARK_CAPTURE(BM_Ours, avx512_##kind_name##_##q, Isa::avx512, kind, any)->Unit(benchmark::kMillisecond);  \
+    BENCHMARK_CAPTURE(BM_Bvh4, avx2_##kind_name##_##q, Isa::avx2, kind, any)->Unit(benchmark::kMillisecond);      \
+    BENCHMARK_CAPTURE(BM_Bvh16, avx512_##kind_name##_##q, Isa::avx512, kind, any)->Unit(benchmark::kMillisecond); \
+    BENCHMARK_CAPTURE(BM_Embree, kind_name##_##q, kind, any)->Unit(benchmark::kMillisecond);
+#define SIMDBVH_SCENE_ROWS(kind_name, kind)                \
+    SIMDBVH_SCENE_QUERY(kind_name, kind, closest, false) \
+    SIMDBVH_SCENE_QUERY(kind_name, kind, any, true)
 SIMDBVH_SCENE_ROWS(primary, 0)
 SIMDBVH_SCENE_ROWS(interior, 1)
 

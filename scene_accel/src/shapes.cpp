@@ -1,6 +1,7 @@
 // Ray tests of the analytic primitives, in double from the float inputs.
 #include "simdbvh/scene_accel/shapes.h"
 #include "directed_rounding.h"
+#include "sphere_uv.h"
 #include "plane_batch.h"
 #include "simdbvh/kernels/error.h"
 
@@ -78,8 +79,9 @@ bool hit_sphere(const PreparedRay& r, const Sphere& s, float tmax, float* t, flo
     const double b = -(fx * dx + fy * dy + fz * dz);  // the half-b of a t^2 - 2 b t + c
     const double rr = double(s.radius) * double(s.radius);
     // Closest approach: l = f + (b / a) d, disc = r^2 - |l|^2 (Haines 2019 eq. 7.5).
-    // sphere_candidates() (shape_traverse-inl.h) computes this disc four spheres
-    // at a time with the same operations in the same order: change both or neither.
+    // sphere_roots() (shape_traverse-inl.h) computes this disc, c, q and both
+    // roots four spheres at a time with the same operations in the same
+    // order: change both or neither.
     const double tc = b / a;
     const double lx = fx + tc * dx, ly = fy + tc * dy, lz = fz + tc * dz;
     const double disc = rr - (lx * lx + ly * ly + lz * lz);
@@ -94,11 +96,19 @@ bool hit_sphere(const PreparedRay& r, const Sphere& s, float tmax, float* t, flo
     else if (in_range(r, tf = static_cast<float>(t1), tmax)) th = t1;
     else return false;
     *t = tf;
+    sphere_uv(r, s, th, u, v);
+    return true;
+}
+
+void sphere_uv(const PreparedRay& r, const Sphere& s, double th, float* u, float* v) {
+    const double fx = double(r.org.x) - double(s.center.x);
+    const double fy = double(r.org.y) - double(s.center.y);
+    const double fz = double(r.org.z) - double(s.center.z);
+    const double dx = r.dir.x, dy = r.dir.y, dz = r.dir.z;
     const double inv_r = s.radius > 0.0f ? 1.0 / double(s.radius) : 0.0;
     const double nx = (fx + th * dx) * inv_r, ny = (fy + th * dy) * inv_r, nz = (fz + th * dz) * inv_r;
     *u = clamp01((poly_atan2(ny, nx) + std::numbers::pi) / (2.0 * std::numbers::pi));
     *v = clamp01(poly_atan2(std::sqrt(nx * nx + ny * ny), nz) / std::numbers::pi);  // acos(n.z) for a unit n
-    return true;
 }
 
 bool hit_box(const PreparedRay& r, const Aabb& b, float tmax, float* t, float* u, float* v) {

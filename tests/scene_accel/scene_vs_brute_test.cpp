@@ -399,6 +399,56 @@ TEST(SceneShapes, LargeSphereSetWithRaysInFlight) {
     EXPECT_GT(hits, rays.size() / 4);
     check_any_and_closest(d, rays);
 }
+// Leaves find four spheres' roots in vector lanes under the leaf's tmax
+// (sphere_roots, scene_accel/src/shape_traverse-inl.h), where the brute
+// force's loop calls hit_sphere with the closest hit so far. Intervals that
+// cut between a sphere's roots (origins inside nested spheres, tmin past the
+// near root, tmax before the far one), coincident spheres (ties to the lower
+// id) and directions from 2^-40 to 2^40 (rescaled ones): the closest hits
+// are the brute force's bit for bit, and each any hit is a real hit, its t,
+// u and v those of its sphere traced alone.
+TEST(SceneShapes, SphereRootsCutByTminAndTmax) {
+    SceneDesc d;
+    SphereSet set;
+    for (int i = 0; i < 6; ++i) set.spheres.push_back({{1, 1, 1}, 0.25f * float(i + 1)});  // nested
+    set.spheres.push_back({{1, 1, 1}, 0.5f});  // the same sphere as sphere 1: ties go to 1
+    std::mt19937 rng(23);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    for (int i = 0; i < 60; ++i) set.spheres.push_back({{u(rng) * 2, u(rng) * 2, u(rng) * 2}, 0.1f + 0.4f * u(rng)});
+    d.geometries.push_back(set);
+    d.instances.push_back({0, Affine3{}});
+    std::vector<Ray> rays;
+    for (int i = 0; i < 800; ++i) {
+        const Vec3 o{0.4f + 1.2f * u(rng), 0.4f + 1.2f * u(rng), 0.4f + 1.2f * u(rng)};
+        const Vec3 dir = Vec3{u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f} * std::ldexp(1.0f, (i % 5) * 20 - 40);
+        const float len = std::sqrt(dir.x * dir.x + dir.y * dir.y + dir.z * dir.z);
+        const float near = (i % 4 == 0) ? 0.0f : 0.8f * u(rng), far = near + ((i % 3 == 0) ? 1e30f : 1.5f * u(rng));
+        rays.push_back(Ray{o, near / len, dir, far >= 1e30f ? INFINITY : far / len});
+    }
+    std::vector<SceneHit> want(rays.size());
+    brute_force_intersect(d, rays, want);
+    std::size_t hits = 0, tie_spheres = 0;
+    for (const SceneHit& h : want) {
+        hits += h.hit();
+        tie_spheres += h.hit() && h.prim == 1;
+        ASSERT_NE(h.prim, 6u) << "sphere 6 repeats sphere 1: ties go to 1";
+    }
+    EXPECT_GT(hits, rays.size() / 2);
+    EXPECT_LT(hits, rays.size());  // some intervals end before any root
+    EXPECT_GT(tie_spheres, 0u);
+    check_any_and_closest(d, rays);
+    const SceneBvhN<8> s = SceneBvhN<8>::build(d);
+    std::vector<SceneHit> any(rays.size());
+    for (Isa isa : supported_isas()) {
+        occluded(s, std::span<const Ray>(rays), std::span<SceneHit>(any), isa);
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            if (!any[i].hit()) continue;
+            SceneHit h = alone(d, any[i], rays[i]);
+            h.prim = any[i].prim;
+            ASSERT_EQ(any[i], h) << name(isa) << " any, ray " << i;
+        }
+    }
+}
 TEST(SceneBuiltins, Room) {
     if (!scene::is_cached("bunny") || !scene::is_cached("teapot")) GTEST_SKIP() << "bunny/teapot not cached";
     check_builtin(scene::room_scene(), rays_in({-3.5f, 0.1f, -3.5f}, {3.5f, 3, 3.5f}, {-4, 0, -4}, {4, 2, 4}, 300), 290);
