@@ -26,31 +26,41 @@ double pick(bool c, double a, double b) {
     return std::bit_cast<double>((std::bit_cast<std::uint64_t>(a) & m) | (std::bit_cast<std::uint64_t>(b) & ~m));
 }
 
-// atan2(y, x) to within 1.1e-14 for finite y, x, in a fixed sequence of
+// atan2(y, x) to within 1.1e-14 for finite y, x, for two (y, x) pairs at
+// once (a sphere hit's u and v), lane by lane in a fixed sequence of
 // operations (the same bits from every caller) and without branches. libm's
 // atan2 and acos cost the sphere's u, v 45 ns per hit, a sixth of an
-// incoherent ray's time on spheres-1000 (this: 11 ns against libm's 25 ns per
-// call on random quadrants, where its branches mispredict). With m = min / max
-// of |x|, |y|: m > tan(pi/8) reduces by atan(m) = pi/4 + atan((m - 1) / (m + 1)),
-// then atan(a) = a P(a^2), P a degree-8 least-squares fit on Chebyshev nodes
-// of [0, tan(pi/8)^2] (worst error 1.1e-14), evaluated by Estrin's scheme.
-// Quadrants and signed zeros as atan2's: atan2(+-0, +0) = +-0, atan2(+-0, -0) = +-pi.
-double poly_atan2(double y, double x) {
+// incoherent ray's time on spheres-1000 (one lane of this: 11 ns against
+// libm's 25 ns per call on random quadrants, where its branches mispredict).
+// With m = min / max of |x|, |y|: m > tan(pi/8) reduces by atan(m) = pi/4 +
+// atan((m - 1) / (m + 1)), then atan(a) = a P(a^2), P a degree-8
+// least-squares fit on Chebyshev nodes of [0, tan(pi/8)^2] (worst error
+// 1.1e-14), evaluated by Estrin's scheme. Quadrants and signed zeros as
+// atan2's: atan2(+-0, +0) = +-0, atan2(+-0, -0) = +-pi. Two lanes of SSE2,
+// the baseline of every x86-64 CPU, so this file needs no ISA flags.
+typedef double Double2 __attribute__((vector_size(16)));
+typedef long long Long2 __attribute__((vector_size(16)));
+
+// Lanes of a where c (all ones or zero per lane), else b's.
+Double2 pick2(Long2 c, Double2 a, Double2 b) { return Double2((Long2(a) & c) | (Long2(b) & ~c)); }
+
+Double2 poly_atan2(Double2 y, Double2 x) {
     constexpr double kPi = std::numbers::pi, kTanPi8 = 0.41421356237309503;
-    const double ax = std::fabs(x), ay = std::fabs(y);
-    const bool swap = ay > ax;
-    const double mx = pick(swap, ay, ax), mn = pick(swap, ax, ay);
-    const bool reduce = mn > kTanPi8 * mx;
-    const double a = pick(reduce, mn - mx, mn) / pick(reduce, mn + mx, pick(mx == 0.0, 1.0, mx));
-    const double s = a * a, s2 = s * s, s4 = s2 * s2;
+    const Long2 sign = Long2{} + std::numeric_limits<long long>::min();
+    const Double2 ax = Double2(Long2(x) & ~sign), ay = Double2(Long2(y) & ~sign);
+    const Long2 swap = ay > ax;
+    const Double2 mx = pick2(swap, ay, ax), mn = pick2(swap, ax, ay);
+    const Long2 reduce = mn > kTanPi8 * mx;
+    const Double2 a = pick2(reduce, mn - mx, mn) / pick2(reduce, mn + mx, pick2(mx == 0.0, Double2{} + 1.0, mx));
+    const Double2 s = a * a, s2 = s * s, s4 = s2 * s2;
     constexpr double c0 = 0.9999999999999728, c1 = -0.3333333333086919, c2 = 0.1999999961282265,
                      c3 = -0.142856907900981, c4 = 0.1111039336712796, c5 = -0.09078494812490004,
                      c6 = 0.07564406649945972, c7 = -0.058770120425809196, c8 = 0.030698749319849665;
-    const double p = ((c0 + c1 * s) + s2 * (c2 + c3 * s)) + s4 * (((c4 + c5 * s) + s2 * (c6 + c7 * s)) + s4 * c8);
-    double r = pick(reduce, kPi / 4, 0.0) + a * p;  // atan(mn / mx), in [0, pi/4]
-    r = pick(swap, kPi / 2 - r, r);
-    r = pick(std::signbit(x), kPi - r, r);
-    return std::copysign(r, y);
+    const Double2 p = ((c0 + c1 * s) + s2 * (c2 + c3 * s)) + s4 * (((c4 + c5 * s) + s2 * (c6 + c7 * s)) + s4 * c8);
+    Double2 r = pick2(reduce, Double2{} + kPi / 4, Double2{}) + a * p;  // atan(mn / mx), in [0, pi/4]
+    r = pick2(swap, kPi / 2 - r, r);
+    r = pick2((Long2(x) & sign) != 0, kPi - r, r);  // x's sign bit
+    return Double2((Long2(r) & ~sign) | (Long2(y) & sign));  // copysign(r, y)
 }
 
 using scene_accel_detail::down;
@@ -107,8 +117,10 @@ void sphere_uv(const PreparedRay& r, const Sphere& s, double th, float* u, float
     const double dx = r.dir.x, dy = r.dir.y, dz = r.dir.z;
     const double inv_r = s.radius > 0.0f ? 1.0 / double(s.radius) : 0.0;
     const double nx = (fx + th * dx) * inv_r, ny = (fy + th * dy) * inv_r, nz = (fz + th * dz) * inv_r;
-    *u = clamp01((poly_atan2(ny, nx) + std::numbers::pi) / (2.0 * std::numbers::pi));
-    *v = clamp01(poly_atan2(std::sqrt(nx * nx + ny * ny), nz) / std::numbers::pi);  // acos(n.z) for a unit n
+    // u from atan2(n.y, n.x), v from atan2(|n.xy|, n.z) (acos(n.z) for a unit n), in one call.
+    const Double2 at = poly_atan2(Double2{ny, std::sqrt(nx * nx + ny * ny)}, Double2{nx, nz});
+    *u = clamp01((at[0] + std::numbers::pi) / (2.0 * std::numbers::pi));
+    *v = clamp01(at[1] / std::numbers::pi);
 }
 
 bool hit_box(const PreparedRay& r, const Aabb& b, float tmax, float* t, float* u, float* v) {
