@@ -1,7 +1,8 @@
 // Wide BVH traversal per ISA (scalar reference loops, AVX2, AVX-512): BVH8
 // with SAH and greedy collapse, BVH4 and BVH16 (SAH) from the same BVH2, BVH8 and BVH16 with quantized nodes
 // (BM_Bvh8Quantized, BM_Bvh16Quantized), BVH8
-// with the rays in flight forced (BM_Bvh8InFlight: 1 or 8 against the size rule).
+// with the rays in flight forced (BM_Bvh8InFlight: 1 or 8 against the size rule), BVH8 with the
+// Moller-Trumbore triangle test instead of the watertight one (BM_Bvh8Moller).
 // rays/s as the rate counter, wide nodes visited per ray; box and triangle
 // counters count lanes (N per node, 8 per Tri8 block).
 #include <benchmark/benchmark.h>
@@ -30,6 +31,7 @@ void run_wide(benchmark::State& st, const simdbvh::BvhN<N>& bvh, Isa isa, Collap
     simdbvh::TraceStats ts;
     simdbvh::TraceOptions counted;
     counted.stats = &ts;
+    counted.test = timed.test;
     if (any) simdbvh::occluded(bvh, rays, hits, counted, isa);
     else simdbvh::intersect(bvh, rays, hits, counted, isa);
     for (auto _ : st) {
@@ -45,7 +47,7 @@ void run_wide(benchmark::State& st, const simdbvh::BvhN<N>& bvh, Isa isa, Collap
     st.SetLabel("bvh" + std::to_string(N) + (bvh.qnodes().empty() ? "" : " quantized") + " " +
                 std::string(simdbvh::name(isa)) + " " +
                 std::string(simdbvh::name(collapse)) + " " + std::string(simdbvh::scene::name(kind)) +
-                (any ? " any" : " closest") +
+                (any ? " any" : " closest") + (timed.test == simdbvh::TriangleTest::moller ? " moller" : "") +
                 (timed.in_flight != 0 ? " in_flight " + std::to_string(timed.in_flight) : std::string()));
 }
 
@@ -74,6 +76,14 @@ void BM_Bvh8InFlight(benchmark::State& st, Isa isa, int flight, RayKind kind, bo
     simdbvh::TraceOptions o;
     o.in_flight = flight;
     run_wide<8>(st, bench::traversal_scene().bvh8, isa, Collapse::sah, kind, any, o);
+}
+// BVH8 (SAH) with the Moller-Trumbore triangle test (TraceOptions::test, the
+// kind of test Embree's default leaves run; not watertight), beside BM_Bvh8's
+// watertight test: what watertightness costs per ray.
+void BM_Bvh8Moller(benchmark::State& st, Isa isa, Collapse collapse, RayKind kind, bool any) {
+    simdbvh::TraceOptions o;
+    o.test = simdbvh::TriangleTest::moller;
+    run_wide<8>(st, bench::traversal_scene().bvh8, isa, collapse, kind, any, o);
 }
 #define SIMDBVH_FLIGHT_BENCH(isa, flight)                                                                           \
     BENCHMARK_CAPTURE(BM_Bvh8InFlight, isa##_in_flight##flight##_primary_closest, Isa::isa, flight, RayKind::primary,  \
@@ -183,6 +193,8 @@ SIMDBVH_WIDE_BENCH(BM_Bvh8, scalar, sah);
 SIMDBVH_WIDE_BENCH(BM_Bvh8, avx2, sah);
 SIMDBVH_WIDE_BENCH(BM_Bvh8, avx512, sah);
 SIMDBVH_WIDE_BENCH(BM_Bvh8, avx2, greedy);
+SIMDBVH_WIDE_BENCH(BM_Bvh8Moller, avx2, sah);
+SIMDBVH_WIDE_BENCH(BM_Bvh8Moller, avx512, sah);
 SIMDBVH_FLIGHT_BENCH(avx2, 1);
 SIMDBVH_FLIGHT_BENCH(avx2, 8);
 SIMDBVH_FLIGHT_BENCH(avx512, 1);
