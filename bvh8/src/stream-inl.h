@@ -66,6 +66,7 @@ struct StreamRay {  // RayState's fields but its stack, so start() fills it: the
     typename K::RayData rd;
     [[no_unique_address]] Keep pr;
     Hit best;
+    float cull;  // unused here (start() sets it; the stream keeps cull[])
     ChildN<N> cur;
     int sp;  // unused here (start() sets it)
     int t_exp;

@@ -44,10 +44,12 @@ struct NoPreparedRay {};
 // Leaf intersector: a leaf is `count` consecutive Tri8 blocks. The leaf
 // interface of step() and trace_span(): `Keep` (what the ray state keeps of
 // the PreparedRay), closest(state, best, stats), any(state, best, stats) on
-// the leaf state.cur, and prefetch(nodes, child) for the next node or leaf.
+// the leaf state.cur, prefetch(nodes, child) for the next node or leaf, and
+// kShared (whether leaf siblings may share a block: merge_shared below).
 template <class K, TriangleTest kTest, bool kStats>
 struct Tri8Leaf {
     using Keep = NoPreparedRay;
+    static constexpr bool kShared = true;  // small leaves may share a block (merge_shared)
     const Tri8* blocks;
     // Closest hit: shrinks `best` (best.t is the current tmax).
     template <class State>
@@ -120,6 +122,7 @@ struct RayState {
     typename K::RayData rd;
     [[no_unique_address]] Keep pr;
     Hit best;       // closest hit so far; best.t = current tmax (any hit: the ray's tmax, then the hit)
+    float cull;     // cull_bound(best.t), kept with it (one computation per leaf, not two per node)
     ChildN<N> cur;  // next node or leaf to visit
     int sp;
     int t_exp;        // PreparedRay::t_exp: the caller's t is ldexp(best.t, t_exp)
@@ -144,8 +147,9 @@ inline __attribute__((always_inline)) bool step(const Node* nodes, const Leaf& l
             stats->box_tests += N;
         }
         alignas(4 * N) float entries[N];
-        std::uint32_t mask = K::box(rd, n.boxes, cull_bound(best.t), entries);
-        if ((mask & (mask - 1)) != 0) mask = merge_shared(n, mask, entries);
+        std::uint32_t mask = K::box(rd, n.boxes, s.cull, entries);
+        if constexpr (Leaf::kShared)
+            if ((mask & (mask - 1)) != 0) mask = merge_shared(n, mask, entries);
         if (mask != 0) {
             const int i0 = __builtin_ctz(mask);
             mask &= mask - 1;
@@ -202,13 +206,15 @@ inline __attribute__((always_inline)) bool step(const Node* nodes, const Leaf& l
         }
     } else if (Query::leaf(leaf, s, best, stats)) {
         return true;
+    } else if constexpr (!Query::kAnyHit) {
+        s.cull = cull_bound(best.t);  // a closest-hit leaf may have shrunk best.t
     }
     // Pop the nearest pending child still in front of the closest hit.
     int sp = s.sp;
     for (;;) {
         if (sp == 0) return true;
         const StackEntry& e = stack[--sp];
-        if (e.entry <= cull_bound(best.t)) {
+        if (e.entry <= s.cull) {
             s.cur = Child{e.index, e.count};
             s.sp = sp;
             return false;
@@ -223,6 +229,7 @@ inline __attribute__((always_inline)) void start(State& s, const PreparedRay& r,
     if constexpr (std::is_same_v<decltype(s.pr), PreparedRay>) s.pr = r;
     s.best = Hit{};
     s.best.t = r.tmax;
+    s.cull = cull_bound(r.tmax);
     s.cur = ChildN<N>::inner(0);
     s.sp = 0;
     s.t_exp = r.t_exp;
@@ -293,6 +300,7 @@ struct RayRefs {
     const RD& rd;
     const Keep& pr;
     Hit& best;
+    float& cull;
     ChildN<N>& cur;
     int& sp;
     StackEntry* stack;
@@ -321,10 +329,11 @@ inline __attribute__((always_inline)) void trace_one(const Node* nodes, const Aa
         if constexpr (std::is_same_v<Keep, PreparedRay>) pr = *r;
         Hit best{};
         best.t = r->tmax;
+        float cull = cull_bound(r->tmax);
         const int t_exp = r->t_exp;
         ChildN<N> cur = ChildN<N>::inner(0);
         int sp = 0;
-        RayRefs<typename K::RayData, Keep, N> s{rd, pr, best, cur, sp, stack};
+        RayRefs<typename K::RayData, Keep, N> s{rd, pr, best, cull, cur, sp, stack};
         while (!step<K, N, Leaf, Query, kStats>(nodes, leaf, s, stats)) {
         }
         Query::finish(best, t_exp, hits[i]);

@@ -134,6 +134,7 @@ inline __attribute__((always_inline)) SphereRoots sphere_roots(const PreparedRay
 template <class Prim>
 struct WideShapeLeaf {
     using Keep = PreparedRay;
+    static constexpr bool kShared = false;  // every leaf owns its primitives
     ShapeLeaf<Prim> leaf;
     // kAny: true at the first hit (written to best), else best shrinks.
     template <bool kAny, class State>
