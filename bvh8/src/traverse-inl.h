@@ -226,7 +226,7 @@ inline __attribute__((always_inline)) bool step(const Node* nodes, const Leaf& l
 template <class K, int N, class State>
 inline __attribute__((always_inline)) void start(State& s, const PreparedRay& r, const Ray& ray, std::size_t i) {
     K::pack(s.rd, r, ray);  // a pack keeps no pointer to r (a copy of r here was a store-forwarding stall)
-    if constexpr (std::is_same_v<decltype(s.pr), PreparedRay>) s.pr = r;
+    if constexpr (std::is_same_v<std::remove_cvref_t<decltype(s.pr)>, PreparedRay>) s.pr = r;
     s.best = Hit{};
     s.best.t = r.tmax;
     s.cull = cull_bound(r.tmax);
@@ -297,12 +297,14 @@ struct RayFeed {
 // and writes them by reference, and once inlined they stay in registers.
 template <class RD, class Keep, int N>
 struct RayRefs {
-    const RD& rd;
-    const Keep& pr;
+    RD& rd;
+    Keep& pr;
     Hit& best;
     float& cull;
     ChildN<N>& cur;
     int& sp;
+    int& t_exp;
+    std::size_t& ray;
     StackEntry* stack;
 };
 
@@ -324,19 +326,17 @@ inline __attribute__((always_inline)) void trace_one(const Node* nodes, const Aa
     const PreparedRay* r;
     while (feed.pop(i, r)) {
         typename K::RayData rd;
-        K::pack(rd, *r, rays[i]);
         Keep pr;
-        if constexpr (std::is_same_v<Keep, PreparedRay>) pr = *r;
-        Hit best{};
-        best.t = r->tmax;
-        float cull = cull_bound(r->tmax);
-        const int t_exp = r->t_exp;
-        ChildN<N> cur = ChildN<N>::inner(0);
-        int sp = 0;
-        RayRefs<typename K::RayData, Keep, N> s{rd, pr, best, cull, cur, sp, stack};
+        Hit best;
+        float cull;
+        ChildN<N> cur;
+        int sp, t_exp;
+        std::size_t ray;
+        RayRefs<typename K::RayData, Keep, N> s{rd, pr, best, cull, cur, sp, t_exp, ray, stack};
+        start<K, N>(s, *r, rays[i], i);
         while (!step<K, N, Leaf, Query, kStats>(nodes, leaf, s, stats)) {
         }
-        Query::finish(best, t_exp, hits[i]);
+        Query::finish(best, t_exp, hits[ray]);
     }
 }
 
