@@ -258,13 +258,16 @@ void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Sce
     constexpr bool kAny = Query::kAnyHit;
     const std::size_t n = rays.size();
     const std::uint32_t ni = std::uint32_t(s.instances().size());
-    // The world rays: the caller's, or with planes a copy whose tmax the
-    // planes' hits clamp. Without planes a ray needs no prepare here (the
+    // The world rays: the caller's, or for closest hits with planes a copy
+    // whose tmax the planes' hits clamp (an any-hit ray that hits a plane is
+    // done, so its tmax is never read: no copy, 10% of the room's primary
+    // any-hit rays in perf). Without planes a ray needs no prepare here (the
     // validity test is prepare's own; the kernels prepare what they trace).
     const bool planes = !s.planes().empty();
+    const bool clamp = planes && !kAny;
     std::vector<Ray> clamped;
-    if (planes) clamped.assign(rays.begin(), rays.end());
-    const std::span<const Ray> world = planes ? std::span<const Ray>(clamped) : rays;
+    if (clamp) clamped.assign(rays.begin(), rays.end());
+    const std::span<const Ray> world = clamp ? std::span<const Ray>(clamped) : rays;
     std::vector<std::pair<float, std::uint32_t>> cand;  // (entry, instance)
     std::vector<std::uint32_t> first(n + 1, 0);
     std::vector<std::uint8_t> done(n, 0), live(n, 0);
@@ -288,11 +291,11 @@ void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Sce
         if (planes && plane[i] >= 0) {
             const std::uint32_t k = std::uint32_t(plane[i]);
             hits[i] = SceneHit{plane_t[i], 0.0f, 0.0f, k, kNoGeometry, ni + k};
-            clamped[i].tmax = hits[i].t;
             if (kAny) {
                 done[i] = 1;
                 continue;
             }
+            clamped[i].tmax = hits[i].t;
         }
         if (s.top().nodes.empty()) continue;
         const float o = std::max({std::fabs(rays[i].org.x), std::fabs(rays[i].org.y), std::fabs(rays[i].org.z)});

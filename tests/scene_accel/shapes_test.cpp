@@ -6,6 +6,7 @@
 #include <bit>
 #include <cstdint>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <random>
 #include <vector>
@@ -267,6 +268,71 @@ TEST(Plane, BatchIsNearestPlaneOfEachRay) {
     std::vector<float> t(2);
     const std::vector<Ray> two(2);
     EXPECT_THROW(nearest_planes(two, {}, false, plane, t), Error);
+}
+
+// The SIMD batches take four rays as given when prepare_scaled() would not
+// change them (plane_batch-inl.h): groups of four where every ray is plain,
+// and groups where exactly one ray needs prepare_scaled for one reason (a
+// rescaled direction, large or small, a subnormal component, a NaN or an
+// infinite origin, a zero direction, tmin > tmax, a NaN tmax), each kind in
+// each lane, against nearest_plane per ray on every ISA.
+TEST(Plane, BatchTakesPlainGroupsAsGiven) {
+    std::mt19937 rng(21);
+    std::uniform_real_distribution<float> u(-4.0f, 4.0f);
+    const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+    std::vector<Plane> planes(5);
+    for (Plane& p : planes) p = {{u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}};
+    planes[3].normal = {0, 1, 0};
+    auto plain = [&] {
+        Ray r;
+        r.org = {u(rng), u(rng), u(rng)};
+        r.dir = {u(rng), u(rng), u(rng)};
+        return r;
+    };
+    const std::vector<std::function<void(Ray&)>> odd = {
+        [](Ray& r) { r.dir = r.dir * 0x1p-60f; },  [](Ray& r) { r.dir = r.dir * 0x1p40f; },
+        [](Ray& r) { r.dir.y = 1e-40f; },          [&](Ray& r) { r.org.z = nan; },
+        [&](Ray& r) { r.org.x = inf; },            [](Ray& r) { r.dir = {0, 0, 0}; },
+        [](Ray& r) { r.tmin = 2.0f, r.tmax = 1.0f; }, [&](Ray& r) { r.tmax = nan; },
+        [&](Ray& r) { r.dir.x = inf; },
+    };
+    int plain_hits = 0, checked = 0;
+    for (int trial = 0; trial < 200; ++trial) {
+        std::vector<Ray> rays;
+        for (int g = 0; g < 4; ++g) {  // a plain group, with a zero component, negative tmin, finite tmax
+            Ray r = plain();
+            if (g == 1) r.dir.y = 0.0f;
+            if (g == 2) r.tmin = -1.0f;
+            if (g == 3) r.tmax = 1.5f;
+            rays.push_back(r);
+        }
+        for (std::size_t k = 0; k < odd.size(); ++k)
+            for (int lane = 0; lane < 4; ++lane)
+                for (int g = 0; g < 4; ++g) {
+                    Ray r = plain();
+                    if (g == lane) odd[k](r);
+                    rays.push_back(r);
+                }
+        for (const bool any : {false, true})
+            for (const Isa isa : supported_isas()) {
+                std::vector<int> plane(rays.size(), 99);
+                std::vector<float> t(rays.size(), -7.0f);
+                nearest_planes(rays, planes, any, plane, t, isa);
+                for (std::size_t i = 0; i < rays.size(); ++i) {
+                    const PreparedRay pr = prepare_scaled(rays[i]);
+                    float want_t = 0.0f;
+                    const int want = pr.valid ? nearest_plane(pr, planes, pr.tmax, any, &want_t) : -1;
+                    ASSERT_EQ(plane[i], want) << name(isa) << " trial " << trial << " ray " << i << " any " << any;
+                    ++checked;
+                    if (want < 0) continue;
+                    ASSERT_EQ(std::bit_cast<std::uint32_t>(t[i]), std::bit_cast<std::uint32_t>(to_caller_t(pr, want_t)))
+                        << name(isa) << " trial " << trial << " ray " << i;
+                    plain_hits += i < 4 && !any && isa == Isa::scalar;
+                }
+            }
+    }
+    EXPECT_GT(plain_hits, 200);
+    EXPECT_GT(checked, 10000);
 }
 
 TEST(Transform, InverseOfScaleRotateTranslate) {
