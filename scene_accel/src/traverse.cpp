@@ -281,13 +281,10 @@ void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Sce
         nearest_planes(rays, s.planes(), kAny, plane, plane_t, isa);
     }
     float max_slack = 0.0f;
+    std::size_t nlive = 0;
     for (std::size_t i = 0; i < n; ++i) {
-        first[i] = std::uint32_t(cand.size());
-        hits[i] = SceneHit{};
-        if (!valid_ray(rays[i])) {
-            done[i] = 1;
-            continue;
-        }
+        // A ray with a plane hit is valid (nearest_planes hits only valid
+        // rays): the validity test is for the others.
         if (planes && plane[i] >= 0) {
             const std::uint32_t k = std::uint32_t(plane[i]);
             hits[i] = SceneHit{plane_t[i], 0.0f, 0.0f, k, kNoGeometry, ni + k};
@@ -296,13 +293,21 @@ void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Sce
                 continue;
             }
             clamped[i].tmax = hits[i].t;
+        } else {
+            hits[i] = SceneHit{};
+            if (!valid_ray(rays[i])) {
+                done[i] = 1;
+                continue;
+            }
         }
         if (s.top().nodes.empty()) continue;
         const float o = std::max({std::fabs(rays[i].org.x), std::fabs(rays[i].org.y), std::fabs(rays[i].org.z)});
         const SlackBox2Test test{s.slack_scale() * (o + s.scene_magnitude())};
         live[i] = 1;
+        ++nlive;
         max_slack = std::max(max_slack, test.slack);
     }
+    if (nlive == 0) return;  // every ray done by the planes (any hit), invalid, or an empty top level
     if (ni == 1) {
         trace_one_instance(s, world, live, hits, bottom);
         return;
