@@ -99,12 +99,18 @@ struct EmbreeInstanceScene::Impl {
     // any: the first plane hit, as our any-hit query takes it.
     void planes_before(std::span<const Ray> rays, std::span<SceneHit> hits, bool any, PlaneScratch& w) const {
         if (planes.empty()) return;
-        w.clamped.assign(rays.begin(), rays.end());
-        for (std::size_t i = 0; i < rays.size(); ++i)
-            if (hits[i].hit()) w.clamped[i].tmax = hits[i].t;
+        // Any hit runs the planes first, before any hit: the rays as given,
+        // without the copy (as ours, scene_accel/src/traverse.cpp).
+        std::span<const Ray> clamped = rays;
+        if (!any) {
+            w.clamped.assign(rays.begin(), rays.end());
+            for (std::size_t i = 0; i < rays.size(); ++i)
+                if (hits[i].hit()) w.clamped[i].tmax = hits[i].t;
+            clamped = w.clamped;
+        }
         w.plane.resize(rays.size());
         w.t.resize(rays.size());
-        nearest_planes(w.clamped, planes, any, w.plane, w.t);
+        nearest_planes(clamped, planes, any, w.plane, w.t);
         for (std::size_t i = 0; i < rays.size(); ++i) {
             const int k = w.plane[i];
             if (k < 0 || !w.ok[i] || (hits[i].hit() && !(w.t[i] < hits[i].t)))
