@@ -210,6 +210,29 @@ TEST(Plane, NearestOfManyIsTheNearestHitPlaneLowerOnTies) {
     EXPECT_GT(parallel, 100);
 }
 
+// nearest_planes on every ISA, closest and any, against nearest_plane on
+// prepare_scaled(ray) per ray: the plane's index and the bits of t in the
+// caller's parameter. seen(i, prepared ray, any, isa, hit) for the callers' counts.
+template <class Seen>
+void expect_batch_is_per_ray(const std::vector<Ray>& rays, const std::vector<Plane>& planes, int trial, Seen&& seen) {
+    for (const bool any : {false, true})
+        for (const Isa isa : supported_isas()) {
+            std::vector<int> plane(rays.size(), 99);
+            std::vector<float> t(rays.size(), -7.0f);
+            nearest_planes(rays, planes, any, plane, t, isa);
+            for (std::size_t i = 0; i < rays.size(); ++i) {
+                const PreparedRay pr = prepare_scaled(rays[i]);
+                float want_t = 0.0f;
+                const int want = pr.valid ? nearest_plane(pr, planes, pr.tmax, any, &want_t) : -1;
+                ASSERT_EQ(plane[i], want) << name(isa) << " trial " << trial << " ray " << i << " any " << any;
+                if (want >= 0)
+                    ASSERT_EQ(std::bit_cast<std::uint32_t>(t[i]), std::bit_cast<std::uint32_t>(to_caller_t(pr, want_t)))
+                        << name(isa) << " trial " << trial << " ray " << i;
+                seen(i, pr, any, isa, want >= 0);
+            }
+        }
+}
+
 // The batch form: nearest_plane on prepare_scaled(ray) per ray, the index and
 // the bits of t in the caller's parameter, for batches of every length mod 4,
 // with invalid rays, rescaled directions (subnormal ones too), subnormal
@@ -240,26 +263,12 @@ TEST(Plane, BatchIsNearestPlaneOfEachRay) {
             if (i % 6 == 4) r.tmax = 1.5f;
             if (i % 11 == 5) r.org.x = std::numeric_limits<float>::quiet_NaN();
         }
-        for (const bool any : {false, true})
-            for (const Isa isa : supported_isas()) {
-                std::vector<int> plane(rays.size(), 99);
-                std::vector<float> t(rays.size(), -7.0f);
-                nearest_planes(rays, planes, any, plane, t, isa);
-                for (std::size_t i = 0; i < rays.size(); ++i) {
-                    const PreparedRay pr = prepare_scaled(rays[i]);
-                    float want_t = 0.0f;
-                    const int want = pr.valid ? nearest_plane(pr, planes, pr.tmax, any, &want_t) : -1;
-                    ASSERT_EQ(plane[i], want) << name(isa) << " trial " << trial << " ray " << i << " any " << any;
-                    if (want < 0) {
-                        invalid += !pr.valid && !any && isa == Isa::scalar;
-                        continue;
-                    }
-                    EXPECT_EQ(std::bit_cast<std::uint32_t>(t[i]), std::bit_cast<std::uint32_t>(to_caller_t(pr, want_t)))
-                        << name(isa) << " trial " << trial << " ray " << i;
-                    hits += !any && isa == Isa::scalar;
-                    rescaled += !any && isa == Isa::scalar && pr.t_exp != 0;
-                }
-            }
+        expect_batch_is_per_ray(rays, planes, trial, [&](std::size_t, const PreparedRay& pr, bool any, Isa isa, bool hit) {
+            const bool count = !any && isa == Isa::scalar;
+            invalid += count && !pr.valid;
+            hits += count && hit;
+            rescaled += count && hit && pr.t_exp != 0;
+        });
     }
     EXPECT_GT(hits, 500);
     EXPECT_GT(rescaled, 20);
@@ -313,23 +322,10 @@ TEST(Plane, BatchTakesPlainGroupsAsGiven) {
                     if (g == lane) odd[k](r);
                     rays.push_back(r);
                 }
-        for (const bool any : {false, true})
-            for (const Isa isa : supported_isas()) {
-                std::vector<int> plane(rays.size(), 99);
-                std::vector<float> t(rays.size(), -7.0f);
-                nearest_planes(rays, planes, any, plane, t, isa);
-                for (std::size_t i = 0; i < rays.size(); ++i) {
-                    const PreparedRay pr = prepare_scaled(rays[i]);
-                    float want_t = 0.0f;
-                    const int want = pr.valid ? nearest_plane(pr, planes, pr.tmax, any, &want_t) : -1;
-                    ASSERT_EQ(plane[i], want) << name(isa) << " trial " << trial << " ray " << i << " any " << any;
-                    ++checked;
-                    if (want < 0) continue;
-                    ASSERT_EQ(std::bit_cast<std::uint32_t>(t[i]), std::bit_cast<std::uint32_t>(to_caller_t(pr, want_t)))
-                        << name(isa) << " trial " << trial << " ray " << i;
-                    plain_hits += i < 4 && !any && isa == Isa::scalar;
-                }
-            }
+        expect_batch_is_per_ray(rays, planes, trial, [&](std::size_t i, const PreparedRay&, bool any, Isa isa, bool hit) {
+            ++checked;
+            plain_hits += hit && i < 4 && !any && isa == Isa::scalar;
+        });
     }
     EXPECT_GT(plain_hits, 200);
     EXPECT_GT(checked, 10000);
