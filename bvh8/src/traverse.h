@@ -32,8 +32,13 @@ inline constexpr int kInFlight = SIMDBVH_BVH8_IN_FLIGHT;
 // later one (BM_Bvh8InFlight). Sphere trees: 1000 spheres 1.11-1.26x, 20000
 // (about 0.6 MB) 1.0-1.2x, 200000 (about 6 MB) 0.63-0.66x on incoherent rays.
 // (Those were measured with the RayState loop; one ray in flight now runs
-// trace_one, 0-15% faster again: README, stop 47.)
-inline constexpr std::size_t kInCacheBytes = std::size_t(2) << 20;
+// trace_one, 0-15% faster again: README, stop 47.) Stop 48, trace_one, AMD
+// Zen 4 (L2 1 MiB, L3 32 MiB), AVX-512 BVH8, 262,144 rays, one thread, 1
+// against 8 in flight: dragon-res3 (47,794 triangles, 2.8 MiB) primary
+// 1.00x, incoherent 1.06-1.10x, diffuse 1.20-1.26x; dragon-res2 (202,520,
+// 11.9 MiB) primary 0.94-1.18x, incoherent 0.64-0.66x, diffuse 1.03-1.06x.
+// So the bound moved from 2 to 4 MiB: above the first, well below the second.
+inline constexpr std::size_t kInCacheBytes = std::size_t(4) << 20;
 inline bool one_in_flight(std::size_t tree_bytes, int requested) {
     return requested == 1 || (requested == 0 && tree_bytes <= kInCacheBytes);
 }

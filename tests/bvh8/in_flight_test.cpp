@@ -54,12 +54,12 @@ void check_width(const Bvh2& bvh2, const std::vector<Ray>& rays, const std::vect
 class InFlightHits : public testing::TestWithParam<Isa> {};
 
 // A small soup (its trees are traced one ray at a time unless forced) and one
-// whose trees pass 2 MiB (eight in flight unless forced): the BVH2's hits
+// whose trees pass 4 MiB (eight in flight unless forced): the BVH2's hits
 // (bit-identical to brute force, bvh8_vs_bvh2_test) every way.
 TEST_P(InFlightHits, SameHitsEveryWay) {
     const Isa isa = GetParam();
     if (!supported(isa)) GTEST_SKIP() << "CPU lacks " << name(isa);
-    for (std::size_t tris : {2000u, 60000u}) {
+    for (std::size_t tris : {2000u, 100000u}) {
         const Mesh mesh = scene::random_soup(tris, 9);
         const Bvh2 bvh2 = Bvh2::build(mesh);
         for (RayKind kind : {RayKind::primary, RayKind::incoherent}) {
@@ -71,7 +71,7 @@ TEST_P(InFlightHits, SameHitsEveryWay) {
             check_width<8>(bvh2, rays, want, isa, what);
             check_width<16>(bvh2, rays, want, isa, what);
         }
-        if (tris == 60000u) {
+        if (tris == 100000u) {
             const BvhN<8> b8 = BvhN<8>::build(bvh2);
             EXPECT_GT(b8.nodes().size() * sizeof(NodeN<8>) + b8.blocks().size() * sizeof(Tri8),
                       bvh8::detail::kInCacheBytes);

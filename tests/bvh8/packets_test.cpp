@@ -82,8 +82,8 @@ class PacketHits : public testing::TestWithParam<Isa> {};
 TEST_P(PacketHits, SameClosestHitsRealAnyHits) {
     const Isa isa = GetParam();
     if (!supported(isa)) GTEST_SKIP() << "CPU lacks " << name(isa);
-    // 60000 triangles: past 2 MiB, so the single-ray blocks run 8 in flight; 3000: one at a time.
-    for (std::size_t tris : {3000u, 60000u}) {
+    // 100000 triangles: past 4 MiB, so the single-ray blocks run 8 in flight; 3000: one at a time.
+    for (std::size_t tris : {3000u, 100000u}) {
         const Mesh mesh = scene::random_soup(tris, 5);
         const Bvh2 bvh2 = Bvh2::build(mesh);
         std::vector<Ray> rays = packet_rays(mesh);

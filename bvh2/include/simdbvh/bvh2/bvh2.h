@@ -44,7 +44,7 @@ struct TraceOptions {
     TraceStats* stats = nullptr;  // non-null: count (slower path; forces one thread)
     int threads = 1;              // batched calls: split the rays over this many threads
     // Wide trees (BVH4/8/16, batched calls): rays interleaved per traversal
-    // loop. 0: by the tree's size, 1 for trees of at most 2 MiB (nodes and
+    // loop. 0: by the tree's size, 1 for trees of at most 4 MiB (nodes and
     // triangle blocks: they stay in cache, interleaving only costs state
     // switches), else 8 (hides the node and block misses of larger trees);
     // 1 or 8 force it. Anything else is an error. Hits do not depend on it.
