@@ -99,10 +99,12 @@ struct EmbreeInstanceScene::Impl {
     // any: the first plane hit, as our any-hit query takes it.
     void planes_before(std::span<const Ray> rays, std::span<SceneHit> hits, bool any, PlaneScratch& w) const {
         if (planes.empty()) return;
-        // Any hit runs the planes first, before any hit: the rays as given,
-        // without the copy (as ours, scene_accel/src/traverse.cpp).
+        // Rays without a hit yet (all of them when the planes go first, as
+        // for any hit) are taken as given, without the copy (as ours,
+        // scene_accel/src/traverse.cpp).
         std::span<const Ray> clamped = rays;
-        if (!any) {
+        if (std::any_of(hits.begin(), hits.begin() + std::ptrdiff_t(rays.size()),
+                        [](const SceneHit& h) { return h.hit(); })) {
             w.clamped.assign(rays.begin(), rays.end());
             for (std::size_t i = 0; i < rays.size(); ++i)
                 if (hits[i].hit()) w.clamped[i].tmax = hits[i].t;
