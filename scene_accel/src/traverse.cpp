@@ -375,8 +375,9 @@ void trace_span(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Scen
     // groups a chunk's rays by instance, and a bottom level traces each group
     // as one batch, so larger chunks give larger groups (fewer calls, more
     // rays in flight per call). Rays per group (incoherent rays, 2048 ->
-    // 32768 rays per chunk): instances-100 5.1 -> 48, instances-1000 1.6 -> 8.3. Best ours over Embree (AVX-512, AMD Zen 4, ABBA 2 rounds,
-    // 262,144 rays), 2048 -> 32768: instances-100 interior closest
+    // 32768 rays per chunk): instances-100 5.1 -> 48, instances-1000 1.6 ->
+    // 8.3. Best ours over Embree (AVX-512, AMD Zen 4, ABBA 2 rounds, 262,144
+    // rays), 2048 -> 32768: instances-100 interior closest
     // 0.91-0.92 -> 1.06-1.08, interior any 0.81-0.83 -> 0.97-1.00;
     // instances-1000 interior closest 0.69-0.77 -> 0.91-0.93; the room level
     // or better. 65536 and 131072 gave no more (instances-1000).
