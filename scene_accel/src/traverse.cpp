@@ -382,10 +382,10 @@ void trace_span(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Scen
     // instances-1000 interior closest 0.69-0.77 -> 0.91-0.93; the room level
     // or better. 65536 and 131072 gave no more (instances-1000).
     constexpr std::size_t kChunkMin = 2048, kChunkMax = 32768;
-    const std::size_t nt = std::size_t(std::max(1, threads));
-    const std::size_t chunk = std::clamp((rays.size() + nt - 1) / nt, kChunkMin, kChunkMax);
+    const int nt = std::max(1, threads);
+    const std::size_t chunk = std::clamp((rays.size() + std::size_t(nt) - 1) / std::size_t(nt), kChunkMin, kChunkMax);
     const std::size_t chunks = (rays.size() + chunk - 1) / chunk;
-    parallel_for(chunks, std::max(1, threads), [&](std::size_t cb, std::size_t ce) {
+    parallel_for(chunks, nt, [&](std::size_t cb, std::size_t ce) {
         for (std::size_t c = cb; c < ce; ++c) {
             const std::size_t b = c * chunk, e = std::min(rays.size(), b + chunk);
             trace_chunk<Query>(s, rays.subspan(b, e - b), hits.subspan(b, e - b), bottom, isa);
