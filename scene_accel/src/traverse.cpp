@@ -146,16 +146,47 @@ bool mostly_one_octant(std::span<const Ray> rays, const std::vector<std::uint8_t
     return 4 * same >= 3 * pairs;
 }
 
+// A chunk's working arrays, one set per thread, kept from chunk to chunk and
+// from call to call (every use below sizes and fills what it reads). Made
+// afresh per chunk, their megabytes (a 32,768-ray chunk: 1 MiB of object
+// rays, 1 MiB of clamped world rays, 0.5 MiB of hits, ...) came from mmap
+// whenever glibc's dynamic mmap threshold had not risen past them, which
+// depends on the process's earlier allocations: page faults and zeroing on
+// every chunk. In `simdbvh bench --scene room` (AMD Zen 4, one thread,
+// 262,144 rays) that made ours 7.9 Mrays/s on primary closest hits where the
+// Google Benchmark of the same scene and rays gave 10.8, and 11.0 with the
+// threshold fixed at 32 MiB (GLIBC_TUNABLES=glibc.malloc.mmap_threshold).
+struct ChunkScratch {
+    std::vector<Ray> clamped, obj;
+    std::vector<Hit> got;
+    std::vector<std::pair<float, std::uint32_t>> cand, leaves;  // (entry, instance), (entry, BVH2 leaf)
+    std::vector<std::uint32_t> first, at, leaf_ids, active, count, ids;
+    std::vector<std::uint8_t> done, live;
+    std::vector<int> plane;
+    std::vector<float> plane_t;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs, sorted;  // (instance, ray)
+    std::vector<Aabb> boxes, unions;
+    std::vector<Box8> nodes;
+};
+
+ChunkScratch& chunk_scratch() {
+    thread_local ChunkScratch scratch;  // a worker of parallel_for: for the call; the caller's thread: kept
+    return scratch;
+}
+
 template <int N>
 void collect_tree(const SceneBvhN<N>& s, std::span<const Ray> world, const std::vector<std::uint8_t>& live,
-                  float slack, Isa isa, std::vector<std::pair<float, std::uint32_t>>& cand,
-                  std::vector<std::uint32_t>& first) {
+                  float slack, Isa isa, ChunkScratch& x) {
     const std::size_t n = world.size();
     const TopWide& w = s.top_wide();
     const Bvh2Topology& top = s.top();
     const SlackBox2Test grow{slack};
-    std::vector<std::pair<float, std::uint32_t>> leaves;  // (entry, top-level BVH2 leaf)
-    std::vector<std::uint32_t> at(n + 1);
+    std::vector<std::pair<float, std::uint32_t>>& leaves = x.leaves;  // (entry, top-level BVH2 leaf)
+    std::vector<std::uint32_t>& at = x.at;
+    std::vector<std::pair<float, std::uint32_t>>& cand = x.cand;
+    std::vector<std::uint32_t>& first = x.first;
+    leaves.clear();
+    at.assign(n + 1, 0);
     // With few leaves, every ray against every grown leaf box, 8 rays per
     // vector: the leaves a ray reaches in the wide tree are exactly those whose
     // grown boxes it hits (below), with the same entries. ns per ray, tree
@@ -165,13 +196,15 @@ void collect_tree(const SceneBvhN<N>& s, std::span<const Ray> world, const std::
     // 15 -> 16, -32 20 -> 23, -48 24 -> 29, -100 31 -> 44. So a chunk whose
     // consecutive live rays mostly share a direction octant takes the boxes
     // up to kTopLeafBoxesMax leaves, any other up to kCollectBoxesMax.
-    std::vector<std::uint32_t> leaf_ids;
+    std::vector<std::uint32_t>& leaf_ids = x.leaf_ids;
+    leaf_ids.clear();
     for (const std::uint32_t c : w.children)
         if (c != kernels::kBoxTreeEmpty && (c & kernels::kBoxTreeLeaf) != 0)
             leaf_ids.push_back(c & ~kernels::kBoxTreeLeaf);
     const bool boxes_fit = leaf_ids.size() <= kernels::kCollectBoxesMax;
     if (leaf_ids.size() <= kTopLeafBoxesMax || (boxes_fit && !mostly_one_octant(world, live))) {
-        std::vector<Aabb> boxes(leaf_ids.size());
+        std::vector<Aabb>& boxes = x.boxes;
+        boxes.resize(leaf_ids.size());
         for (std::size_t k = 0; k < leaf_ids.size(); ++k) boxes[k] = grow.grow(top.nodes[leaf_ids[k]].box);
         kernels::collect_boxes(world, live, boxes, leaves, at, isa);
         for (auto& [entry, leaf] : leaves) leaf = leaf_ids[leaf];
@@ -179,8 +212,10 @@ void collect_tree(const SceneBvhN<N>& s, std::span<const Ray> world, const std::
         // Bottom up (children come after their parents): a leaf lane's box is
         // its BVH2 leaf's, grown; an inner lane's the union of its node's lanes.
         const std::size_t nw = w.children.size() / 8;
-        std::vector<Box8> nodes(nw);
-        std::vector<Aabb> unions(nw);
+        std::vector<Box8>& nodes = x.nodes;
+        std::vector<Aabb>& unions = x.unions;
+        nodes.resize(nw);
+        unions.assign(nw, Aabb{});
         for (std::size_t m = nw; m-- > 0;) {
             nodes[m].clear();
             for (int j = 0; j < 8; ++j) {
@@ -213,19 +248,20 @@ void collect_tree(const SceneBvhN<N>& s, std::span<const Ray> world, const std::
 // work; the merge is the rounds' own (closer() against a plane's hit).
 template <class Query, int N>
 void trace_one_instance(const SceneBvhN<N>& s, std::span<const Ray> world, const std::vector<std::uint8_t>& live,
-                        std::span<SceneHit> hits, const Bottom<Query, N>& bottom) {
+                        std::span<SceneHit> hits, const Bottom<Query, N>& bottom, ChunkScratch& x) {
     const InstanceRecord& rec = s.instances()[0];
-    std::vector<std::uint32_t> ids;
-    std::vector<Ray> obj;
-    ids.reserve(world.size());
-    obj.reserve(world.size());
+    std::vector<std::uint32_t>& ids = x.ids;
+    std::vector<Ray>& obj = x.obj;
+    ids.clear();
+    obj.clear();
     for (std::size_t i = 0; i < world.size(); ++i) {
         if (!live[i]) continue;
         ids.push_back(std::uint32_t(i));
         obj.push_back(object_ray(rec.inv, world[i]));
         if (hits[i].hit()) obj.back().tmax = hits[i].t;
     }
-    std::vector<Hit> got(obj.size());
+    std::vector<Hit>& got = x.got;
+    got.resize(obj.size());
     bottom.trace(s.bottoms()[rec.geometry], obj, got);
     for (std::size_t j = 0; j < ids.size(); ++j) {
         const Hit& h = got[j];
@@ -265,16 +301,21 @@ void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Sce
     // validity test is prepare's own; the kernels prepare what they trace).
     const bool planes = !s.planes().empty();
     const bool clamp = planes && !kAny;
-    std::vector<Ray> clamped;
+    ChunkScratch& x = chunk_scratch();
+    std::vector<Ray>& clamped = x.clamped;
     if (clamp) clamped.assign(rays.begin(), rays.end());
     const std::span<const Ray> world = clamp ? std::span<const Ray>(clamped) : rays;
-    std::vector<std::pair<float, std::uint32_t>> cand;  // (entry, instance)
-    std::vector<std::uint32_t> first(n + 1, 0);
-    std::vector<std::uint8_t> done(n, 0), live(n, 0);
+    std::vector<std::pair<float, std::uint32_t>>& cand = x.cand;  // (entry, instance)
+    std::vector<std::uint32_t>& first = x.first;
+    std::vector<std::uint8_t>&done = x.done, &live = x.live;
+    cand.clear();
+    first.assign(n + 1, 0);
+    done.assign(n, 0);
+    live.assign(n, 0);
     // The planes of every ray first, four rays per vector (nearest_planes:
     // trace_planes' nearest_plane per ray, the same bits).
-    std::vector<int> plane;
-    std::vector<float> plane_t;
+    std::vector<int>& plane = x.plane;
+    std::vector<float>& plane_t = x.plane_t;
     if (planes) {
         plane.resize(n);
         plane_t.resize(n);
@@ -309,18 +350,19 @@ void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Sce
     }
     if (nlive == 0) return;  // every ray done by the planes (any hit), invalid, or an empty top level
     if (ni == 1) {
-        trace_one_instance(s, world, live, hits, bottom);
+        trace_one_instance(s, world, live, hits, bottom, x);
         return;
     }
-    collect_tree(s, world, live, max_slack, isa, cand, first);
+    collect_tree(s, world, live, max_slack, isa, x);
     first[n] = std::uint32_t(cand.size());
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs, sorted;  // (instance, ray)
-    std::vector<std::uint32_t> count;
-    std::vector<Ray> obj;
-    std::vector<Hit> got;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>>&pairs = x.pairs, &sorted = x.sorted;  // (instance, ray)
+    std::vector<std::uint32_t>& count = x.count;
+    std::vector<Ray>& obj = x.obj;
+    std::vector<Hit>& got = x.got;
     // The rays with candidates left, in ray order: each round walks these
     // instead of the whole chunk, and drops the rays it finishes.
-    std::vector<std::uint32_t> active;
+    std::vector<std::uint32_t>& active = x.active;
+    active.clear();
     for (std::size_t i = 0; i < n; ++i)
         if (!done[i] && first[i] < first[i + 1]) active.push_back(std::uint32_t(i));
     for (std::uint32_t k = 0;; ++k) {
