@@ -268,6 +268,43 @@ TEST(SceneBuiltins, ManyInstancesThroughTheTopLevelTree) {
         check_any_and_closest(d, rays);
     }
 }
+// A batch's working arrays are kept per thread from call to call (ChunkScratch
+// in traverse.cpp): calls one after another on one thread, with planes and
+// without, many instances (the top-level walk), one instance, 3,000, 10 and
+// 40,000 rays (two chunks of different sizes), each bit-identical to the brute
+// force, so nothing a call leaves in them reaches the next.
+TEST(SceneBatches, WorkingArraysReusedAcrossCallsAndScenes) {
+    const Reference& ref = reference();
+    const SceneBvhN<8> mixed = SceneBvhN<8>::build(ref.scene);
+    const SceneDesc many_desc = scene::instances_scene(scene::icosphere(1), 150);
+    const SceneBvhN<8> many = SceneBvhN<8>::build(many_desc);
+    const SceneDesc spheres_desc = scene::spheres_scene(50);
+    const SceneBvhN<8> spheres = SceneBvhN<8>::build(spheres_desc);
+    const auto many_rays = rays_in({-20, -20, -20}, {20, 20, 20}, {-4, -4, -4}, {4, 4, 4}, 400);
+    const auto sphere_rays = rays_in({-1, -1, -1}, {2, 2, 2}, {0, 0, 0}, {1, 1, 1}, 40000);
+    std::vector<SceneHit> many_want(many_rays.size()), sphere_want(sphere_rays.size());
+    brute_force_intersect(many_desc, many_rays, many_want);
+    brute_force_intersect(spheres_desc, sphere_rays, sphere_want);
+    std::size_t sphere_hits = 0;
+    for (const SceneHit& h : sphere_want) sphere_hits += h.hit();
+    ASSERT_GT(sphere_hits, 1000u);
+    auto expect = [](const SceneBvhN<8>& s, std::span<const Ray> rays, std::span<const SceneHit> want,
+                     const char* what) {
+        std::vector<SceneHit> got(rays.size());
+        intersect(s, rays, std::span<SceneHit>(got), active_isa());
+        for (std::size_t i = 0; i < rays.size(); ++i) ASSERT_EQ(got[i], want[i]) << what << ", ray " << i;
+    };
+    const std::span<const Ray> all(ref.rays);
+    const std::span<const SceneHit> all_want(ref.closest);
+    for (int round = 0; round < 2; ++round) {
+        expect(mixed, all, all_want, "planes and 14 instances");
+        expect(many, many_rays, many_want, "150 instances");
+        expect(mixed, all.first(10), all_want.first(10), "10 rays");
+        expect(spheres, sphere_rays, sphere_want, "one instance, 40,000 rays");
+        expect(mixed, all.subspan(1000), all_want.subspan(1000), "2,000 rays");
+    }
+}
+
 TEST(SceneBuiltins, Spheres) {
     check_builtin(scene::spheres_scene(300), rays_in({-1, -1, -1}, {2, 2, 2}, {0, 0, 0}, {1, 1, 1}, 1000), 300);
 }
