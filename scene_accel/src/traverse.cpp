@@ -7,9 +7,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <mutex>
+#include <type_traits>
 #include <utility>
 #include <vector>
-#include <type_traits>
 
 #include "simdbvh/kernels/batch.h"
 #include "simdbvh/kernels/error.h"
@@ -146,8 +148,8 @@ bool mostly_one_octant(std::span<const Ray> rays, const std::vector<std::uint8_t
     return 4 * same >= 3 * pairs;
 }
 
-// A chunk's working arrays, one set per thread, kept from chunk to chunk and
-// from call to call (every use below sizes and fills what it reads). Made
+// A chunk's working arrays, kept from chunk to chunk and from call to call
+// (every use below sizes and fills what it reads). Made
 // afresh per chunk, their megabytes (a 32,768-ray chunk: 1 MiB of object
 // rays, 1 MiB of clamped world rays, 0.5 MiB of hits, ...) came from mmap
 // whenever glibc's dynamic mmap threshold had not risen past them, which
@@ -169,9 +171,32 @@ struct ChunkScratch {
     std::vector<Box8> nodes;
 };
 
-ChunkScratch& chunk_scratch() {
-    thread_local ChunkScratch scratch;  // a worker of parallel_for: for the call; the caller's thread: kept
-    return scratch;
+// The calling thread's sets: a batch's workers (parallel_for's threads or a
+// host executor's) each take one for a chunk and give it back, so a batch
+// makes at most one set per worker running at once, and the next batch from
+// this thread finds them made (the workers' own threads end with the call).
+class ScratchPool {
+public:
+    std::unique_ptr<ChunkScratch> take() {
+        const std::lock_guard<std::mutex> lock(mutex_);
+        if (free_.empty()) return std::make_unique<ChunkScratch>();
+        std::unique_ptr<ChunkScratch> x = std::move(free_.back());
+        free_.pop_back();
+        return x;
+    }
+    void give(std::unique_ptr<ChunkScratch> x) {
+        const std::lock_guard<std::mutex> lock(mutex_);
+        free_.push_back(std::move(x));
+    }
+
+private:
+    std::mutex mutex_;
+    std::vector<std::unique_ptr<ChunkScratch>> free_;
+};
+
+ScratchPool& scratch_pool() {
+    thread_local ScratchPool pool;
+    return pool;
 }
 
 template <int N>
@@ -290,7 +315,7 @@ inline void group_by_instance(std::vector<std::pair<std::uint32_t, std::uint32_t
 
 template <class Query, int N>
 void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<SceneHit> hits,
-                 const Bottom<Query, N>& bottom, Isa isa) {
+                 const Bottom<Query, N>& bottom, Isa isa, ChunkScratch& x) {
     constexpr bool kAny = Query::kAnyHit;
     const std::size_t n = rays.size();
     const std::uint32_t ni = std::uint32_t(s.instances().size());
@@ -301,7 +326,6 @@ void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Sce
     // validity test is prepare's own; the kernels prepare what they trace).
     const bool planes = !s.planes().empty();
     const bool clamp = planes && !kAny;
-    ChunkScratch& x = chunk_scratch();
     std::vector<Ray>& clamped = x.clamped;
     if (clamp) clamped.assign(rays.begin(), rays.end());
     const std::span<const Ray> world = clamp ? std::span<const Ray>(clamped) : rays;
@@ -427,12 +451,23 @@ void trace_span(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Scen
     const int nt = std::max(1, threads);
     const std::size_t chunk = std::clamp((rays.size() + std::size_t(nt) - 1) / std::size_t(nt), kChunkMin, kChunkMax);
     const std::size_t chunks = (rays.size() + chunk - 1) / chunk;
-    parallel_for(chunks, nt, [&](std::size_t cb, std::size_t ce) {
-        for (std::size_t c = cb; c < ce; ++c) {
-            const std::size_t b = c * chunk, e = std::min(rays.size(), b + chunk);
-            trace_chunk<Query>(s, rays.subspan(b, e - b), hits.subspan(b, e - b), bottom, isa);
-        }
-    });
+    // One item per chunk (grain 1): with parallel_for's default grain of
+    // 2048 items, a batch of fewer than 2048 chunks (every batch below 67M
+    // rays) ran on the calling thread alone, whatever `threads` said.
+    ScratchPool& pool = scratch_pool();
+    ParallelOptions po;
+    po.grain = 1;
+    parallel_for(
+        chunks, nt,
+        [&](std::size_t cb, std::size_t ce) {
+            std::unique_ptr<ChunkScratch> x = pool.take();
+            for (std::size_t c = cb; c < ce; ++c) {
+                const std::size_t b = c * chunk, e = std::min(rays.size(), b + chunk);
+                trace_chunk<Query>(s, rays.subspan(b, e - b), hits.subspan(b, e - b), bottom, isa, *x);
+            }
+            pool.give(std::move(x));
+        },
+        po);
 }
 
 }  // namespace
