@@ -225,9 +225,10 @@ void expect_batch_is_per_ray(const std::vector<Ray>& rays, const std::vector<Pla
                 float want_t = 0.0f;
                 const int want = pr.valid ? nearest_plane(pr, planes, pr.tmax, any, &want_t) : -1;
                 ASSERT_EQ(plane[i], want) << name(isa) << " trial " << trial << " ray " << i << " any " << any;
-                if (want >= 0)
+                if (want >= 0) {
                     ASSERT_EQ(std::bit_cast<std::uint32_t>(t[i]), std::bit_cast<std::uint32_t>(to_caller_t(pr, want_t)))
                         << name(isa) << " trial " << trial << " ray " << i;
+                }
                 seen(i, pr, any, isa, want >= 0);
             }
         }
