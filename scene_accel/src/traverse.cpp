@@ -149,12 +149,12 @@ bool mostly_one_octant(std::span<const Ray> rays, const std::vector<std::uint8_t
 }
 
 // A chunk's working arrays, kept from chunk to chunk and from call to call
-// (every use below sizes and fills what it reads). Made
-// afresh per chunk, their megabytes (a 32,768-ray chunk: 1 MiB of object
-// rays, 1 MiB of clamped world rays, 0.5 MiB of hits, ...) came from mmap
-// whenever glibc's dynamic mmap threshold had not risen past them, which
-// depends on the process's earlier allocations: page faults and zeroing on
-// every chunk. In `simdbvh bench --scene room` (AMD Zen 4, one thread,
+// (every use below sizes and fills what it reads): about 130 bytes per ray of
+// the largest chunk traced (4 MiB at 32,768 rays) plus 8 per candidate. Made
+// afresh per chunk, their megabytes (1 MiB of object rays, 1 MiB of clamped
+// world rays, 0.5 MiB of hits, ...) came from mmap whenever glibc's dynamic
+// mmap threshold had not risen past them, which depends on the process's
+// earlier allocations: page faults and zeroing on every chunk. In `simdbvh bench --scene room` (AMD Zen 4, one thread,
 // 262,144 rays) that made ours 7.9 Mrays/s on primary closest hits where the
 // Google Benchmark of the same scene and rays gave 10.8, and 11.0 with the
 // threshold fixed at 32 MiB (GLIBC_TUNABLES=glibc.malloc.mmap_threshold).
@@ -331,7 +331,8 @@ void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Sce
     const std::span<const Ray> world = clamp ? std::span<const Ray>(clamped) : rays;
     std::vector<std::pair<float, std::uint32_t>>& cand = x.cand;  // (entry, instance)
     std::vector<std::uint32_t>& first = x.first;
-    std::vector<std::uint8_t>&done = x.done, &live = x.live;
+    std::vector<std::uint8_t>& done = x.done;
+    std::vector<std::uint8_t>& live = x.live;
     cand.clear();
     first.assign(n + 1, 0);
     done.assign(n, 0);
@@ -379,7 +380,8 @@ void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Sce
     }
     collect_tree(s, world, live, max_slack, isa, x);
     first[n] = std::uint32_t(cand.size());
-    std::vector<std::pair<std::uint32_t, std::uint32_t>>&pairs = x.pairs, &sorted = x.sorted;  // (instance, ray)
+    std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs = x.pairs;  // (instance, ray)
+    std::vector<std::pair<std::uint32_t, std::uint32_t>>& sorted = x.sorted;
     std::vector<std::uint32_t>& count = x.count;
     std::vector<Ray>& obj = x.obj;
     std::vector<Hit>& got = x.got;
