@@ -154,10 +154,11 @@ bool mostly_one_octant(std::span<const Ray> rays, const std::vector<std::uint8_t
 // afresh per chunk, their megabytes (1 MiB of object rays, 1 MiB of clamped
 // world rays, 0.5 MiB of hits, ...) came from mmap whenever glibc's dynamic
 // mmap threshold had not risen past them, which depends on the process's
-// earlier allocations: page faults and zeroing on every chunk. In `simdbvh bench --scene room` (AMD Zen 4, one thread,
-// 262,144 rays) that made ours 7.9 Mrays/s on primary closest hits where the
-// Google Benchmark of the same scene and rays gave 10.8, and 11.0 with the
-// threshold fixed at 32 MiB (GLIBC_TUNABLES=glibc.malloc.mmap_threshold).
+// earlier allocations: page faults and zeroing on every chunk. In `simdbvh
+// bench --scene room` (AMD Zen 4, one thread, 262,144 rays) that made ours
+// 7.9 Mrays/s on primary closest hits where the Google Benchmark of the same
+// scene and rays gave 10.8, and 11.0 with the threshold fixed at 32 MiB
+// (GLIBC_TUNABLES=glibc.malloc.mmap_threshold).
 struct ChunkScratch {
     std::vector<Ray> clamped, obj;
     std::vector<Hit> got;

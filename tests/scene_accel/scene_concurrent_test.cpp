@@ -4,27 +4,22 @@
 // arrays (traverse.cpp), which its batch's workers share.
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <random>
 #include <thread>
 
+#include "simdbvh/scene/scene_desc.h"
 #include "simdbvh/scene/scenes.h"
 #include "simdbvh/scene_accel/scene.h"
 
 namespace simdbvh {
 namespace {
 
+// The built-ins' parts: 20 rotated icospheres (instances_scene), a set of 30
+// spheres placed three times, and a floor plane.
 SceneDesc mixed_scene() {
-    std::mt19937 rng(5);
-    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-    SceneDesc s;
-    s.geometries.push_back(scene::icosphere(1));
-    SphereSet spheres;
-    for (int i = 0; i < 30; ++i) spheres.spheres.push_back({{u(rng), u(rng), u(rng)}, 0.1f + 0.1f * std::fabs(u(rng))});
-    s.geometries.push_back(spheres);
-    for (std::uint32_t i = 0; i < 20; ++i)
-        s.instances.push_back({i % 2, Affine3::translation({4 * u(rng), 4 * u(rng), 4 * u(rng)}) *
-                                          Affine3::rotation({u(rng), u(rng), 1.5f}, 3.0 * u(rng))});
+    SceneDesc s = scene::instances_scene(scene::icosphere(1), 20);
+    s.geometries.push_back(scene::spheres_scene(30).geometries[0]);
+    for (float x : {-2.0f, 0.0f, 2.0f}) s.instances.push_back({1, Affine3::translation({x, 0, 0}) * Affine3::scaling(2)});
     s.planes.push_back({{0, -6, 0}, {0, 1, 0}});
     return s;
 }
@@ -42,9 +37,13 @@ TEST(Concurrent, ManyThreadsTraceOneScene) {
     std::vector<SceneHit> want(rays.size()), want_any(rays.size());
     brute_force_intersect(desc, rays, want);
     brute_force_occluded(desc, rays, want_any);
-    std::size_t hits = 0;
-    for (const SceneHit& h : want) hits += h.hit();
+    std::size_t hits = 0, sphere_hits = 0;
+    for (const SceneHit& h : want) {
+        hits += h.hit();
+        sphere_hits += h.hit() && h.geom == 1;
+    }
     ASSERT_GT(hits, rays.size() / 4);
+    ASSERT_GT(sphere_hits, 50u);  // the sphere set's bottom level is traced too
     constexpr int kThreads = 3;
     std::vector<std::vector<SceneHit>> got(kThreads, std::vector<SceneHit>(rays.size())), any = got;
     std::vector<std::thread> pool;
