@@ -48,7 +48,7 @@ std::string MethodSpec::builder_name() const {
 
 void add_method_options(std::set<std::string>& valued, std::set<std::string>& flags) {
     for (const char* k :
-         {"method", "isa", "builder", "bins", "collapse", "nodes", "test", "box", "quality", "threads", "packets"})
+         {"method", "isa", "builder", "bins", "collapse", "nodes", "test", "box", "quality", "threads", "packets", "reorder"})
         valued.insert(k);
     flags.insert("robust");
 }
@@ -96,6 +96,13 @@ MethodSpec parse_method(const Options& o, const std::string& fallback) {
     else throw UsageError("unknown --packets '" + packets + "' (auto, off, on)");
     if (o.has("packets") && !is_wide(s.method) && s.method != "auto")
         throw UsageError("--packets applies to the wide trees (bvh4, bvh8, bvh16) and auto (not " + s.method + ")");
+    const std::string reorder = o.get("reorder", "auto");
+    if (reorder == "auto") s.reorder = Reorder::automatic;
+    else if (reorder == "off") s.reorder = Reorder::off;
+    else if (reorder == "on") s.reorder = Reorder::on;
+    else throw UsageError("unknown --reorder '" + reorder + "' (auto, off, on)");
+    if (o.has("reorder") && !is_wide(s.method) && s.method != "auto")
+        throw UsageError("--reorder applies to the wide trees (bvh4, bvh8, bvh16) and auto (not " + s.method + ")");
     const std::string box = o.get("box", "conservative");
     if (box == "conservative") s.box = BoxTest::conservative;
     else if (box == "plain") s.box = BoxTest::plain;
@@ -195,6 +202,7 @@ public:
         TraceOptions o;
         o.test = spec_.test;
         o.packets = spec_.packets;
+        o.reorder = spec_.reorder;
         o.stats = stats;
         o.threads = stats ? 1 : spec_.threads;
         if (spec_.isa_auto) any ? occluded(bvh_, rays, hits, o) : intersect(bvh_, rays, hits, o);
@@ -209,7 +217,8 @@ private:
 // The trace options of a tree method: the spec's tests, the counters (one thread when counting).
 TraceOptions trace_options(const MethodSpec& s, TraceStats* stats) {
     return TraceOptions{
-        .test = s.test, .box = s.box, .stats = stats, .threads = stats ? 1 : s.threads, .packets = s.packets};
+        .test = s.test, .box = s.box, .stats = stats, .threads = stats ? 1 : s.threads, .packets = s.packets,
+                        .reorder = s.reorder};
 }
 
 // auto: Accel (bvh8/accel.h) with the cost model of the ISA, for spec.expected_rays rays.

@@ -20,6 +20,7 @@ struct MethodSpec {
     WideOptions bvh8;             // collapse options of bvh4, bvh8, bvh16 (--nodes quantized: label bvh8q/...)
     TriangleTest test = TriangleTest::watertight;
     Packets packets = Packets::automatic;  // the wide BVHs (and auto's): --packets auto | off | on
+    Reorder reorder = Reorder::automatic;  // the wide BVHs (and auto's): --reorder auto | off | on
     BoxTest box = BoxTest::conservative;  // bvh2 only (bvh8 always conservative)
     std::string quality = "medium";  // embree: medium | high
     bool robust = false;             // embree: RTC_SCENE_FLAG_ROBUST

@@ -28,9 +28,13 @@ constexpr CommandText kCommands[] = {
     {"trace", R"(trace    --scene S --rays RAYS.bin --out HITS.bin [--method M] [--query Q] [--any-hit] [--stats] [--threads N]
            [--isa I] [--builder B] [--bins N] [--collapse C] [--test watertight|moller]
            [--box conservative|plain] [--quality medium|high] [--robust] [--drop-invalid] [--packets auto|off|on]
+           [--reorder auto|off|on]
            M: auto (default: chosen by the cost model) | brute | brute8 | bvh2 | bvh4 | bvh8 | bvh16 | embree | spheres
-           --packets: the wide trees trace coherent rays 8 (closest) or 32 (any hit) at a time (auto: where it pays;
-                      same closest hits)
+           --packets: the wide trees trace coherent rays 32 at a time (streams; auto: where it pays; same closest
+                      hits)
+           --reorder: the wide trees trace the batch sorted by where the rays start and the octant they go to,
+                      the hits in the caller's order (auto: diffuse bounces and other rays scattered from
+                      surfaces; same hits)
            Q: closest | any (= --any-hit) | count (int32 winding per ray) | all [--max-hits N] (20-byte
               records: ray, t, u, v, prim); count and all run on bvh2 or brute, every crossing once
 )"},

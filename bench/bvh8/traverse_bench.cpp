@@ -48,7 +48,9 @@ void run_wide(benchmark::State& st, const simdbvh::BvhN<N>& bvh, Isa isa, Collap
                 std::string(simdbvh::name(isa)) + " " +
                 std::string(simdbvh::name(collapse)) + " " + std::string(simdbvh::scene::name(kind)) +
                 (any ? " any" : " closest") + (timed.test == simdbvh::TriangleTest::moller ? " moller" : "") +
-                (timed.in_flight != 0 ? " in_flight " + std::to_string(timed.in_flight) : std::string()));
+                (timed.in_flight != 0 ? " in_flight " + std::to_string(timed.in_flight) : std::string()) +
+                (timed.reorder == simdbvh::Reorder::off ? " caller's order"
+                 : timed.reorder == simdbvh::Reorder::on ? " sorted" : ""));
 }
 
 void BM_Bvh8(benchmark::State& st, Isa isa, Collapse collapse, RayKind kind, bool any) {
@@ -77,6 +79,40 @@ void BM_Bvh8InFlight(benchmark::State& st, Isa isa, int flight, RayKind kind, bo
     o.in_flight = flight;
     run_wide<8>(st, bench::traversal_scene().bvh8, isa, Collapse::sah, kind, any, o);
 }
+// BVH8 and BVH16 (SAH) traced in the caller's order (TraceOptions::reorder
+// off) or always sorted (on), beside BM_Bvh8's and BM_Bvh16's default
+// (automatic: sorted when the batch is scattered, ray_order.h).
+void BM_Bvh8Order(benchmark::State& st, Isa isa, simdbvh::Reorder r, RayKind kind, bool any) {
+    simdbvh::TraceOptions o;
+    o.reorder = r;
+    run_wide<8>(st, bench::traversal_scene().bvh8, isa, Collapse::sah, kind, any, o);
+}
+void BM_Bvh16Order(benchmark::State& st, Isa isa, simdbvh::Reorder r, RayKind kind, bool any) {
+    simdbvh::TraceOptions o;
+    o.reorder = r;
+    run_wide<16>(st, bench::traversal_scene().bvh16, isa, Collapse::sah, kind, any, o);
+}
+#define SIMDBVH_ORDER_BENCH(fn, isa, order)                                                                        \
+    BENCHMARK_CAPTURE(fn, isa##_##order##_primary_closest, Isa::isa, simdbvh::Reorder::order, RayKind::primary, false) \
+        ->Unit(benchmark::kMillisecond);                                                                            \
+    BENCHMARK_CAPTURE(fn, isa##_##order##_incoherent_closest, Isa::isa, simdbvh::Reorder::order,                   \
+                      RayKind::incoherent, false)                                                                   \
+        ->Unit(benchmark::kMillisecond);                                                                            \
+    BENCHMARK_CAPTURE(fn, isa##_##order##_diffuse_closest, Isa::isa, simdbvh::Reorder::order, RayKind::diffuse, false) \
+        ->Unit(benchmark::kMillisecond);                                                                            \
+    BENCHMARK_CAPTURE(fn, isa##_##order##_primary_any, Isa::isa, simdbvh::Reorder::order, RayKind::primary, true)   \
+        ->Unit(benchmark::kMillisecond);                                                                            \
+    BENCHMARK_CAPTURE(fn, isa##_##order##_incoherent_any, Isa::isa, simdbvh::Reorder::order, RayKind::incoherent,  \
+                      true)                                                                                         \
+        ->Unit(benchmark::kMillisecond);                                                                            \
+    BENCHMARK_CAPTURE(fn, isa##_##order##_diffuse_any, Isa::isa, simdbvh::Reorder::order, RayKind::diffuse, true)   \
+        ->Unit(benchmark::kMillisecond)
+SIMDBVH_ORDER_BENCH(BM_Bvh8Order, avx512, off);
+SIMDBVH_ORDER_BENCH(BM_Bvh8Order, avx512, on);
+SIMDBVH_ORDER_BENCH(BM_Bvh16Order, avx512, off);
+SIMDBVH_ORDER_BENCH(BM_Bvh16Order, avx512, on);
+SIMDBVH_ORDER_BENCH(BM_Bvh8Order, avx2, off);
+
 // BVH8 (SAH) with the Moller-Trumbore triangle test (TraceOptions::test, the
 // kind of test Embree's default leaves run; not watertight), beside BM_Bvh8's
 // watertight test: what watertightness costs per ray.

@@ -37,6 +37,7 @@ struct TraceStats {  // per-ray counters, summed over a batch
 enum class BoxTest : std::uint8_t { conservative, plain };
 
 enum class Packets : std::uint8_t { automatic, off, on };
+enum class Reorder : std::uint8_t { automatic, off, on };
 
 struct TraceOptions {
     TriangleTest test = TriangleTest::watertight;
@@ -55,6 +56,14 @@ struct TraceOptions {
     // rays: a camera's in image order); off: never; on: always. Closest hits
     // do not depend on it; an any hit may be another real hit.
     Packets packets = Packets::automatic;
+    // Wide trees (batched calls): trace the batch sorted by where its rays
+    // start and the octant they go to (bvh8/src/ray_order.h), the hits
+    // written back in the caller's order. automatic: batches of at least
+    // 16,384 rays whose neighbours do not already share a start and octant
+    // (diffuse bounces in pixel order: sorted; a camera's rays in image
+    // order: kept); off: the caller's order; on: always. Hits do not depend
+    // on it (any hits with packets: the stream's choice, as without it).
+    Reorder reorder = Reorder::automatic;
 };
 
 class Bvh2 {

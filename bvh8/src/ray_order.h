@@ -1,0 +1,62 @@
+#pragma once
+// Internal: the order a wide tree's batch is traced in (TraceOptions::reorder).
+// Rays are traced one at a time (or in streams) and each ray's hit does not
+// depend on the others, so a batch may be traced in any order and its hits
+// written back to the caller's positions: the same bits. An order that puts
+// rays starting near each other and going the same way next to each other
+// turns the tree's lower levels and leaves into cache hits for the rays after
+// the first: diffuse bounces, which a renderer makes in pixel order with
+// random directions, are the batch this is for.
+//
+// The key of a ray (21 bits): the Morton code of its origin's cell in an 8 x
+// 8 x 8 grid over the tree's bounds, then its direction octant (the signs of
+// d, -0 negative, as the traversal's), then the Morton code of its origin's
+// cell of a 64^3 grid within that cell (origins outside the bounds are
+// clamped to them, non-finite coordinates go to cell 0). Sorted by it, a
+// stream of 32 consecutive rays (stream-inl.h) starts close together and goes
+// one way: diffuse bounces, which the stream probe rejects in pixel order,
+// then pass it. Measured against the other keys tried in the README (stop 51).
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "simdbvh/kernels/aabb.h"
+#include "simdbvh/kernels/ray.h"
+
+namespace simdbvh::bvh8::detail {
+
+// Batches smaller than this keep their order under Reorder::automatic.
+inline constexpr std::size_t kReorderMinRays = 16384;
+// Rays sorted together at most (their positions fit in the key's low bits).
+inline constexpr int kReorderIndexBits = 20;
+inline constexpr std::size_t kReorderSegment = std::size_t(1) << kReorderIndexBits;
+// Rays gathered, traced and scattered back at a time (per thread).
+inline constexpr std::size_t kReorderBlock = 16384;
+
+inline constexpr int kFineBits = 9;  // the key's low bits: the 64^3 cell within the 8^3 cell
+std::uint32_t ray_key(const Ray& ray, const Aabb& bounds);
+
+// Reorder::automatic's test, on 4,096 evenly spaced pairs of consecutive
+// rays: true when (1) the batch is not already in an order that keeps
+// neighbours together: more than a quarter of the pairs change 8^3 cell or
+// octant (a camera's rays in image order share their origin and mostly their
+// octant: kept; diffuse bounces in pixel order change octant in 7 pairs of 8)
+// and (2) the origins lie on surfaces within the tree's bounds: at least half
+// of the pairs' first rays start inside the bounds, and those in fewer than
+// 3/4 of the 512 cells (rays from outside, as the benches' incoherent rays,
+// or from random points filling the bounds: sorted, the dragon's incoherent
+// rays ran 9-15% slower; the sort costs and the streams do not pay for them).
+bool scattered(std::span<const Ray> rays, const Aabb& bounds);
+
+// The batch's positions in traced order: order[i] is the position (in rays)
+// of the i-th ray to trace. rays.size() <= kReorderSegment. Stable: rays with
+// equal keys keep their order. `work` is scratch (resized).
+void sort_rays(std::span<const Ray> rays, const Aabb& bounds, std::vector<std::uint64_t>& order,
+               std::vector<std::uint64_t>& work);
+
+inline std::uint32_t order_index(std::uint64_t v) {
+    return std::uint32_t(v & ((std::uint64_t(1) << kReorderIndexBits) - 1));
+}
+
+}  // namespace simdbvh::bvh8::detail
