@@ -72,7 +72,8 @@ bool scattered(std::span<const Ray> rays, const Aabb& bounds) {
             cells.set(a >> (kFineBits + 3));
         }
     }
-    return 4 * changes > pairs && 2 * inside >= pairs && 4 * cells.count() < 3 * cells.size();
+    return 4 * changes > pairs && 2 * inside >= pairs && 4 * cells.count() < 3 * cells.size() &&
+           rays.size() >= kReorderRaysPerCell * cells.count();
 }
 
 void sort_rays(std::span<const Ray> rays, const Aabb& bounds, std::vector<std::uint64_t>& order,

@@ -26,8 +26,17 @@
 
 namespace simdbvh::bvh8::detail {
 
-// Batches smaller than this keep their order under Reorder::automatic.
+// Batches smaller than this keep their order under Reorder::automatic, and so
+// do batches with fewer rays than this per 8^3 cell their origins occupy:
+// the dragon's diffuse bounces (in 155 of the 512 cells), BVH8 and BVH16
+// AVX-512, sorted against the caller's order, closest / any hits: 16,384 rays
+// 0.94-0.95x / 0.97-1.01x, 32,768 (211 per cell) 0.96x / 1.00-1.03x, 100,000
+// (645 per cell) 1.04-1.06x / 1.12-1.15x, 262,144 1.16-1.17x / 1.26-1.35x;
+// the terrain's (269 cells): 100,000 (372 per cell) 1.05-1.06x / 1.18-1.20x,
+// 262,144 1.19-1.24x / 1.29-1.36x (stop 51, AMD EPYC Zen 4). The denser the
+// bounces, the more of each stream of 32 stays together.
 inline constexpr std::size_t kReorderMinRays = 16384;
+inline constexpr std::size_t kReorderRaysPerCell = 300;
 // Rays sorted together at most (their positions fit in the key's low bits).
 inline constexpr int kReorderIndexBits = 20;
 inline constexpr std::size_t kReorderSegment = std::size_t(1) << kReorderIndexBits;
@@ -46,7 +55,8 @@ std::uint32_t ray_key(const Ray& ray, const Aabb& bounds);
 // of the pairs' first rays start inside the bounds, and those in fewer than
 // 3/4 of the 512 cells (rays from outside, as the benches' incoherent rays,
 // or from random points filling the bounds: sorted, the dragon's incoherent
-// rays ran 9-15% slower; the sort costs and the streams do not pay for them).
+// rays ran 9-15% slower; the sort costs and the streams do not pay for them)
+// and (3) there are at least kReorderRaysPerCell rays per cell they occupy.
 bool scattered(std::span<const Ray> rays, const Aabb& bounds);
 
 // The batch's positions in traced order: order[i] is the position (in rays)

@@ -58,11 +58,13 @@ struct TraceOptions {
     Packets packets = Packets::automatic;
     // Wide trees (batched calls): trace the batch sorted by where its rays
     // start and the octant they go to (bvh8/src/ray_order.h), the hits
-    // written back in the caller's order. automatic: batches of at least
-    // 16,384 rays whose neighbours do not already share a start and octant
-    // (diffuse bounces in pixel order: sorted; a camera's rays in image
-    // order: kept); off: the caller's order; on: always. Hits do not depend
-    // on it (any hits with packets: the stream's choice, as without it).
+    // written back in the caller's order. automatic: rays scattered from
+    // surfaces (diffuse bounces in pixel order: neighbours that do not share
+    // a start and octant, origins inside the tree's bounds on surfaces, at
+    // least 16,384 rays and 300 per 8^3 cell of the bounds they start in),
+    // else the caller's order (a camera's rays, rays from outside); off: the
+    // caller's order; on: always. Hits do not depend on it (any hits with
+    // packets: the stream's choice, as without it).
     Reorder reorder = Reorder::automatic;
 };
 
