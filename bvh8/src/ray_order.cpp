@@ -48,7 +48,8 @@ struct Grid {
 constexpr int kDigitBits = 7;
 constexpr int kPasses = 3;  // 21 bits: the key
 constexpr std::size_t kBuckets = std::size_t(1) << kDigitBits;
-constexpr std::size_t kSamples = 4096;
+constexpr std::size_t kPairs = 1024;    // scattered(): consecutive pairs for (1)
+constexpr std::size_t kSamples = 4096;  // and rays for (2) and (3)
 
 }  // namespace
 
@@ -57,22 +58,30 @@ std::uint32_t ray_key(const Ray& ray, const Aabb& bounds) { return Grid(bounds).
 bool scattered(std::span<const Ray> rays, const Aabb& bounds) {
     if (rays.size() < 2) return false;
     const Grid g(bounds);
-    const std::size_t pairs = std::min(kSamples, rays.size() - 1);
+    // (1) on kPairs pairs first: most batches that keep their order (a camera's) stop here.
+    const std::size_t pairs = std::min(kPairs, rays.size() - 1);
     const std::size_t step = (rays.size() - 1) / pairs;
-    std::size_t changes = 0, inside = 0;
-    std::bitset<512> cells;
+    std::size_t changes = 0;
     for (std::size_t k = 0; k < pairs; ++k) {
         const std::size_t i = k * step;
-        const std::uint32_t a = g.key(rays[i]), b = g.key(rays[i + 1]);
-        changes += (a >> kFineBits) != (b >> kFineBits);  // cell or octant
-        const Vec3 o = rays[i].org;
+        changes += (g.key(rays[i]) >> kFineBits) != (g.key(rays[i + 1]) >> kFineBits);  // cell or octant
+    }
+    if (4 * changes <= pairs) return false;
+    // (2) and (3) on kSamples rays.
+    const std::size_t samples = std::min(kSamples, rays.size());
+    const std::size_t stride = rays.size() / samples;
+    std::size_t inside = 0;
+    std::bitset<512> cells;
+    for (std::size_t k = 0; k < samples; ++k) {
+        const Ray& r = rays[k * stride];
+        const Vec3 o = r.org;
         if (bounds.lo.x <= o.x && o.x <= bounds.hi.x && bounds.lo.y <= o.y && o.y <= bounds.hi.y &&
             bounds.lo.z <= o.z && o.z <= bounds.hi.z) {
             ++inside;
-            cells.set(a >> (kFineBits + 3));
+            cells.set(g.key(r) >> (kFineBits + 3));
         }
     }
-    return 4 * changes > pairs && 2 * inside >= pairs && 4 * cells.count() < 3 * cells.size() &&
+    return 2 * inside >= samples && 4 * cells.count() < 3 * cells.size() &&
            rays.size() >= kReorderRaysPerCell * cells.count();
 }
 

@@ -46,17 +46,17 @@ inline constexpr std::size_t kReorderBlock = 16384;
 inline constexpr int kFineBits = 9;  // the key's low bits: the 64^3 cell within the 8^3 cell
 std::uint32_t ray_key(const Ray& ray, const Aabb& bounds);
 
-// Reorder::automatic's test, on 4,096 evenly spaced pairs of consecutive
-// rays: true when (1) the batch is not already in an order that keeps
-// neighbours together: more than a quarter of the pairs change 8^3 cell or
-// octant (a camera's rays in image order share their origin and mostly their
-// octant: kept; diffuse bounces in pixel order change octant in 7 pairs of 8)
-// and (2) the origins lie on surfaces within the tree's bounds: at least half
-// of the pairs' first rays start inside the bounds, and those in fewer than
-// 3/4 of the 512 cells (rays from outside, as the benches' incoherent rays,
-// or from random points filling the bounds: sorted, the dragon's incoherent
-// rays ran 9-15% slower; the sort costs and the streams do not pay for them)
-// and (3) there are at least kReorderRaysPerCell rays per cell they occupy.
+// Reorder::automatic's test: true when (1) the batch is not already in an
+// order that keeps neighbours together: more than a quarter of 1,024 evenly
+// spaced pairs of consecutive rays change 8^3 cell or octant (a camera's rays
+// in image order share their origin and mostly their octant: kept; diffuse
+// bounces in pixel order change octant in 7 pairs of 8), (2) the origins lie
+// on surfaces within the tree's bounds: at least half of 4,096 evenly spaced
+// rays start inside the bounds, and those in fewer than 3/4 of the 512 cells
+// (rays from outside, as the benches' incoherent rays, or from random points
+// filling the bounds: sorted, the dragon's incoherent rays ran 9-15% slower;
+// the sort costs and the streams do not pay for them), and (3) there are at
+// least kReorderRaysPerCell rays per cell they occupy.
 bool scattered(std::span<const Ray> rays, const Aabb& bounds);
 
 // The batch's positions in traced order: order[i] is the position (in rays)
