@@ -82,6 +82,21 @@ TEST(IsaChoice, FirstLargeBatchCalibratesItsSlotOnly) {
     expect_same_as_every_isa(s, again);
 }
 
+// A batch traced sorted (TraceOptions::reorder) that calibrates is traced whole
+// after the calibration's chunks, the calibration's rays again: every ray's
+// hit is every explicit path's.
+TEST(IsaChoice, FirstLargeSortedBatchCalibratesAndTracesEveryRay) {
+    if (forced_isa()) GTEST_SKIP() << "SIMDBVH_ISA forces an ISA";
+    if (simd_isas() < 2) GTEST_SKIP() << "this CPU has fewer than two SIMD ISAs: nothing to choose";
+    const Sphere5 s;
+    TraceOptions sorted;
+    sorted.reorder = Reorder::on;
+    std::vector<Hit> hits(s.rays.size(), Hit{.t = -1.0f, .u = -1.0f, .v = -1.0f, .prim = 7});  // not a result
+    intersect(s.bvh, s.rays, hits, sorted);
+    EXPECT_TRUE(traversal_isa_choice(8, false).calibrated);
+    expect_same_as_every_isa(s, hits);
+}
+
 TEST(IsaChoice, ForcedIsaIsObeyedAndNeverCalibrated) {
     set_active_isa(Isa::scalar);
     const Sphere5 s;
