@@ -31,7 +31,7 @@ namespace simdbvh::bvh8::detail {
 // the dragon's diffuse bounces (in 155 of the 512 cells), BVH8 and BVH16
 // AVX-512, sorted against the caller's order, closest / any hits: 16,384 rays
 // 0.94-0.95x / 0.97-1.01x, 32,768 (211 per cell) 0.96x / 1.00-1.03x, 100,000
-// (645 per cell) 1.04-1.06x / 1.12-1.15x, 262,144 1.16-1.17x / 1.26-1.35x;
+// (645 per cell) 1.04-1.06x / 1.12-1.15x, 262,144 1.16-1.17x / 1.26-1.31x;
 // the terrain's (269 cells): 100,000 (372 per cell) 1.05-1.06x / 1.18-1.20x,
 // 262,144 1.19-1.24x / 1.29-1.36x (stop 51, AMD EPYC Zen 4). The denser the
 // bounces, the more of each stream of 32 stays together.
