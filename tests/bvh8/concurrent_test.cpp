@@ -40,5 +40,34 @@ TEST(Concurrent, ManyThreadsTraceOneBvh) {
     for (std::size_t i = 0; i < rays.size(); ++i) ASSERT_EQ(split[i], want[i]) << "ray " << i;
 }
 
+// Sorted batches (TraceOptions::reorder): three threads each trace one BVH8
+// sorted, each batch's blocks split over two threads of its own (the per-thread
+// order and gather arrays), against the BVH2.
+TEST(Concurrent, ManyThreadsTraceSortedBatches) {
+    const Mesh mesh = scene::random_soup(20000, 17);
+    const Bvh2 bvh2 = Bvh2::build(mesh);
+    const Bvh8 bvh8 = Bvh8::build(bvh2);
+    const auto rays = scene::generate_rays(mesh, scene::RayKind::diffuse, 40000, 9);  // three blocks
+    std::vector<Hit> want(rays.size());
+    intersect(bvh2, rays, want);
+    TraceOptions o;
+    o.reorder = Reorder::on;
+    o.threads = 2;
+    constexpr int kThreads = 3;
+    std::vector<std::vector<Hit>> got(kThreads, std::vector<Hit>(rays.size()));
+    std::vector<std::thread> pool;
+    for (int k = 0; k < kThreads; ++k)
+        pool.emplace_back([&, k] {
+            for (int pass = 0; pass < 2; ++pass) intersect(bvh8, rays, got[k], o);
+        });
+    for (auto& t : pool) t.join();
+    std::size_t hits = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        for (int k = 0; k < kThreads; ++k) ASSERT_EQ(got[k][i], want[i]) << "thread " << k << " ray " << i;
+        hits += want[i].hit();
+    }
+    EXPECT_GT(hits, rays.size() / 20);
+}
+
 }  // namespace
 }  // namespace simdbvh
