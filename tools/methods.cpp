@@ -53,6 +53,22 @@ void add_method_options(std::set<std::string>& valued, std::set<std::string>& fl
     flags.insert("robust");
 }
 
+namespace {
+// --packets, --reorder: auto | off | on, for the wide trees and auto only.
+template <class Choice>
+Choice parse_wide_choice(const Options& o, const std::string& key, const std::string& method) {
+    const std::string v = o.get(key, "auto");
+    Choice c;
+    if (v == "auto") c = Choice::automatic;
+    else if (v == "off") c = Choice::off;
+    else if (v == "on") c = Choice::on;
+    else throw UsageError("unknown --" + key + " '" + v + "' (auto, off, on)");
+    if (o.has(key) && !is_wide(method) && method != "auto")
+        throw UsageError("--" + key + " applies to the wide trees (bvh4, bvh8, bvh16) and auto (not " + method + ")");
+    return c;
+}
+}  // namespace
+
 MethodSpec parse_method(const Options& o, const std::string& fallback) {
     MethodSpec s;
     s.method = o.get("method", fallback);
@@ -89,20 +105,8 @@ MethodSpec parse_method(const Options& o, const std::string& fallback) {
     if (test == "watertight") s.test = TriangleTest::watertight;
     else if (test == "moller") s.test = TriangleTest::moller;
     else throw UsageError("unknown --test '" + test + "' (watertight, moller)");
-    const std::string packets = o.get("packets", "auto");
-    if (packets == "auto") s.packets = Packets::automatic;
-    else if (packets == "off") s.packets = Packets::off;
-    else if (packets == "on") s.packets = Packets::on;
-    else throw UsageError("unknown --packets '" + packets + "' (auto, off, on)");
-    if (o.has("packets") && !is_wide(s.method) && s.method != "auto")
-        throw UsageError("--packets applies to the wide trees (bvh4, bvh8, bvh16) and auto (not " + s.method + ")");
-    const std::string reorder = o.get("reorder", "auto");
-    if (reorder == "auto") s.reorder = Reorder::automatic;
-    else if (reorder == "off") s.reorder = Reorder::off;
-    else if (reorder == "on") s.reorder = Reorder::on;
-    else throw UsageError("unknown --reorder '" + reorder + "' (auto, off, on)");
-    if (o.has("reorder") && !is_wide(s.method) && s.method != "auto")
-        throw UsageError("--reorder applies to the wide trees (bvh4, bvh8, bvh16) and auto (not " + s.method + ")");
+    s.packets = parse_wide_choice<Packets>(o, "packets", s.method);
+    s.reorder = parse_wide_choice<Reorder>(o, "reorder", s.method);
     const std::string box = o.get("box", "conservative");
     if (box == "conservative") s.box = BoxTest::conservative;
     else if (box == "plain") s.box = BoxTest::plain;

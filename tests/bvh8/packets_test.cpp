@@ -18,6 +18,7 @@
 #include "simdbvh/kernels/triangle.h"
 #include "simdbvh/scene/rays.h"
 #include "simdbvh/scene/scenes.h"
+#include "wide_trace_checks.h"
 
 namespace simdbvh {
 namespace {
@@ -66,14 +67,11 @@ void check_width(const Mesh& mesh, const Bvh2& bvh2, const std::vector<Ray>& ray
                                 std::to_string(int(mode));
         TraceOptions o;
         o.packets = mode;
-        std::vector<Hit> got(rays.size()), any(rays.size());
-        intersect(bvh, rays, got, o, isa);
-        occluded(bvh, rays, any, o, isa);
-        for (std::size_t i = 0; i < rays.size(); ++i) {
-            ASSERT_EQ(got[i], want[i]) << how << " ray " << i;
-            ASSERT_EQ(any[i].hit(), want[i].hit()) << how << " any, ray " << i;
+        std::vector<Hit> any;
+        test_wide::expect_hits(bvh, rays, want, o, isa, how, any);
+        if (testing::Test::HasFatalFailure()) return;
+        for (std::size_t i = 0; i < rays.size(); ++i)
             if (any[i].hit()) check_any_hit_is_real(mesh, rays[i], any[i], how + " any, ray " + std::to_string(i));
-        }
     }
 }
 

@@ -17,6 +17,7 @@
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/scene/rays.h"
 #include "simdbvh/scene/scenes.h"
+#include "wide_trace_checks.h"
 
 namespace simdbvh {
 namespace {
@@ -74,16 +75,11 @@ void check_width(const Bvh2& bvh2, const std::vector<Ray>& rays, const std::vect
                 o.reorder = r;
                 o.packets = p;
                 o.threads = threads;
-                std::vector<Hit> got(rays.size()), any(rays.size());
-                intersect(bvh, rays, got, o, isa);
-                occluded(bvh, rays, any, o, isa);
-                for (std::size_t i = 0; i < rays.size(); ++i) {
-                    ASSERT_EQ(got[i], want[i]) << how << " ray " << i;
-                    ASSERT_EQ(any[i].hit(), want[i].hit()) << how << " any, ray " << i;
-                    if (p == Packets::off) {
-                        ASSERT_EQ(any[i], any_caller[i]) << how << " any, ray " << i;
-                    }
-                }
+                std::vector<Hit> any;
+                test_wide::expect_hits(bvh, rays, want, o, isa, how, any);
+                if (testing::Test::HasFatalFailure()) return;
+                if (p != Packets::off) continue;
+                for (std::size_t i = 0; i < rays.size(); ++i) ASSERT_EQ(any[i], any_caller[i]) << how << " any, ray " << i;
             }
 }
 

@@ -125,31 +125,33 @@ TEST_F(Cli, QuantizedNodesSameHitFile) {
     EXPECT_FALSE(fs::exists(bad));
 }
 
-// --packets on|off|auto: primary rays (a camera's, in image order) give the
-// same closest-hit file byte for byte every way; an unknown value, or packets
-// for a method without them, exit 2 and write nothing.
-TEST_F(Cli, PacketsSameHitFile) {
+// --packets and --reorder on|off|auto: primary rays (a camera's, in image
+// order) give the same closest-hit file byte for byte every way; an unknown
+// value, or the option for a method without it, exit 2 and write nothing.
+TEST_F(Cli, PacketsAndReorderSameHitFile) {
     const std::string rays = path("p.bin"), bad = path("bad.hits");
     ASSERT_EQ(run_cli("gen-rays --scene soup-2000 --kind primary --count 4000 --out " + rays).status, 0);
     std::string first;
-    for (const char* mode : {"off", "on", "auto"}) {
-        const std::string out = path(std::string("p_") + mode + ".hits");
-        CliRun r = run_cli("trace --scene soup-2000 --method bvh8 --packets " + std::string(mode) + " --rays " + rays +
-                           " --out " + out);
-        ASSERT_EQ(r.status, 0) << r.output;
-        std::ifstream f(out, std::ios::binary);
-        const std::string bytes((std::istreambuf_iterator<char>(f)), {});
-        EXPECT_GT(bytes.size(), 4000u);
-        if (first.empty()) first = bytes;
-        else EXPECT_EQ(bytes, first) << mode;
+    for (const std::string opt : {"packets", "reorder"}) {
+        for (const char* mode : {"off", "on", "auto"}) {
+            const std::string out = path(opt + "_" + mode + ".hits");
+            CliRun r = run_cli("trace --scene soup-2000 --method bvh8 --" + opt + " " + mode + " --rays " + rays +
+                               " --out " + out);
+            ASSERT_EQ(r.status, 0) << r.output;
+            std::ifstream f(out, std::ios::binary);
+            const std::string bytes((std::istreambuf_iterator<char>(f)), {});
+            EXPECT_GT(bytes.size(), 4000u);
+            if (first.empty()) first = bytes;
+            else EXPECT_EQ(bytes, first) << opt << " " << mode;
+        }
+        CliRun u = run_cli("trace --scene soup-2000 --method bvh8 --" + opt + " sometimes --rays " + rays + " --out " + bad);
+        EXPECT_EQ(u.status, 2);
+        EXPECT_NE(u.output.find("sometimes"), std::string::npos) << u.output;
+        CliRun w = run_cli("trace --scene soup-2000 --method bvh2 --" + opt + " on --rays " + rays + " --out " + bad);
+        EXPECT_EQ(w.status, 2);
+        EXPECT_NE(w.output.find("--" + opt), std::string::npos) << w.output;
+        EXPECT_FALSE(fs::exists(bad));
     }
-    CliRun u = run_cli("trace --scene soup-2000 --method bvh8 --packets sometimes --rays " + rays + " --out " + bad);
-    EXPECT_EQ(u.status, 2);
-    EXPECT_NE(u.output.find("sometimes"), std::string::npos) << u.output;
-    CliRun w = run_cli("trace --scene soup-2000 --method bvh2 --packets on --rays " + rays + " --out " + bad);
-    EXPECT_EQ(w.status, 2);
-    EXPECT_NE(w.output.find("--packets"), std::string::npos) << w.output;
-    EXPECT_FALSE(fs::exists(bad));
 }
 
 // --method bvh4|bvh8|bvh16 at every ISA the CPU has: the label names width and
