@@ -31,9 +31,12 @@ struct Gathered {
 // The sorted order of a segment and the sort's scratch (per calling thread,
 // kept from call to call: 16 bytes per ray of the largest segment, at most
 // 16 MiB; made per call they were page faults on every call, 11% of a
-// 262,144-ray batch's time).
+// 262,144-ray batch's time). Held while the blocks run, so a call that starts
+// on the same thread meanwhile (a host executor's thread taking other work
+// while it waits for the blocks) gets arrays of its own.
 struct Sorted {
     std::vector<std::uint64_t> order, work;
+    bool busy = false;
 };
 
 bool reordered(std::span<const Ray> rays, const Aabb& bounds, Reorder r) {
@@ -49,7 +52,14 @@ template <int N>
 void trace_sorted(TraceFn<N> fn, const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits,
                   const TraceOptions& o) {
     using namespace bvh8::detail;
-    thread_local Sorted sorted;
+    thread_local Sorted kept;
+    Sorted own;
+    Sorted& sorted = kept.busy ? own : kept;
+    sorted.busy = true;
+    struct Release {
+        Sorted& s;
+        ~Release() { s.busy = false; }
+    } release{sorted};
     std::vector<std::uint64_t>& order = sorted.order;
     TraceOptions one = o;
     one.threads = 1;

@@ -16,6 +16,7 @@
 #include "simdbvh/bvh2/bvh2.h"
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/kernels/parallel.h"
+#include "simdbvh/scene/rays.h"
 #include "simdbvh/scene/scenes.h"
 #include "support/sanitizer.h"
 
@@ -124,6 +125,37 @@ TEST(HostExecutor, RunTasksRunsEveryTaskOnceWithOrWithoutAnExecutor) {
         run_tasks(1, [&](std::size_t) { EXPECT_EQ(std::this_thread::get_id(), caller); });
         set_executor({});
     }
+}
+
+// A sorted batch's blocks on a host executor whose thread, while the batch
+// waits for its blocks, runs another sorted trace (a work-stealing pool's
+// thread taking other work): each keeps its own order, both give the BVH2's hits.
+TEST(HostExecutor, SortedTraceStartedWhileAnotherWaits) {
+    const Mesh soup = scene::random_soup(20000, 3);
+    const Bvh2 bvh2 = Bvh2::build(soup);
+    const Bvh8 bvh = Bvh8::build(bvh2);
+    const std::vector<Ray> outer = scene::generate_rays(soup, scene::RayKind::diffuse, 40000, 1);
+    const std::vector<Ray> inner = scene::generate_rays(soup, scene::RayKind::incoherent, 30000, 2);
+    std::vector<Hit> want_outer(outer.size()), want_inner(inner.size());
+    intersect(bvh2, outer, want_outer);
+    intersect(bvh2, inner, want_inner);
+    TraceOptions sorted;
+    sorted.reorder = Reorder::on;
+    std::vector<Hit> got_inner(inner.size());
+    int stolen = 0;
+    {
+        ExecutorScope scope([&](std::size_t chunks, const std::function<void(std::size_t)>& run) {
+            if (stolen++ == 0) intersect(bvh, inner, got_inner, sorted);  // one thread: no executor
+            for (std::size_t c = 0; c < chunks; ++c) run(c);
+        });
+        TraceOptions two = sorted;
+        two.threads = 2;
+        std::vector<Hit> got_outer(outer.size());
+        intersect(bvh, outer, got_outer, two);
+        ASSERT_GE(stolen, 1) << "the blocks went to the executor";
+        for (std::size_t i = 0; i < outer.size(); ++i) ASSERT_EQ(got_outer[i], want_outer[i]) << "outer ray " << i;
+    }
+    for (std::size_t i = 0; i < inner.size(); ++i) ASSERT_EQ(got_inner[i], want_inner[i]) << "inner ray " << i;
 }
 
 }  // namespace
