@@ -1,6 +1,7 @@
 // Wide BVH batched entry points (N = 4, 8, 16): the only place that chooses
 // an ISA for them (explicitly, or by speed: isa_choice.h).
 #include <algorithm>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -8,6 +9,7 @@
 #include "simdbvh/kernels/parallel.h"
 #include "isa_choice.h"
 #include "ray_order.h"
+#include "scratch_pool.h"
 #include "traverse.h"
 
 namespace simdbvh {
@@ -22,21 +24,17 @@ constexpr TraceFn<N> entry() {
     return kAnyHit ? &bvh8::Traversal<K, N>::occluded : &bvh8::Traversal<K, N>::intersect;
 }
 
-// A block of the sorted batch, gathered (per thread, kept from call to call:
-// kReorderBlock x 48 bytes).
+// A block of the sorted batch, gathered (kReorderBlock x 48 bytes), and a
+// segment's sorted order with the sort's scratch (16 bytes per ray of the
+// largest segment, at most 16 MiB): kept from call to call in the calling
+// thread's pools (scratch_pool.h; made per call they were page faults on
+// every call, 11% of a 262,144-ray batch's time).
 struct Gathered {
     std::vector<Ray> rays;
     std::vector<Hit> hits;
 };
-// The sorted order of a segment and the sort's scratch (per calling thread,
-// kept from call to call: 16 bytes per ray of the largest segment, at most
-// 16 MiB; made per call they were page faults on every call, 11% of a
-// 262,144-ray batch's time). Held while the blocks run, so a call that starts
-// on the same thread meanwhile (a host executor's thread taking other work
-// while it waits for the blocks) gets arrays of its own.
 struct Sorted {
     std::vector<std::uint64_t> order, work;
-    bool busy = false;
 };
 
 bool reordered(std::span<const Ray> rays, const Aabb& bounds, Reorder r) {
@@ -52,24 +50,20 @@ template <int N>
 void trace_sorted(TraceFn<N> fn, const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits,
                   const TraceOptions& o) {
     using namespace bvh8::detail;
-    thread_local Sorted kept;
-    Sorted own;
-    Sorted& sorted = kept.busy ? own : kept;
-    sorted.busy = true;
-    struct Release {
-        Sorted& s;
-        ~Release() { s.busy = false; }
-    } release{sorted};
-    std::vector<std::uint64_t>& order = sorted.order;
+    auto& sorted_pool = detail::ScratchPool<Sorted>::of_this_thread();
+    auto& gathered_pool = detail::ScratchPool<Gathered>::of_this_thread();
+    std::unique_ptr<Sorted> sorted = sorted_pool.take();
+    std::vector<std::uint64_t>& order = sorted->order;
     TraceOptions one = o;
     one.threads = 1;
     for (std::size_t s = 0; s < rays.size(); s += kReorderSegment) {
         const std::size_t n = std::min(kReorderSegment, rays.size() - s);
         const std::span<const Ray> seg = rays.subspan(s, n);
         const std::span<Hit> out = hits.subspan(s, n);
-        sort_rays(seg, bvh.bounds(), order, sorted.work);
+        sort_rays(seg, bvh.bounds(), order, sorted->work);
         auto blocks = [&](std::size_t b, std::size_t e) {
-            thread_local Gathered g;
+            std::unique_ptr<Gathered> taken = gathered_pool.take();
+            Gathered& g = *taken;
             for (std::size_t k = b; k < e; ++k) {
                 const std::size_t lo = k * kReorderBlock, hi = std::min(n, lo + kReorderBlock);
                 g.rays.resize(hi - lo);
@@ -78,11 +72,13 @@ void trace_sorted(TraceFn<N> fn, const BvhN<N>& bvh, std::span<const Ray> rays, 
                 fn(bvh, g.rays, g.hits, one);
                 for (std::size_t i = lo; i < hi; ++i) out[order_index(order[i])] = g.hits[i - lo];
             }
+            gathered_pool.give(std::move(taken));
         };
         const std::size_t count = (n + kReorderBlock - 1) / kReorderBlock;
         if (o.stats || o.threads <= 1) blocks(0, count);
         else parallel_for(count, o.threads, blocks, {.grain = 1});
     }
+    sorted_pool.give(std::move(sorted));
 }
 
 template <int N, bool kAnyHit>

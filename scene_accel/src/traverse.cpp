@@ -8,7 +8,6 @@
 #include <cmath>
 #include <limits>
 #include <memory>
-#include <mutex>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -17,6 +16,7 @@
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/kernels/parallel.h"
 #include "scene_trace-inl.h"
+#include "scratch_pool.h"
 #include "traverse_binary-inl.h"
 
 namespace simdbvh {
@@ -171,34 +171,6 @@ struct ChunkScratch {
     std::vector<Aabb> boxes, unions;
     std::vector<Box8> nodes;
 };
-
-// The calling thread's sets: a batch's workers (parallel_for's threads or a
-// host executor's) each take one for a chunk and give it back, so a batch
-// makes at most one set per worker running at once, and the next batch from
-// this thread finds them made (the workers' own threads end with the call).
-class ScratchPool {
-public:
-    std::unique_ptr<ChunkScratch> take() {
-        const std::lock_guard<std::mutex> lock(mutex_);
-        if (free_.empty()) return std::make_unique<ChunkScratch>();
-        std::unique_ptr<ChunkScratch> x = std::move(free_.back());
-        free_.pop_back();
-        return x;
-    }
-    void give(std::unique_ptr<ChunkScratch> x) {
-        const std::lock_guard<std::mutex> lock(mutex_);
-        free_.push_back(std::move(x));
-    }
-
-private:
-    std::mutex mutex_;
-    std::vector<std::unique_ptr<ChunkScratch>> free_;
-};
-
-ScratchPool& scratch_pool() {
-    thread_local ScratchPool pool;
-    return pool;
-}
 
 template <int N>
 void collect_tree(const SceneBvhN<N>& s, std::span<const Ray> world, const std::vector<std::uint8_t>& live,
@@ -457,7 +429,7 @@ void trace_span(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Scen
     // One item per chunk (grain 1): with parallel_for's default grain of
     // 2048 items, a batch of fewer than 2048 chunks (every batch below 67M
     // rays) ran on the calling thread alone, whatever `threads` said.
-    ScratchPool& pool = scratch_pool();
+    auto& pool = detail::ScratchPool<ChunkScratch>::of_this_thread();
     ParallelOptions po;
     po.grain = 1;
     parallel_for(
