@@ -4,12 +4,12 @@
 // (bvh_intersector_stream.cpp: 32 rays, a ray mask per stack entry). At each
 // node every active ray runs its own single-ray node test (K::box: its own
 // near/far planes and cull bound, so the rays need not share an octant), and
-// the rays' hit masks are transposed into one ray mask per child
-// (K::stream_rays); a child is visited by the rays that hit it, and each hit
+// each ray's bit goes into the lanes of the children it hits, giving one ray
+// mask per child (K::stream_add); a child is visited by the rays that hit it, and each hit
 // child's lines are prefetched as it is pushed. Leaves run the leaf
 // intersector per ray.
 // The hit children are visited nearest first (the smallest entry over their
-// rays, K::stream_nearest_min, kept in registers over the node's rays).
+// rays, gathered in the same pass, K::stream_add).
 // - Closest hits: a popped entry goes on with the rays whose cull bound it is
 //   still in front of (K::stream_front). Each ray's node tests are its
 //   single-ray tests bit for bit, and it visits every node its single-ray
@@ -103,13 +103,11 @@ SIMDBVH_STREAM_INLINE void trace_stream(const NodeN<N>* nodes, const Aabb* root,
         std::uint32_t rays;          // the stream's rays that hit it
         float entry;                 // their smallest entry distance (closest hits)
     };
-    constexpr int kLanes = (N + 7) / 8 * 8;  // per-child floats, N rounded up to 8 (K::stream_nearest_*)
+    constexpr int kLanes = (N + 7) / 8 * 8;  // per-child lanes, N rounded up to 8 (K::stream_add)
     StreamRay<K, N, Keep> sr[kStream];
     PreparedRay pr[8];
     alignas(64) float cull[kStream];  // each ray's cull_bound(best.t); -inf for no ray
     Entry stack[kStackSize<N>];
-    typename K::StreamMasks masks;  // each active ray's child hit mask at the current node
-    K::stream_clear(masks);
     std::uint64_t tests = 0, active = 0;
     const std::size_t n = rays.size();
     for (std::size_t base = 0; base < n; base += kStream) {
@@ -139,21 +137,19 @@ SIMDBVH_STREAM_INLINE void trace_stream(const NodeN<N>* nodes, const Aabb* root,
                 tests++;
                 active += std::uint64_t(__builtin_popcount(mask));
                 std::uint32_t hit = 0;
-                auto nearest = K::template stream_nearest_init<N>();  // per child: the smallest entry over its rays
+                auto acc = K::template stream_init<N>();  // per child: its rays and their smallest entry
                 for (std::uint32_t m = mask; m != 0; m &= m - 1) {
                     const int r = __builtin_ctz(m);
                     alignas(64) float entries[kLanes];
                     const std::uint32_t h = K::box(sr[r].rd, node.boxes, cull[r], entries);
                     hit |= h;
-                    K::template stream_set<N>(masks, r, h);
-                    K::template stream_nearest_min<N>(nearest, entries, h);
+                    K::template stream_add<N>(acc, r, h, entries);
                 }
                 if (hit != 0) {
-                    std::uint32_t rays_of[N];
-                    K::template stream_rays<N>(masks, hit, rays_of);
                     // Push them farthest deepest, continue with the nearest.
+                    alignas(64) std::uint32_t rays_of[kLanes];
                     alignas(64) float near_of[kLanes];
-                    K::template stream_nearest_store<N>(nearest, near_of);
+                    K::template stream_store<N>(acc, rays_of, near_of);
                     const int base_sp = sp;
                     for (std::uint32_t q = hit; q != 0; q &= q - 1) {
                         const int i = __builtin_ctz(q);
