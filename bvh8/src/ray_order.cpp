@@ -55,25 +55,28 @@ constexpr std::size_t kSamples = 4096;  // and rays for (2) and (3)
 
 std::uint32_t ray_key(const Ray& ray, const Aabb& bounds) { return Grid(bounds).key(ray); }
 
-bool scattered(std::span<const Ray> rays, const Aabb& bounds) {
-    if (rays.size() < 2) return false;
+namespace {
+
+template <class At>
+bool scattered_at(std::size_t n, const At& ray_at, const Aabb& bounds) {
+    if (n < 2) return false;
     const Grid g(bounds);
     // (1) on kPairs pairs first: most batches that keep their order (a camera's) stop here.
-    const std::size_t pairs = std::min(kPairs, rays.size() - 1);
-    const std::size_t step = (rays.size() - 1) / pairs;
+    const std::size_t pairs = std::min(kPairs, n - 1);
+    const std::size_t step = (n - 1) / pairs;
     std::size_t changes = 0;
     for (std::size_t k = 0; k < pairs; ++k) {
         const std::size_t i = k * step;
-        changes += (g.key(rays[i]) >> kFineBits) != (g.key(rays[i + 1]) >> kFineBits);  // cell or octant
+        changes += (g.key(ray_at(i)) >> kFineBits) != (g.key(ray_at(i + 1)) >> kFineBits);  // cell or octant
     }
     if (4 * changes <= pairs) return false;
     // (2) and (3) on kSamples rays.
-    const std::size_t samples = std::min(kSamples, rays.size());
-    const std::size_t stride = rays.size() / samples;
+    const std::size_t samples = std::min(kSamples, n);
+    const std::size_t stride = n / samples;
     std::size_t inside = 0;
     std::bitset<512> cells;
     for (std::size_t k = 0; k < samples; ++k) {
-        const Ray& r = rays[k * stride];
+        const Ray r = ray_at(k * stride);
         const Vec3 o = r.org;
         if (bounds.lo.x <= o.x && o.x <= bounds.hi.x && bounds.lo.y <= o.y && o.y <= bounds.hi.y &&
             bounds.lo.z <= o.z && o.z <= bounds.hi.z) {
@@ -82,7 +85,16 @@ bool scattered(std::span<const Ray> rays, const Aabb& bounds) {
         }
     }
     return 2 * inside >= samples && 4 * cells.count() < 3 * cells.size() &&
-           rays.size() >= kReorderRaysPerCell * cells.count();
+           n >= kReorderRaysPerCell * cells.count();
+}
+
+}  // namespace
+
+bool scattered(std::span<const Ray> rays, const Aabb& bounds) {
+    return scattered_at(rays.size(), [&](std::size_t i) -> const Ray& { return rays[i]; }, bounds);
+}
+bool scattered(std::size_t n, const std::function<Ray(std::size_t)>& ray_at, const Aabb& bounds) {
+    return scattered_at(n, ray_at, bounds);
 }
 
 void sort_rays(std::span<const Ray> rays, const Aabb& bounds, std::vector<std::uint64_t>& order,

@@ -16,6 +16,7 @@
 // other keys tried in the README (stop 51).
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -56,6 +57,8 @@ std::uint32_t ray_key(const Ray& ray, const Aabb& bounds);
 // the sort costs and the streams do not pay for them), and (3) there are at
 // least kReorderRaysPerCell rays per cell they occupy.
 bool scattered(std::span<const Ray> rays, const Aabb& bounds);
+// The same on n rays given by ray_at(i) (it reads about 6,000 of them).
+bool scattered(std::size_t n, const std::function<Ray(std::size_t)>& ray_at, const Aabb& bounds);
 
 // The batch's positions in traced order: order[i] is the position (in rays)
 // of the i-th ray to trace. rays.size() <= kReorderSegment. Stable: rays with

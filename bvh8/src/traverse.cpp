@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "simdbvh/bvh8/batch_order.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/kernels/parallel.h"
 #include "isa_choice.h"
@@ -37,10 +38,14 @@ struct Sorted {
     std::vector<std::uint64_t> order, work;
 };
 
+// Whether a batch of n rays is traced sorted; scattered() runs ray_order.h's rule on it.
+template <class Scattered>
+bool reordered(std::size_t n, Reorder r, const Scattered& scattered) {
+    if (r == Reorder::on) return n > 1;
+    return r == Reorder::automatic && n >= bvh8::detail::kReorderMinRays && scattered();
+}
 bool reordered(std::span<const Ray> rays, const Aabb& bounds, Reorder r) {
-    if (r == Reorder::on) return rays.size() > 1;
-    return r == Reorder::automatic && rays.size() >= bvh8::detail::kReorderMinRays &&
-           bvh8::detail::scattered(rays, bounds);
+    return reordered(rays.size(), r, [&] { return bvh8::detail::scattered(rays, bounds); });
 }
 
 // The batch traced in its sorted order (ray_order.h), segment by segment:
@@ -168,7 +173,20 @@ Hit occluded(const BvhN<N>& bvh, const Ray& ray, const TraceOptions& o, Isa isa)
     return h;
 }
 
+template <int N>
+bool traces_sorted(const BvhN<N>& bvh, std::span<const Ray> rays, const TraceOptions& o) {
+    return reordered(rays, bvh.bounds(), o.reorder);
+}
+template <int N>
+bool traces_sorted(const BvhN<N>& bvh, std::size_t n, const std::function<Ray(std::size_t)>& ray_at,
+                   const TraceOptions& o) {
+    return reordered(n, o.reorder, [&] { return bvh8::detail::scattered(n, ray_at, bvh.bounds()); });
+}
+
 #define SIMDBVH_WIDTH(N)                                                                                          \
+    template bool traces_sorted<N>(const BvhN<N>&, std::span<const Ray>, const TraceOptions&);                  \
+    template bool traces_sorted<N>(const BvhN<N>&, std::size_t, const std::function<Ray(std::size_t)>&,         \
+                                   const TraceOptions&);                                                        \
     template void intersect<N>(const BvhN<N>&, std::span<const Ray>, std::span<Hit>, const TraceOptions&, Isa); \
     template void occluded<N>(const BvhN<N>&, std::span<const Ray>, std::span<Hit>, const TraceOptions&, Isa);  \
     template Hit intersect<N>(const BvhN<N>&, const Ray&, const TraceOptions&, Isa);                            \

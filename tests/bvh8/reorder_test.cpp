@@ -4,7 +4,8 @@
 // caller's positions, any hits without streams are the caller's-order ones,
 // and with streams a hit where the ray hits something; the sort is a stable
 // permutation by key; the automatic choice sorts surface bounces and keeps a
-// camera's rays and rays from outside or filling the bounds.
+// camera's rays and rays from outside or filling the bounds, and
+// traces_sorted (batch_order.h) tells a caller that choice.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -14,6 +15,7 @@
 
 #include "ray_order.h"
 #include "simdbvh/bvh2/bvh2.h"
+#include "simdbvh/bvh8/batch_order.h"
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/scene/rays.h"
 #include "simdbvh/scene/scenes.h"
@@ -189,6 +191,31 @@ TEST(RayOrder, AutomaticSortsSurfaceBouncesOnly) {
     EXPECT_FALSE(bvh8::detail::scattered(scene::generate_rays(mesh, scene::RayKind::primary, 40000, 1), b));
     EXPECT_FALSE(bvh8::detail::scattered(scene::incoherent_rays(b, 40000, 1), b));  // from outside
     EXPECT_FALSE(bvh8::detail::scattered(scene::interior_rays(b, 40000, 1), b));    // filling the bounds
+}
+
+// The public question (batch_order.h), on Ray records and on a function of
+// the position, answers as the traversal decides: the rule for automatic,
+// yes for on (more than one ray), no for off.
+TEST(RayOrder, TracesSortedTellsTheTraversalsChoice) {
+    const Mesh mesh = spheres();
+    const Bvh16 bvh = Bvh16::build(mesh);
+    const std::vector<Ray> bounces = scene::generate_rays(mesh, scene::RayKind::diffuse, 150000, 1);
+    const std::vector<Ray> camera = scene::generate_rays(mesh, scene::RayKind::primary, 40000, 1);
+    auto asked = [&](const std::vector<Ray>& rays, Reorder r) {
+        TraceOptions o;
+        o.reorder = r;
+        const bool records = traces_sorted(bvh, rays, o);
+        const bool by_position = traces_sorted(bvh, rays.size(), [&](std::size_t i) { return rays[i]; }, o);
+        EXPECT_EQ(records, by_position);
+        return records;
+    };
+    EXPECT_TRUE(asked(bounces, Reorder::automatic));
+    EXPECT_FALSE(asked(camera, Reorder::automatic));
+    EXPECT_FALSE(asked(bounces, Reorder::off));
+    EXPECT_TRUE(asked(camera, Reorder::on));
+    EXPECT_FALSE(asked(std::vector<Ray>(camera.begin(), camera.begin() + 1), Reorder::on));
+    // Below the automatic rule's ray count, even surface bounces are not sorted.
+    EXPECT_FALSE(asked(std::vector<Ray>(bounces.begin(), bounces.begin() + 8000), Reorder::automatic));
 }
 
 }  // namespace
