@@ -170,6 +170,40 @@ void for_ray_chunks(const RayArrays& in, int threads, Chunk&& chunk) {
     }, po);
 }
 
+// Rays per batch of for_ray_batches: 32 MiB of Ray records and 16 MiB of
+// hits (kept by the calling thread for its next call), the library's largest
+// sorted segment.
+inline constexpr std::size_t kRayBatch = std::size_t(1) << 20;
+
+// For a wide tree's batch that the library sorts (traces_sorted,
+// simdbvh/bvh8/batch_order.h; in for_ray_chunks' 16,384-ray chunks diffuse
+// bounces are too sparse to gain from it): for consecutive batches of at most
+// kRayBatch rays, the Ray records built from the views (over `threads`),
+// trace(rays, hits) once on the calling thread (the library spreads the batch
+// over the threads), then write(hits, begin) over `threads` for ranges of the
+// batch (hits[k] is ray begin + k). Call without the GIL; trace and write must
+// not touch Python objects.
+template <class HitT = Hit, class Trace, class Write>
+void for_ray_batches(const RayArrays& in, int threads, Trace&& trace, Write&& write) {
+    thread_local std::vector<Ray> rays_kept;
+    thread_local std::vector<HitT> hits_kept;
+    for (std::size_t c = 0; c < in.size(); c += kRayBatch) {
+        const std::size_t m = std::min(kRayBatch, in.size() - c);
+        rays_kept.resize(m);
+        hits_kept.resize(m);
+        // The calling thread's buffers (a thread_local named inside the workers' lambdas would be theirs).
+        Ray* const rays = rays_kept.data();
+        HitT* const hits = hits_kept.data();
+        parallel_for(m, threads, [&](std::size_t b, std::size_t e) {
+            for (std::size_t k = b; k < e; ++k) rays[k] = in[c + k];
+        });
+        trace(std::span<const Ray>(rays, m), std::span<HitT>(hits, m));
+        parallel_for(m, threads, [&](std::size_t b, std::size_t e) {
+            write(std::span<const HitT>(hits + b, e - b), c + b);
+        });
+    }
+}
+
 template <class T>
 py::array_t<T> empty_array(std::size_t n) {
     return py::array_t<T>(py::ssize_t(n));

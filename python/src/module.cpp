@@ -17,6 +17,7 @@
 #include "simdbvh/bvh2/closest_point.h"
 #include "simdbvh/bvh2/crossings.h"
 #include "simdbvh/bvh2/inside.h"
+#include "simdbvh/bvh8/batch_order.h"
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/bvh8/closest_point.h"
 #include "simdbvh/bvh8/inside.h"
@@ -78,35 +79,7 @@ public:
         std::vector<Hit> all(points || normals ? n : 0);  // the rows below need every hit
         {
             py::gil_scoped_release nogil;
-            TraceOptions one;  // the chunks are spread over the threads; each traces on one
-            one.threads = 1;
-            auto trace = [&](std::span<const Ray> r, std::span<Hit> h) {
-                auto wide = [&](const auto& bvh) {
-                    if (isa_auto_) {  // chosen by speed (bvh8.h), or the forced SIMDBVH_ISA
-                        if (any) occluded(bvh, r, h, one);
-                        else simdbvh::intersect(bvh, r, h, one);
-                    } else if (any) {
-                        occluded(bvh, r, h, one, isa_);
-                    } else {
-                        simdbvh::intersect(bvh, r, h, one, isa_);
-                    }
-                };
-                if (bvh4_) {
-                    wide(*bvh4_);
-                } else if (bvh8_) {
-                    wide(*bvh8_);
-                } else if (bvh16_) {
-                    wide(*bvh16_);
-                } else if (method_ == "bvh2") {
-                    if (any) simdbvh::occluded(bvh2(), r, h, one);
-                    else simdbvh::intersect(bvh2(), r, h, one);
-                } else {
-                    for (std::size_t i = 0; i < r.size(); ++i)
-                        h[i] = any ? brute_force_occluded(mesh_, r[i]) : brute_force_intersect(mesh_, r[i]);
-                }
-            };
-            for_ray_chunks(rays, check_threads(threads), [&](std::span<const Ray> r, std::span<Hit> h, std::size_t b) {
-                trace(r, h);
+            auto write = [&](std::span<const Hit> h, std::size_t b) {
                 for (std::size_t k = 0; k < h.size(); ++k) {
                     const std::size_t i = b + k;
                     pt[i] = h[k].t;
@@ -116,7 +89,51 @@ public:
                     phit[i] = h[k].hit();
                 }
                 if (!all.empty()) std::copy(h.begin(), h.end(), all.begin() + std::ptrdiff_t(b));
-            });
+            };
+            const int nthreads = check_threads(threads);
+            if (bvh4_ || bvh8_ || bvh16_) {
+                auto wide = [&](const auto& bvh) {
+                    auto trace = [&](std::span<const Ray> r, std::span<Hit> h, int th) {
+                        TraceOptions opts;
+                        opts.threads = th;
+                        if (isa_auto_) {  // chosen by speed (bvh8.h), or the forced SIMDBVH_ISA
+                            if (any) occluded(bvh, r, h, opts);
+                            else simdbvh::intersect(bvh, r, h, opts);
+                        } else if (any) {
+                            occluded(bvh, r, h, opts, isa_);
+                        } else {
+                            simdbvh::intersect(bvh, r, h, opts, isa_);
+                        }
+                    };
+                    if (traces_sorted(bvh, n, [&](std::size_t i) { return rays[i]; })) {
+                        // Whole batches: the library sorts each and spreads it over the threads.
+                        for_ray_batches(
+                            rays, nthreads, [&](std::span<const Ray> r, std::span<Hit> h) { trace(r, h, nthreads); },
+                            write);
+                    } else {
+                        // Chunks spread over the threads, each traced on one, converted just before.
+                        for_ray_chunks(rays, nthreads, [&](std::span<const Ray> r, std::span<Hit> h, std::size_t b) {
+                            trace(r, h, 1);
+                            write(h, b);
+                        });
+                    }
+                };
+                if (bvh4_) wide(*bvh4_);
+                else if (bvh8_) wide(*bvh8_);
+                else wide(*bvh16_);
+            } else {
+                for_ray_chunks(rays, nthreads, [&](std::span<const Ray> r, std::span<Hit> h, std::size_t b) {
+                    // The chunks are spread over the threads; each traces on one.
+                    if (method_ == "bvh2") {
+                        if (any) simdbvh::occluded(bvh2(), r, h);
+                        else simdbvh::intersect(bvh2(), r, h);
+                    } else {
+                        for (std::size_t i = 0; i < r.size(); ++i)
+                            h[i] = any ? brute_force_occluded(mesh_, r[i]) : brute_force_intersect(mesh_, r[i]);
+                    }
+                    write(h, b);
+                });
+            }
         }
         const std::vector<Hit>& hits = all;
         py::dict out("hit"_a = hit, "t"_a = t, "prim"_a = prim, "u"_a = u, "v"_a = v);
@@ -411,11 +428,16 @@ PYBIND11_MODULE(_simdbvh, m) {
              "(on the hit triangle); normals=True adds 'normals' (n, 3): the unit geometric normal "
              "(v1 - v0) x (v2 - v0) by the triangle's winding, not turned toward the ray. Misses: NaN rows. "
              "origins, directions (n, 3) and tmin, tmax (numbers or (n,)) are read in place when they are "
-             "C-contiguous float32 and converted (copied) otherwise; the rays are traced in chunks of 16,384 "
-             "spread over `threads`, the answers written straight into the returned arrays.")
+             "C-contiguous float32 and converted (copied) otherwise; the rays are traced in batches of up to 2^20 "
+             "(bvh4/8/16, when the library sorts them, e.g. diffuse bounces: traced whole, spread over `threads` by "
+             "the library) or chunks of 16,384 spread over `threads`, the answers written straight into the returned "
+             "arrays.")
         .def("occluded", [](const Bvh& b, const py::handle& o, const py::handle& d, const py::handle& tmin,
-                            const py::handle& tmax, int threads) {
-            return b.intersect(o, d, tmin, tmax, threads, true)["hit"];
+                            const py::handle& tmax, int threads) -> py::object {
+            // An owning reference made while the dict lives (a returned item accessor outlived it: the
+            // conversion then read a freed dict, which corrupted the heap on large batches).
+            const py::dict r = b.intersect(o, d, tmin, tmax, threads, true);
+            return r["hit"];
         }, py::arg("origins"), py::arg("directions"), py::arg("tmin") = 0.0f, py::arg("tmax") = kInf,
              py::arg("threads") = 1, "Any hit: a bool per ray.")
         .def("refit", &Bvh::refit, py::arg("vertices"), py::arg("threads") = 1,
