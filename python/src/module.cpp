@@ -93,9 +93,7 @@ public:
             const int nthreads = check_threads(threads);
             if (bvh4_ || bvh8_ || bvh16_) {
                 auto wide = [&](const auto& bvh) {
-                    auto trace = [&](std::span<const Ray> r, std::span<Hit> h, int th) {
-                        TraceOptions opts;
-                        opts.threads = th;
+                    auto trace = [&](std::span<const Ray> r, std::span<Hit> h, const TraceOptions& opts) {
                         if (isa_auto_) {  // chosen by speed (bvh8.h), or the forced SIMDBVH_ISA
                             if (any) occluded(bvh, r, h, opts);
                             else simdbvh::intersect(bvh, r, h, opts);
@@ -105,15 +103,20 @@ public:
                             simdbvh::intersect(bvh, r, h, opts, isa_);
                         }
                     };
-                    if (traces_sorted(bvh, n, [&](std::size_t i) { return rays[i]; })) {
-                        // Whole batches: the library sorts each and spreads it over the threads.
+                    TraceOptions opts;  // automatic order: the library's rule, asked once here
+                    if (traces_sorted(bvh, n, [&](std::size_t i) { return rays[i]; }, opts)) {
+                        // Whole batches, sorted (decided: not asked again per batch) and spread over the
+                        // threads by the library.
+                        opts.reorder = Reorder::on;
+                        opts.threads = nthreads;
                         for_ray_batches(
-                            rays, nthreads, [&](std::span<const Ray> r, std::span<Hit> h) { trace(r, h, nthreads); },
+                            rays, nthreads, [&](std::span<const Ray> r, std::span<Hit> h) { trace(r, h, opts); },
                             write);
                     } else {
                         // Chunks spread over the threads, each traced on one, converted just before.
+                        opts.reorder = Reorder::off;
                         for_ray_chunks(rays, nthreads, [&](std::span<const Ray> r, std::span<Hit> h, std::size_t b) {
-                            trace(r, h, 1);
+                            trace(r, h, opts);
                             write(h, b);
                         });
                     }
