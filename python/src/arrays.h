@@ -149,19 +149,19 @@ private:
 // least kIsaCalibrationRays (bvh8.h), so a first chunk can still calibrate.
 inline constexpr std::size_t kRayChunk = 16384;
 
-// Calls chunk(rays, hits, begin) for consecutive chunks of at most kRayChunk
+// Calls chunk(rays, hits, begin) for consecutive chunks of at most kChunk
 // rays (rays[k] is ray begin + k; hits has the same length, for the caller to
 // fill and read), spread over `threads`. Call without the GIL; chunk must not
 // touch Python objects. Each thread reuses one buffer pair across its chunks.
-template <class HitT = Hit, class Chunk>
+template <class HitT = Hit, std::size_t kChunk = kRayChunk, class Chunk>
 void for_ray_chunks(const RayArrays& in, int threads, Chunk&& chunk) {
     ParallelOptions po;
-    po.grain = kRayChunk;
+    po.grain = kChunk;
     parallel_for(in.size(), threads, [&](std::size_t b, std::size_t e) {
         thread_local std::vector<Ray> rays;
         thread_local std::vector<HitT> hits;
-        for (std::size_t c = b; c < e; c += kRayChunk) {
-            const std::size_t m = std::min(kRayChunk, e - c);
+        for (std::size_t c = b; c < e; c += kChunk) {
+            const std::size_t m = std::min(kChunk, e - c);
             rays.resize(m);
             hits.resize(m);
             for (std::size_t k = 0; k < m; ++k) rays[k] = in[c + k];

@@ -168,6 +168,29 @@ def test_numpy_scene_every_method_bit_identical():
     assert np.isnan(want["normals"][~want["hit"]]).all()
 
 
+def test_batches_across_chunks_bit_identical():
+    """A batch of several chunks (the module traces a scene batch in pieces of 32,768 rays, the library's chunk):
+    every ray's hit at its own position, against the brute force on the same batch, one and two threads."""
+    ref = simdbvh.load_scene("spheres-200", method="brute")
+    n = 2 * 32768 + 16384 + 1234
+    rng = np.random.default_rng(31)
+    lo, hi = ref.bounds
+    o = rng.uniform(lo, hi, (n, 3)).astype(np.float32)
+    d = rng.normal(size=(n, 3)).astype(np.float32)
+    tmax = np.where(np.arange(n) % 3 == 0, np.float32(0.05), np.float32(np.inf))  # every third ray short
+    want = ref.intersect(o, d, tmax=tmax, threads=2)
+    any_want = ref.occluded(o, d, tmax=tmax, threads=2)
+    check_hit_ids(want, ref)
+    assert 0.2 * n < want["hit"].sum() < 0.9 * n, want["hit"].sum()
+    assert not np.array_equal(any_want[:32768], any_want[32768:65536])  # the pieces differ: misplaced ones show
+    for method in ("bvh8", "bvh16"):
+        s = simdbvh.load_scene("spheres-200", method=method)
+        for threads in (1, 2):
+            assert_same(s.intersect(o, d, tmax=tmax, threads=threads), want, f"{method} threads={threads}")
+            np.testing.assert_array_equal(s.occluded(o, d, tmax=tmax, threads=threads), any_want,
+                                          err_msg=f"{method} threads={threads} occluded")
+
+
 def test_bit_identical_to_the_cli(tmp_path):
     """The same rays through `simdbvh trace --scene` (scene hit files) and the module; on spheres-2000 20,000 rays
     on two threads, so the module's chunks of 16,384 rays end inside the batch."""

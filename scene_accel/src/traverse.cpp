@@ -412,7 +412,7 @@ template <class Query, int N>
 void trace_span(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<SceneHit> hits, Isa isa, int threads) {
     if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
     const auto bottom = Bottom<Query, N>::of(isa);  // the one ISA switch per batch
-    // Chunks as large as the threads allow, up to kChunkMax rays: a round
+    // Chunks as large as the threads allow, up to kChunkMax rays (scene.h): a round
     // groups a chunk's rays by instance, and a bottom level traces each group
     // as one batch, so larger chunks give larger groups (fewer calls, more
     // rays in flight per call). Rays per group (incoherent rays, 2048 ->
@@ -422,7 +422,7 @@ void trace_span(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Scen
     // 0.91-0.92 -> 1.06-1.08, interior any 0.81-0.83 -> 0.97-1.00;
     // instances-1000 interior closest 0.69-0.77 -> 0.91-0.93; the room level
     // or better. 65536 and 131072 gave no more (instances-1000).
-    constexpr std::size_t kChunkMin = 2048, kChunkMax = 32768;
+    constexpr std::size_t kChunkMin = 2048, kChunkMax = kSceneChunkRays;
     const int nt = std::max(1, threads);
     const std::size_t chunk = std::clamp((rays.size() + std::size_t(nt) - 1) / std::size_t(nt), kChunkMin, kChunkMax);
     const std::size_t chunks = (rays.size() + chunk - 1) / chunk;

@@ -15,6 +15,7 @@
 // max cond(A) * (max |origin component| + the scene's largest coordinate): the
 // object-space ray is rounded, and a hit it finds lies within that distance of
 // the world ray (bounded by cond(A) float roundings of |o| + |t d|).
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <variant>
@@ -174,6 +175,11 @@ void intersect(const SceneBvhN<N>& scene, std::span<const Ray> rays, std::span<S
 template <int N>
 void occluded(const SceneBvhN<N>& scene, std::span<const Ray> rays, std::span<SceneHit> hits, Isa isa,
               int threads = 1);
+// A batch is traced in wavefront chunks of at most this many rays (fewer when
+// the threads split a smaller batch, at least 2,048): a caller feeding a large
+// batch in pieces loses nothing with pieces of this size (smaller pieces give
+// smaller chunks, and fewer rays per bottom-level call).
+inline constexpr std::size_t kSceneChunkRays = 32768;
 
 // The reference: every instance (through object_ray with the same inverse),
 // every primitive, every plane; no hierarchy. Validates first (throws).
