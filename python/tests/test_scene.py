@@ -192,8 +192,8 @@ def test_batches_across_chunks_bit_identical():
 
 
 def test_bit_identical_to_the_cli(tmp_path):
-    """The same rays through `simdbvh trace --scene` (scene hit files) and the module; on spheres-2000 20,000 rays
-    on two threads, so the module's chunks of 16,384 rays end inside the batch."""
+    """The same rays through `simdbvh trace --scene` (scene hit files) and the module; on spheres-2000 40,000 rays
+    on two threads, so the module's chunks of 32,768 rays end inside the batch."""
     cli = os.environ.get("SIMDBVH_CLI")
     if not cli:
         pytest.skip("SIMDBVH_CLI is not set (ctest sets it)")
@@ -207,7 +207,7 @@ def test_bit_identical_to_the_cli(tmp_path):
     for name in names:
         rays = tmp_path / f"{name}.rays"
         r = subprocess.run([cli, "gen-rays", "--scene", name, "--kind", "incoherent", "--count",
-                            "20000" if name.startswith("spheres") else "3000",
+                            "40000" if name.startswith("spheres") else "3000",
                             "--out", str(rays)], capture_output=True, text=True)
         assert r.returncode == 0, r.stdout + r.stderr
         rec = np.fromfile(rays, dtype="<f4").reshape(-1, 8)
