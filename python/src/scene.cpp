@@ -24,14 +24,6 @@
 namespace simdbvh::python {
 namespace {
 
-// Rays per chunk of a scene batch: the library's largest wavefront chunk, so
-// each call is one chunk there. Against for_ray_chunks' 16,384 (AMD EPYC Zen 4,
-// 262,144 random rays in the bounds, /usr/bin/python3, medians of 7 calls, two
-// processes per module alternating), Mrays/s closest / any, one thread:
-// instances-1000 2.11-2.25 / 2.28-2.38 -> 2.30-2.38 / 2.45-2.57, instances-100
-// 5.30-5.37 / 5.62-5.68 -> 5.47-5.50 / 5.80-5.84, spheres-1000 level.
-constexpr std::size_t kSceneRayChunk = kSceneChunkRays;
-
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
 std::string shape_of(const F32& a) {
@@ -193,7 +185,7 @@ public:
         std::int64_t *pprim = prim.mutable_data(), *pgeom = geom.mutable_data(), *pinst = inst.mutable_data();
         {
             py::gil_scoped_release nogil;
-            for_ray_chunks<SceneHit, kSceneRayChunk>(rays, check_threads(threads),
+            for_ray_chunks<SceneHit, kSceneChunkRays>(rays, check_threads(threads),
                                      [&](std::span<const Ray> r, std::span<SceneHit> hs, std::size_t b) {
                 trace(r, hs, false);
                 for (std::size_t k = 0; k < hs.size(); ++k) {
@@ -233,7 +225,7 @@ public:
         bool* p = out.mutable_data();
         {
             py::gil_scoped_release nogil;
-            for_ray_chunks<SceneHit, kSceneRayChunk>(rays, check_threads(threads),
+            for_ray_chunks<SceneHit, kSceneChunkRays>(rays, check_threads(threads),
                                      [&](std::span<const Ray> r, std::span<SceneHit> hs, std::size_t b) {
                 trace(r, hs, true);
                 for (std::size_t k = 0; k < hs.size(); ++k) p[b + k] = hs[k].hit();
@@ -292,7 +284,12 @@ private:
             stats_.instanced_primitives += primitives_of(desc_.geometries[in.geometry]);
     }
 
-    // One chunk of rays on the calling thread (for_ray_chunks spreads the chunks over the threads). Called
+    // One chunk of rays on the calling thread (for_ray_chunks spreads the chunks over the threads). Chunks
+    // of kSceneChunkRays (scene.h), the library's largest wavefront chunk, so each call is one chunk there;
+    // against for_ray_chunks' 16,384 (AMD EPYC Zen 4, 262,144 random rays in the bounds, medians of 7 calls,
+    // two processes per module alternating), Mrays/s closest / any, one thread: instances-1000 2.11-2.25 /
+    // 2.28-2.38 -> 2.30-2.38 / 2.45-2.57, instances-100 5.30-5.37 / 5.62-5.68 -> 5.47-5.50 / 5.80-5.84,
+    // spheres-1000 level. Called
     // without the GIL. The brute force validates the scene and inverts its transforms once per chunk.
     void trace(std::span<const Ray> rays, std::span<SceneHit> hits, bool any) const {
         std::visit([&](const auto& b) {
