@@ -105,8 +105,9 @@ SceneHit trace(const SceneBvhN<N>& s, const Ray& ray, Isa isa) {
 // flight interleaved) rather than one call per instance visit. Per chunk of
 // rays: planes, then each ray's candidate instances with their box entry
 // distances (top level, no culling), nearest first; round k gives every live
-// ray its k-th candidate, grouped by instance, with tmax = the ray's closest
-// hit so far, skipping candidates whose entry is beyond that hit (the same
+// ray its k-th candidate, grouped by geometry (instances of one geometry
+// next to each other, each ray in its instance's object space; one bottom-level
+// call per geometry and round), with tmax = the ray's closest hit so far, skipping candidates whose entry is beyond that hit (the same
 // cull_bound culling as the loop). Every candidate that can hold the closest
 // hit is tested with a tmax at least its t (tests are inclusive) and merged by
 // closer(), so the hits are those of trace() and of the brute force.
@@ -268,27 +269,48 @@ void trace_one_instance(const SceneBvhN<N>& s, std::span<const Ray> world, const
     }
 }
 
-// Sorts a round's (instance, ray) pairs, made in ray order, by instance: a
-// stable counting sort when the instances are few against the pairs (the
-// order std::sort gives, rays ascending within an instance), else std::sort.
+// Instances ranked by geometry, then id: a round's pairs sorted by rank put
+// every instance of a geometry next to each other, so the round traces each
+// bottom level in one call. Empty when the instances' geometries are already
+// in order (the rank is the id: instances-N, a single geometry).
+std::vector<std::uint32_t> geometry_rank(const std::vector<InstanceRecord>& recs) {
+    bool in_order = true;
+    for (std::size_t i = 1; i < recs.size(); ++i) in_order &= recs[i - 1].geometry <= recs[i].geometry;
+    if (in_order) return {};
+    std::vector<std::uint32_t> order(recs.size());
+    for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::uint32_t a, std::uint32_t b) { return recs[a].geometry < recs[b].geometry; });
+    std::vector<std::uint32_t> rank(recs.size());
+    for (std::uint32_t k = 0; k < order.size(); ++k) rank[order[k]] = k;
+    return rank;
+}
+
+// Sorts a round's (instance, ray) pairs, made in ray order, by the
+// instance's rank (geometry_rank; empty: the instance): a stable counting
+// sort when the instances are few against the pairs, else std::sort by (rank,
+// ray), the same order.
 inline void group_by_instance(std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs, std::uint32_t ni,
-                              std::vector<std::uint32_t>& count,
+                              std::span<const std::uint32_t> rank, std::vector<std::uint32_t>& count,
                               std::vector<std::pair<std::uint32_t, std::uint32_t>>& sorted) {
+    const auto key = [&](std::uint32_t inst) { return rank.empty() ? inst : rank[inst]; };
     if (std::size_t(ni) > 4 * pairs.size()) {
-        std::sort(pairs.begin(), pairs.end());
+        std::sort(pairs.begin(), pairs.end(), [&](const auto& a, const auto& b) {
+            return std::pair(key(a.first), a.second) < std::pair(key(b.first), b.second);
+        });
         return;
     }
     count.assign(std::size_t(ni) + 1, 0);
-    for (const auto& p : pairs) ++count[p.first + 1];
+    for (const auto& p : pairs) ++count[key(p.first) + 1];
     for (std::uint32_t i = 0; i < ni; ++i) count[i + 1] += count[i];
     sorted.resize(pairs.size());
-    for (const auto& p : pairs) sorted[count[p.first]++] = p;
+    for (const auto& p : pairs) sorted[count[key(p.first)]++] = p;
     pairs.swap(sorted);
 }
 
 template <class Query, int N>
 void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<SceneHit> hits,
-                 const Bottom<Query, N>& bottom, Isa isa, ChunkScratch& x) {
+                 const Bottom<Query, N>& bottom, std::span<const std::uint32_t> rank, Isa isa, ChunkScratch& x) {
     constexpr bool kAny = Query::kAnyHit;
     const std::size_t n = rays.size();
     const std::uint32_t ni = std::uint32_t(s.instances().size());
@@ -379,27 +401,27 @@ void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Sce
         }
         active.resize(kept);
         if (pairs.empty()) break;
-        group_by_instance(pairs, ni, count, sorted);
+        group_by_instance(pairs, ni, rank, count, sorted);
+        const std::vector<InstanceRecord>& recs = s.instances();
         for (std::size_t b = 0; b < pairs.size();) {
+            const std::uint32_t geom = recs[pairs[b].first].geometry;
             std::size_t e = b;
-            while (e < pairs.size() && pairs[e].first == pairs[b].first) ++e;
-            const std::uint32_t inst = pairs[b].first;
-            const InstanceRecord& rec = s.instances()[inst];
-            const BottomLevel<N>& bl = s.bottoms()[rec.geometry];
+            while (e < pairs.size() && recs[pairs[e].first].geometry == geom) ++e;
+            const BottomLevel<N>& bl = s.bottoms()[geom];
             obj.resize(e - b);
             got.resize(e - b);
             for (std::size_t j = b; j < e; ++j) {
                 const std::uint32_t i = pairs[j].second;
                 Ray& r = obj[j - b];
-                r = object_ray(rec.inv, world[i]);
+                r = object_ray(recs[pairs[j].first].inv, world[i]);
                 if (hits[i].hit()) r.tmax = hits[i].t;
             }
             bottom.trace(bl, obj, got);
             for (std::size_t j = b; j < e; ++j) {
-                const std::uint32_t i = pairs[j].second;
+                const std::uint32_t i = pairs[j].second, inst = pairs[j].first;
                 const Hit& h = got[j - b];
                 if (h.hit() && closer(h.t, inst, h.prim, hits[i])) {
-                    hits[i] = SceneHit{h.t, h.u, h.v, h.prim, rec.geometry, inst};
+                    hits[i] = SceneHit{h.t, h.u, h.v, h.prim, geom, inst};
                     if (kAny) done[i] = 1;
                 }
             }
@@ -412,12 +434,19 @@ template <class Query, int N>
 void trace_span(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<SceneHit> hits, Isa isa, int threads) {
     if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
     const auto bottom = Bottom<Query, N>::of(isa);  // the one ISA switch per batch
+    const std::vector<std::uint32_t> rank = geometry_rank(s.instances());
     // Chunks as large as the threads allow, up to kChunkMax rays (scene.h): a round
-    // groups a chunk's rays by instance, and a bottom level traces each group
+    // groups a chunk's rays by geometry, and a bottom level traces each group
     // as one batch, so larger chunks give larger groups (fewer calls, more
-    // rays in flight per call). Rays per group (incoherent rays, 2048 ->
+    // rays in flight per call). Grouped by instance (one call per instance
+    // and round, as before stop 54), rays per group (incoherent rays, 2048 ->
     // 32768 rays per chunk): instances-100 5.1 -> 48, instances-1000 1.6 ->
-    // 8.3. Best ours over Embree (AVX-512, AMD Zen 4, ABBA 2 rounds, 262,144
+    // 8.3; by geometry, every ray of a round in one call (their instances'
+    // object spaces side by side): Mrays/s (AMD Zen 4, one pinned thread,
+    // 262,144 rays, simdbvh_bench_scene_desc, by instance -> by geometry,
+    // two rounds alternating) instances-100 BVH8 AVX-512 interior closest
+    // 5.25-5.38 -> 5.60-5.85, primary closest 9.33-9.71 -> 11.00-11.69;
+    // instances-1000 (one round) 2.22 -> 2.63 and 4.37 -> 5.58; the room level. Best ours over Embree (AVX-512, AMD Zen 4, ABBA 2 rounds, 262,144
     // rays), 2048 -> 32768: instances-100 interior closest
     // 0.91-0.92 -> 1.06-1.08, interior any 0.81-0.83 -> 0.97-1.00;
     // instances-1000 interior closest 0.69-0.77 -> 0.91-0.93; the room level
@@ -438,7 +467,7 @@ void trace_span(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Scen
             std::unique_ptr<ChunkScratch> x = pool.take();
             for (std::size_t c = cb; c < ce; ++c) {
                 const std::size_t b = c * chunk, e = std::min(rays.size(), b + chunk);
-                trace_chunk<Query>(s, rays.subspan(b, e - b), hits.subspan(b, e - b), bottom, isa, *x);
+                trace_chunk<Query>(s, rays.subspan(b, e - b), hits.subspan(b, e - b), bottom, rank, isa, *x);
             }
             pool.give(std::move(x));
         },
