@@ -632,6 +632,53 @@ TEST_P(KernelsVsScalar, Box8RescaledAndSubnormalDirectionsNegativeTmin) {
     EXPECT_GT(slack_matters, 20);
 }
 
+// collect_boxes tests a ray against a group of 8 boxes only when it hits the
+// group's union (the super box, batch-inl.h). A NaN coordinate makes the box
+// test discard that slab plane (the box is unbounded there), so a union that
+// dropped the NaN would skip hits: here boxes with NaN planes sit in groups
+// with boxes elsewhere, and every ray's boxes and entries must still be
+// intersect_box's, on every ISA.
+TEST_P(KernelsVsScalar, CollectBoxesWithNanPlanes) {
+    Rng rng(23);
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    std::vector<Aabb> boxes;
+    for (int b = 0; b < 40; ++b) boxes.push_back(random_box(rng));
+    boxes[0] = {{nan, 0, 0}, {1, 1, 1}};  // unbounded below in x
+    boxes[1] = {{5, 5, 5}, {6, 6, 6}};
+    boxes[9] = {{0, 0, 0}, {1, nan, 1}};  // unbounded above in y
+    boxes[10] = {{-6, -6, -6}, {-5, -5, -5}};
+    boxes[17] = {{nan, nan, nan}, {nan, nan, nan}};
+    std::vector<Ray> rays;
+    for (int i = 0; i < 197; ++i) rays.push_back(random_ray(rng, 2.5f));
+    rays.push_back(Ray{{0.5f, 0.5f, 0.5f}, 0.0f, {-1, 0, 0}, kInf});  // into box 0's open side, away from box 1
+    rays.push_back(Ray{{0.5f, 0.5f, 0.5f}, 0.0f, {0, 1, 0}, kInf});   // into box 9's open side
+    rays.push_back(Ray{{0.5f, 40.0f, 0.5f}, 0.0f, {0, -1, 0}, kInf});
+    std::size_t nan_hits = 0;
+    std::vector<std::vector<std::pair<float, std::uint32_t>>> want(rays.size());
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        const PreparedRay p = prepare(rays[i]);
+        for (std::size_t b = 0; b < boxes.size() && p.valid; ++b) {
+            float e;
+            if (!intersect_box(p, boxes[b], p.tmax, &e)) continue;
+            want[i].push_back({to_caller_t(p, e), std::uint32_t(b)});
+            nan_hits += b == 0 || b == 9 || b == 17;
+        }
+    }
+    EXPECT_GE(nan_hits, 3u);
+    for (Isa run : {Isa::scalar, GetParam()}) {
+        std::vector<std::pair<float, std::uint32_t>> out;
+        std::vector<std::uint32_t> first(rays.size() + 1);
+        kernels::collect_boxes(rays, {}, boxes, out, first, run);
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            ASSERT_EQ(first[i + 1] - first[i], want[i].size()) << name(run) << " ray " << i;
+            for (std::size_t k = 0; k < want[i].size(); ++k) {
+                EXPECT_EQ(out[first[i] + k].second, want[i][k].second) << name(run) << " ray " << i;
+                EXPECT_EQ(bits_of(out[first[i] + k].first), bits_of(want[i][k].first)) << name(run) << " ray " << i;
+            }
+        }
+    }
+}
+
 // ---------- triangles ----------
 
 Vec3 on_triangle(Rng& rng, const Tri1& t) {

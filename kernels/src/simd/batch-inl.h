@@ -12,17 +12,6 @@
 
 namespace simdbvh::simd {
 
-// The 8 x 8 bit matrix x (row k = byte k, column l = bit l) transposed: bit
-// 8l + k of the result is bit 8k + l of x (Hacker's Delight 7-3).
-SIMDBVH_FORCE_INLINE std::uint64_t transpose_bits8x8(std::uint64_t x) {
-    std::uint64_t t = (x ^ (x >> 7)) & 0x00AA00AA00AA00AAull;
-    x = x ^ t ^ (t << 7);
-    t = (x ^ (x >> 14)) & 0x0000CCCC0000CCCCull;
-    x = x ^ t ^ (t << 14);
-    t = (x ^ (x >> 28)) & 0x00000000F0F0F0F0ull;
-    return x ^ t ^ (t << 28);
-}
-
 template <class Arch>
 struct BatchLoops {
     // batch.h's prepare_rays: prepare8() per 8 rays.
@@ -112,11 +101,20 @@ struct BatchLoops {
                                               first, TreeTest{nodes.data()});
     }
 
-    // batch.h's collect_boxes: 8 rays per vector against one box at a time.
-    // Each lane runs intersect_box's arithmetic on its own ray (its near
-    // planes chosen by the signs of its reciprocals, as prepare() does), so
-    // the bits are those of the per-ray tests. A ray whose direction
-    // prepare() rescales (t_exp != 0) is tested alone against the groups.
+    // batch.h's collect_boxes. The rays' prepare() as far as the slab test
+    // needs it, 8 rays per vector (ray_lanes8); then each ray alone against
+    // the groups of 8 boxes under a first level of super boxes (lane j of
+    // super s: the union of group 8s + j's boxes), testing only the groups
+    // whose super lane it hits. The conservative test is monotone in the box
+    // (a box inside one the test misses is missed: rounding is monotone, and
+    // a NaN slab value, an origin on a plane of a zero direction component,
+    // is discarded as the most permissive value), so no hit box is skipped;
+    // a box with a NaN coordinate makes its super lane unbounded. Each hit's
+    // entry is intersect_box8's lane, intersect_box's bits. Against 8 rays
+    // per vector against every box (before stop 54), a ray of an instanced
+    // scene's incoherent chunk tests 2 supers and the few groups it reaches
+    // instead of all (instances-100: 100 boxes, 13 groups). A ray whose
+    // direction prepare() rescales (t_exp != 0) goes through prepare().
     static SIMDBVH_FORCE_INLINE kernels::detail::TreeWalk boxes(std::span<const Ray> rays,
                                                                 std::span<const std::uint8_t> live,
                                                                 std::span<const Box8> groups, std::size_t count,
@@ -126,7 +124,24 @@ struct BatchLoops {
         using B = Batch<Arch>;
         constexpr std::size_t kW = B::size;
         static_assert(kW == 8, "8 rays per batch");
-        alignas(32) float ent[kernels::kCollectBoxesMax * kW];
+        constexpr float kInf = std::numeric_limits<float>::infinity();
+        Box8 supers[kernels::kCollectBoxesMax / 64];
+        const std::size_t nsup = (groups.size() + kW - 1) / kW;
+        for (std::size_t q = 0; q < nsup; ++q) {
+            supers[q].clear();
+            for (std::size_t j = 0; j < kW && kW * q + j < groups.size(); ++j) {
+                const std::size_t g = kW * q + j;
+                Aabb u;
+                bool nan = false;
+                for (std::size_t k = 0; k < kW && kW * g + k < count; ++k) {
+                    const Aabb b = groups[g].get(int(k));
+                    nan |= !(b.lo.x == b.lo.x && b.lo.y == b.lo.y && b.lo.z == b.lo.z && b.hi.x == b.hi.x &&
+                             b.hi.y == b.hi.y && b.hi.z == b.hi.z);
+                    u.grow(b);
+                }
+                supers[q].set(int(j), nan ? Aabb{{-kInf, -kInf, -kInf}, {kInf, kInf, kInf}} : u);
+            }
+        }
         std::size_t i = 0;
         for (; i < rays.size(); i += kW) {
             const std::size_t g = std::min(kW, rays.size() - i);
@@ -137,48 +152,63 @@ struct BatchLoops {
                 for (std::size_t l = 0; l < g; ++l) first[i + l] = std::uint32_t(used);
                 continue;
             }
-            // The rays' prepare() as far as the slab test needs it (prepare8-inl.h);
-            // directions prepare() rescales go alone (below).
             const RayLanes8<Arch> r = ray_lanes8<Arch>(rays.data() + i, g);
             const std::uint32_t alone = r.alone & lanes;
             const std::uint32_t vec = r.valid & lanes & ~alone;
-            // Box b's hit lanes are byte b % 8 of rows[b / 8]; transposed, byte l
-            // of rows[q] holds lane l's hits among boxes 8q .. 8q + 7 (no branch
-            // per hit: which rays hit which boxes is close to random).
-            std::uint64_t rows[kernels::kCollectBoxesMax / kW] = {};
+            alignas(32) float f[9][kW];
+            const std::uint32_t hx = bits<Arch>(r.hx), hy = bits<Arch>(r.hy), hz = bits<Arch>(r.hz);
             if (vec != 0) {
-                for (std::size_t b = 0; b < count; ++b) {
-                    B tn;
-                    const std::uint32_t h = box_lanes8<Arch>(r, groups[b / kW].get(int(b % kW)), tn);
-                    tn.store_aligned(ent + kW * b);
-                    rows[b / kW] |= std::uint64_t(h & vec) << (8 * (b % kW));
-                }
+                r.ox.store_aligned(f[0]);
+                r.oy.store_aligned(f[1]);
+                r.oz.store_aligned(f[2]);
+                r.rdx.store_aligned(f[3]);
+                r.rdy.store_aligned(f[4]);
+                r.rdz.store_aligned(f[5]);
+                r.tmin.store_aligned(f[6]);
+                r.tmax.store_aligned(f[7]);
+                r.slack.store_aligned(f[8]);
             }
-            const std::size_t nrows = (count + kW - 1) / kW;
-            for (std::size_t q = 0; q < nrows; ++q) rows[q] = transpose_bits8x8(rows[q]);
             for (std::size_t l = 0; l < g; ++l) {
                 first[i + l] = std::uint32_t(used);
-                if ((alone >> l & 1u) == 0) {
-                    for (std::size_t q0 = 0; q0 < nrows; q0 += 8) {  // 64 boxes per word
-                        std::uint64_t hit = 0;  // lane l's ray hits box q0 * 8 + bit
-                        for (std::size_t q = q0; q < std::min(nrows, q0 + 8); ++q)
-                            hit |= ((rows[q] >> (8 * l)) & 0xFFu) << (8 * (q - q0));
-                        for (std::uint64_t m = hit; m != 0; m &= m - 1) {
-                            const std::size_t b = kW * q0 + std::size_t(__builtin_ctzll(m));
-                            out[used++] = {ent[kW * b + l], std::uint32_t(b)};
+                if ((vec >> l & 1u) != 0) {
+                    // The lane's RayPack, as pack_ray() of its PreparedRay (the slab test's fields).
+                    RayPack<Arch> p;
+                    p.ox = f[0][l], p.oy = f[1][l], p.oz = f[2][l];
+                    p.rdx = f[3][l], p.rdy = f[4][l], p.rdz = f[5][l];
+                    p.tmin = f[6][l], p.far_slack = f[8][l];
+                    const std::uint32_t nx = hx >> l & 1u, ny = hy >> l & 1u, nz = hz >> l & 1u;
+                    p.near_x = 32u * nx, p.far_x = 32u * (1u - nx);
+                    p.near_y = 64u + 32u * ny, p.far_y = 64u + 32u * (1u - ny);
+                    p.near_z = 128u + 32u * nz, p.far_z = 128u + 32u * (1u - nz);
+                    const B tmax(f[7][l]);
+                    std::uint32_t reach = 0;  // bit g: the ray hits group g's super lane
+                    for (std::size_t q = 0; q < nsup; ++q) {
+                        B ts;
+                        reach |= intersect_box8<Arch>(p, supers[q], tmax, ts) << (kW * q);
+                    }
+                    for (; reach != 0; reach &= reach - 1) {
+                        const std::size_t gi = std::size_t(__builtin_ctz(reach));  // < groups.size()
+                        B tn;
+                        alignas(32) float e[kW];
+                        const std::uint32_t h = intersect_box8<Arch>(p, groups[gi], tmax, tn);
+                        tn.store_aligned(e);
+                        for (std::uint32_t k = h; k != 0; k &= k - 1) {
+                            const int j = __builtin_ctz(k);
+                            out[used++] = {e[j], std::uint32_t(kW * gi + std::size_t(j))};
                         }
                     }
                     continue;
                 }
-                const PreparedRay r = prepare(rays[i + l]);
-                const RayPack<Arch> p = pack_ray<Arch>(r);
+                if ((alone >> l & 1u) == 0) continue;
+                const PreparedRay pr = prepare(rays[i + l]);
+                const RayPack<Arch> p = pack_ray<Arch>(pr);
                 for (std::size_t gi = 0; gi * kW < count; ++gi) {
                     alignas(32) float e[kW];
                     const std::size_t in_group = std::min(kW, count - gi * kW);
-                    for (std::uint32_t m = intersect_box8<Arch>(p, groups[gi], r.tmax, e) & ((1u << in_group) - 1u);
+                    for (std::uint32_t m = intersect_box8<Arch>(p, groups[gi], pr.tmax, e) & ((1u << in_group) - 1u);
                          m != 0; m &= m - 1) {
                         const int j = __builtin_ctz(m);
-                        out[used++] = {to_caller_t(r, e[j]), std::uint32_t(gi * kW + std::size_t(j))};
+                        out[used++] = {to_caller_t(pr, e[j]), std::uint32_t(gi * kW + std::size_t(j))};
                     }
                 }
             }

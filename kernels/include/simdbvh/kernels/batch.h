@@ -78,9 +78,11 @@ void collect_box8_tree(std::span<const Ray> rays, std::span<const std::uint8_t> 
 // box it hits, the boxes in index order; ray i's are out[first[i] ..
 // first[i + 1]) (first: rays.size() + 1 values). The hits and entries are
 // intersect_box's (box.h) per box, so for a tree whose leaves are these boxes
-// they are what collect_box8_tree reports. The SIMD paths test 8 rays per
-// vector (rays with rescaled directions one at a time), which beats a tree
-// walk for the boxes of a small scene's top level. At most
+// they are what collect_box8_tree reports. The SIMD paths prepare 8 rays per
+// vector, then test each ray against the unions of 8 boxes (two vectors for
+// up to 128 boxes) and only the groups of 8 boxes whose union it hits (rays
+// with rescaled directions against every group), which beats a tree walk for
+// the boxes of a small scene's top level. At most
 // kCollectBoxesMax boxes, else simdbvh::Error.
 inline constexpr std::size_t kCollectBoxesMax = 128;
 void collect_boxes(std::span<const Ray> rays, std::span<const std::uint8_t> live, std::span<const Aabb> boxes,
