@@ -130,25 +130,6 @@ SceneHit trace(const SceneBvhN<N>& s, const Ray& ray, Isa isa) {
 // instructions and primary 1,946M -> 813M (walk -> this); instances-100
 // 711M -> 654M and 553M -> 489M, room 572M -> 568M and 340M -> 319M (groups ->
 // this); the same hits.
-// Whether at least 3 in 4 pairs of consecutive live rays share a direction
-// octant (a camera's rays, shadow rays towards one light), the coherence
-// collect_tree's choice reads.
-bool mostly_one_octant(std::span<const Ray> rays, const std::vector<std::uint8_t>& live) {
-    auto octant = [](const Vec3& d) {
-        return int(std::signbit(d.x)) | int(std::signbit(d.y)) << 1 | int(std::signbit(d.z)) << 2;
-    };
-    std::size_t pairs = 0, same = 0;
-    int prev = -1;
-    for (std::size_t i = 0; i < rays.size(); ++i) {
-        if (!live[i]) continue;
-        const int o = octant(rays[i].dir);
-        pairs += prev >= 0;
-        same += o == prev;
-        prev = o;
-    }
-    return 4 * same >= 3 * pairs;
-}
-
 // A chunk's working arrays, kept from chunk to chunk and from call to call
 // (every use below sizes and fills what it reads): about 130 bytes per ray of
 // the largest chunk traced (4 MiB at 32,768 rays) plus 8 per candidate. Made
@@ -186,22 +167,23 @@ void collect_tree(const SceneBvhN<N>& s, std::span<const Ray> world, const std::
     std::vector<std::uint32_t>& first = x.first;
     leaves.clear();
     at.assign(n + 1, 0);
-    // With few leaves, every ray against every grown leaf box, 8 rays per
-    // vector: the leaves a ray reaches in the wide tree are exactly those whose
-    // grown boxes it hits (below), with the same entries. ns per ray, tree
-    // walk -> boxes, interleaved: incoherent rays, room (5 leaves) 31 -> 19,
-    // instances-16 37 -> 19, -32 45 -> 27, -48 49 -> 32, -100 67 -> 53,
-    // -128 75 -> 66; camera rays, which the walk culls well, instances-16
-    // 15 -> 16, -32 20 -> 23, -48 24 -> 29, -100 31 -> 44. So a chunk whose
-    // consecutive live rays mostly share a direction octant takes the boxes
-    // up to kTopLeafBoxesMax leaves, any other up to kCollectBoxesMax.
+    // With up to kCollectBoxesMax leaves, the rays against the grown leaf
+    // boxes (kernels::collect_boxes: each ray against the unions of 8 leaf
+    // boxes, then the 8 boxes of each union it hits): the leaves a ray reaches
+    // in the wide tree are exactly those whose grown boxes it hits (below),
+    // with the same entries. When collect_boxes tested 8 rays per vector
+    // against every box (stop 41, ns per ray, tree walk -> boxes), it won on
+    // incoherent rays (instances-100 67 -> 53) and lost on a camera's, which
+    // the walk culls well (instances-100 31 -> 44), so coherent chunks took it
+    // only up to 32 leaves; since stop 54's unions it wins on both
+    // (instances-48 and -100 primary rays +4-9% over the walk, Mrays/s in
+    // the README's scene section).
     std::vector<std::uint32_t>& leaf_ids = x.leaf_ids;
     leaf_ids.clear();
     for (const std::uint32_t c : w.children)
         if (c != kernels::kBoxTreeEmpty && (c & kernels::kBoxTreeLeaf) != 0)
             leaf_ids.push_back(c & ~kernels::kBoxTreeLeaf);
-    const bool boxes_fit = leaf_ids.size() <= kernels::kCollectBoxesMax;
-    if (leaf_ids.size() <= kTopLeafBoxesMax || (boxes_fit && !mostly_one_octant(world, live))) {
+    if (leaf_ids.size() <= kernels::kCollectBoxesMax) {
         std::vector<Aabb>& boxes = x.boxes;
         boxes.resize(leaf_ids.size());
         for (std::size_t k = 0; k < leaf_ids.size(); ++k) boxes[k] = grow.grow(top.nodes[leaf_ids[k]].box);

@@ -108,11 +108,9 @@ static_assert(sizeof(InstanceRecord) == 52);
 
 // The top level collapsed to 8 children per node (the SAH collapse of the wide
 // trees, over the top BVH2), walked by batches (kernels::collect_box8_tree);
-// with few leaves, batches test every ray against every leaf box instead
-// (kernels::collect_boxes): up to kernels::kCollectBoxesMax leaves for a chunk
-// of incoherent rays, up to kTopLeafBoxesMax for a coherent one (most
-// consecutive rays share a direction octant: a camera's), whose rays the
-// walk culls well.
+// with up to kernels::kCollectBoxesMax leaves, batches test the rays against
+// the leaf boxes instead (kernels::collect_boxes: the unions of 8 leaf boxes,
+// then the boxes of the unions a ray hits).
 // Lane j of wide node n: children[8 n + j] is kernels::kBoxTreeEmpty (unused),
 // a wide node m > n, or kernels::kBoxTreeLeaf | k for the top BVH2's leaf node
 // k (its box and its instances, top_instance(first, 0 .. count - 1)). An
@@ -121,7 +119,6 @@ static_assert(sizeof(InstanceRecord) == 52);
 struct TopWide {
     std::vector<std::uint32_t> children;  // 8 per wide node
 };
-inline constexpr std::size_t kTopLeafBoxesMax = 32;
 
 template <int N>
 class SceneBvhN {
