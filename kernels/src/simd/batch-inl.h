@@ -12,6 +12,17 @@
 
 namespace simdbvh::simd {
 
+// The 8 x 8 bit matrix x (row k = byte k, column l = bit l) transposed: bit
+// 8l + k of the result is bit 8k + l of x (Hacker's Delight 7-3).
+SIMDBVH_FORCE_INLINE std::uint64_t transpose_bits8x8(std::uint64_t x) {
+    std::uint64_t t = (x ^ (x >> 7)) & 0x00AA00AA00AA00AAull;
+    x = x ^ t ^ (t << 7);
+    t = (x ^ (x >> 14)) & 0x0000CCCC0000CCCCull;
+    x = x ^ t ^ (t << 14);
+    t = (x ^ (x >> 28)) & 0x00000000F0F0F0F0ull;
+    return x ^ t ^ (t << 28);
+}
+
 template <class Arch>
 struct BatchLoops {
     // batch.h's prepare_rays: prepare8() per 8 rays.
@@ -101,7 +112,81 @@ struct BatchLoops {
                                               first, TreeTest{nodes.data()});
     }
 
-    // batch.h's collect_boxes. The rays' prepare() as far as the slab test
+    // collect_boxes in lanes: 8 rays per vector against one box at a time.
+    // Each lane runs intersect_box's arithmetic on its own ray (its near
+    // planes chosen by the signs of its reciprocals, as prepare() does), so
+    // the bits are those of the per-ray tests. A ray whose direction
+    // prepare() rescales (t_exp != 0) is tested alone against the groups.
+    static SIMDBVH_FORCE_INLINE kernels::detail::TreeWalk boxes_in_lanes(std::span<const Ray> rays,
+                                                                std::span<const std::uint8_t> live,
+                                                                std::span<const Box8> groups, std::size_t count,
+                                                                std::pair<float, std::uint32_t>* out,
+                                                                std::size_t used, std::size_t cap,
+                                                                std::uint32_t* first) {
+        using B = Batch<Arch>;
+        constexpr std::size_t kW = B::size;
+        static_assert(kW == 8, "8 rays per batch");
+        alignas(32) float ent[kernels::kCollectBoxesMax * kW];
+        std::size_t i = 0;
+        for (; i < rays.size(); i += kW) {
+            const std::size_t g = std::min(kW, rays.size() - i);
+            if (cap - used < g * count) break;
+            std::uint32_t lanes = 0;
+            for (std::size_t l = 0; l < g; ++l) lanes |= std::uint32_t(live.empty() || live[i + l] != 0) << l;
+            if (lanes == 0) {  // no live ray (an any-hit query's rays that hit a plane, say)
+                for (std::size_t l = 0; l < g; ++l) first[i + l] = std::uint32_t(used);
+                continue;
+            }
+            // The rays' prepare() as far as the slab test needs it (prepare8-inl.h);
+            // directions prepare() rescales go alone (below).
+            const RayLanes8<Arch> r = ray_lanes8<Arch>(rays.data() + i, g);
+            const std::uint32_t alone = r.alone & lanes;
+            const std::uint32_t vec = r.valid & lanes & ~alone;
+            // Box b's hit lanes are byte b % 8 of rows[b / 8]; transposed, byte l
+            // of rows[q] holds lane l's hits among boxes 8q .. 8q + 7 (no branch
+            // per hit: which rays hit which boxes is close to random).
+            std::uint64_t rows[kernels::kCollectBoxesMax / kW] = {};
+            if (vec != 0) {
+                for (std::size_t b = 0; b < count; ++b) {
+                    B tn;
+                    const std::uint32_t h = box_lanes8<Arch>(r, groups[b / kW].get(int(b % kW)), tn);
+                    tn.store_aligned(ent + kW * b);
+                    rows[b / kW] |= std::uint64_t(h & vec) << (8 * (b % kW));
+                }
+            }
+            const std::size_t nrows = (count + kW - 1) / kW;
+            for (std::size_t q = 0; q < nrows; ++q) rows[q] = transpose_bits8x8(rows[q]);
+            for (std::size_t l = 0; l < g; ++l) {
+                first[i + l] = std::uint32_t(used);
+                if ((alone >> l & 1u) == 0) {
+                    for (std::size_t q0 = 0; q0 < nrows; q0 += 8) {  // 64 boxes per word
+                        std::uint64_t hit = 0;  // lane l's ray hits box q0 * 8 + bit
+                        for (std::size_t q = q0; q < std::min(nrows, q0 + 8); ++q)
+                            hit |= ((rows[q] >> (8 * l)) & 0xFFu) << (8 * (q - q0));
+                        for (std::uint64_t m = hit; m != 0; m &= m - 1) {
+                            const std::size_t b = kW * q0 + std::size_t(__builtin_ctzll(m));
+                            out[used++] = {ent[kW * b + l], std::uint32_t(b)};
+                        }
+                    }
+                    continue;
+                }
+                const PreparedRay r = prepare(rays[i + l]);
+                const RayPack<Arch> p = pack_ray<Arch>(r);
+                for (std::size_t gi = 0; gi * kW < count; ++gi) {
+                    alignas(32) float e[kW];
+                    const std::size_t in_group = std::min(kW, count - gi * kW);
+                    for (std::uint32_t m = intersect_box8<Arch>(p, groups[gi], r.tmax, e) & ((1u << in_group) - 1u);
+                         m != 0; m &= m - 1) {
+                        const int j = __builtin_ctz(m);
+                        out[used++] = {to_caller_t(r, e[j]), std::uint32_t(gi * kW + std::size_t(j))};
+                    }
+                }
+            }
+        }
+        return {std::min(i, rays.size()), used};
+    }
+
+    // collect_boxes under unions. The rays' prepare() as far as the slab test
     // needs it, 8 rays per vector (ray_lanes8); then each ray alone against
     // the groups of 8 boxes under a first level of super boxes (lane j of
     // super s: the union of group 8s + j's boxes), testing only the groups
@@ -110,12 +195,11 @@ struct BatchLoops {
     // a NaN slab value, an origin on a plane of a zero direction component,
     // is discarded as the most permissive value), so no hit box is skipped;
     // a box with a NaN coordinate makes its super lane unbounded. Each hit's
-    // entry is intersect_box8's lane, intersect_box's bits. Against 8 rays
-    // per vector against every box (before stop 54), a ray of an instanced
-    // scene's incoherent chunk tests 2 supers and the few groups it reaches
-    // instead of all (instances-100: 100 boxes, 13 groups). A ray whose
+    // entry is intersect_box8's lane, intersect_box's bits. A ray of
+    // instances-100's incoherent chunks tests the 2 supers and 3.46 of the 13
+    // groups (0.52 of them with a hit). A ray whose
     // direction prepare() rescales (t_exp != 0) goes through prepare().
-    static SIMDBVH_FORCE_INLINE kernels::detail::TreeWalk boxes(std::span<const Ray> rays,
+    static SIMDBVH_FORCE_INLINE kernels::detail::TreeWalk boxes_under_unions(std::span<const Ray> rays,
                                                                 std::span<const std::uint8_t> live,
                                                                 std::span<const Box8> groups, std::size_t count,
                                                                 std::pair<float, std::uint32_t>* out,
@@ -214,6 +298,27 @@ struct BatchLoops {
             }
         }
         return {std::min(i, rays.size()), used};
+    }
+
+    // batch.h's collect_boxes: up to kLanesBoxesMax boxes 8 rays per vector
+    // against every box, more under the unions. Mrays/s, instanced scenes
+    // (simdbvh_bench_scene_desc, BVH8 AVX-512, AMD Zen 4, one thread, 262,144
+    // rays; the scene's top-level leaves), in lanes -> under unions: room (5)
+    // interior closest 8.53 -> 7.52, primary closest 11.09 -> 10.24;
+    // instances-16 interior closest 12.16 -> 10.99, primary closest 18.15 ->
+    // 19.46; instances-32 interior closest 9.37 -> 8.69, primary closest
+    // 14.12 -> 15.71; instances-48 8.63 -> 8.46 and 12.13 -> 15.18;
+    // instances-100 5.38-5.65 -> 5.91-5.99 (interior). A camera's rays share
+    // the unions they hit (branches predicted), incoherent rays do not.
+    static constexpr std::size_t kLanesBoxesMax = 16;
+    static SIMDBVH_FORCE_INLINE kernels::detail::TreeWalk boxes(std::span<const Ray> rays,
+                                                                std::span<const std::uint8_t> live,
+                                                                std::span<const Box8> groups, std::size_t count,
+                                                                std::pair<float, std::uint32_t>* out,
+                                                                std::size_t used, std::size_t cap,
+                                                                std::uint32_t* first) {
+        if (count <= kLanesBoxesMax) return boxes_in_lanes(rays, live, groups, count, out, used, cap, first);
+        return boxes_under_unions(rays, live, groups, count, out, used, cap, first);
     }
 
     static SIMDBVH_FORCE_INLINE std::uint64_t count_box8(std::span<const Ray> rays, std::span<const Box8> blocks) {

@@ -79,9 +79,10 @@ void collect_box8_tree(std::span<const Ray> rays, std::span<const std::uint8_t> 
 // first[i + 1]) (first: rays.size() + 1 values). The hits and entries are
 // intersect_box's (box.h) per box, so for a tree whose leaves are these boxes
 // they are what collect_box8_tree reports. The SIMD paths prepare 8 rays per
-// vector, then test each ray against the unions of 8 boxes (two vectors for
-// up to 128 boxes) and only the groups of 8 boxes whose union it hits (rays
-// with rescaled directions against every group), which beats a tree walk for
+// vector; up to 16 boxes they test 8 rays per vector against each box, above
+// that each ray against the unions of 8 boxes (two vectors for up to 128
+// boxes) and only the groups of 8 boxes whose union it hits (rays with
+// rescaled directions against every group). Either beats a tree walk for
 // the boxes of a small scene's top level. At most
 // kCollectBoxesMax boxes, else simdbvh::Error.
 inline constexpr std::size_t kCollectBoxesMax = 128;
