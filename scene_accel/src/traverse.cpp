@@ -106,8 +106,9 @@ SceneHit trace(const SceneBvhN<N>& s, const Ray& ray, Isa isa) {
 // rays: planes, then each ray's candidate instances with their box entry
 // distances (top level, no culling), nearest first; round k gives every live
 // ray its k-th candidate, grouped by geometry (instances of one geometry
-// next to each other, each ray in its instance's object space; one bottom-level
-// call per geometry and round), with tmax = the ray's closest hit so far, skipping candidates whose entry is beyond that hit (the same
+// next to each other, each ray in its instance's object space; one
+// bottom-level call per geometry and round), with tmax = the ray's closest
+// hit so far, skipping candidates whose entry is beyond that hit (the same
 // cull_bound culling as the loop). Every candidate that can hold the closest
 // hit is tested with a tmax at least its t (tests are inclusive) and merged by
 // closer(), so the hits are those of trace() and of the brute force.
@@ -168,8 +169,9 @@ void collect_tree(const SceneBvhN<N>& s, std::span<const Ray> world, const std::
     leaves.clear();
     at.assign(n + 1, 0);
     // With up to kCollectBoxesMax leaves, the rays against the grown leaf
-    // boxes (kernels::collect_boxes: each ray against the unions of 8 leaf
-    // boxes, then the 8 boxes of each union it hits): the leaves a ray reaches
+    // boxes (kernels::collect_boxes: above 16 boxes each ray against the
+    // unions of 8 leaf boxes, then the 8 boxes of each union it hits; up to
+    // 16, 8 rays per vector against each box): the leaves a ray reaches
     // in the wide tree are exactly those whose grown boxes it hits (below),
     // with the same entries. When collect_boxes tested 8 rays per vector
     // against every box (stop 41, ns per ray, tree walk -> boxes), it won on
