@@ -112,21 +112,20 @@ struct BatchLoops {
                                               first, TreeTest{nodes.data()});
     }
 
-    // collect_boxes in lanes: 8 rays per vector against one box at a time.
-    // Each lane runs intersect_box's arithmetic on its own ray (its near
-    // planes chosen by the signs of its reciprocals, as prepare() does), so
-    // the bits are those of the per-ray tests. A ray whose direction
-    // prepare() rescales (t_exp != 0) is tested alone against the groups.
-    static SIMDBVH_FORCE_INLINE kernels::detail::TreeWalk boxes_in_lanes(std::span<const Ray> rays,
-                                                                std::span<const std::uint8_t> live,
-                                                                std::span<const Box8> groups, std::size_t count,
-                                                                std::pair<float, std::uint32_t>* out,
-                                                                std::size_t used, std::size_t cap,
-                                                                std::uint32_t* first) {
-        using B = Batch<Arch>;
-        constexpr std::size_t kW = B::size;
-        static_assert(kW == 8, "8 rays per batch");
-        alignas(32) float ent[kernels::kCollectBoxesMax * kW];
+    // The loop both collect_boxes forms share: 8 rays at a time, prepared as
+    // far as the slab test needs in vector lanes (ray_lanes8, prepare8-inl.h).
+    // `test(r, vec)` gives the appender of the valid live lanes `vec`
+    // (lane(l, used) appends lane l's boxes and entries from out[used], returns
+    // the new end); a ray whose direction prepare() rescales (t_exp != 0) goes
+    // through prepare() against every group; other lanes report nothing.
+    template <class Test>
+    static SIMDBVH_FORCE_INLINE kernels::detail::TreeWalk each_ray8(std::span<const Ray> rays,
+                                                                    std::span<const std::uint8_t> live,
+                                                                    std::span<const Box8> groups, std::size_t count,
+                                                                    std::pair<float, std::uint32_t>* out,
+                                                                    std::size_t used, std::size_t cap,
+                                                                    std::uint32_t* first, const Test& test) {
+        constexpr std::size_t kW = 8;
         std::size_t i = 0;
         for (; i < rays.size(); i += kW) {
             const std::size_t g = std::min(kW, rays.size() - i);
@@ -137,15 +136,55 @@ struct BatchLoops {
                 for (std::size_t l = 0; l < g; ++l) first[i + l] = std::uint32_t(used);
                 continue;
             }
-            // The rays' prepare() as far as the slab test needs it (prepare8-inl.h);
-            // directions prepare() rescales go alone (below).
             const RayLanes8<Arch> r = ray_lanes8<Arch>(rays.data() + i, g);
             const std::uint32_t alone = r.alone & lanes;
             const std::uint32_t vec = r.valid & lanes & ~alone;
-            // Box b's hit lanes are byte b % 8 of rows[b / 8]; transposed, byte l
-            // of rows[q] holds lane l's hits among boxes 8q .. 8q + 7 (no branch
-            // per hit: which rays hit which boxes is close to random).
-            std::uint64_t rows[kernels::kCollectBoxesMax / kW] = {};
+            const auto lane = test(r, vec);
+            for (std::size_t l = 0; l < g; ++l) {
+                first[i + l] = std::uint32_t(used);
+                if ((vec >> l & 1u) != 0) {
+                    used = lane(l, used);
+                    continue;
+                }
+                if ((alone >> l & 1u) == 0) continue;
+                const PreparedRay pr = prepare(rays[i + l]);
+                const RayPack<Arch> p = pack_ray<Arch>(pr);
+                for (std::size_t gi = 0; gi * kW < count; ++gi) {
+                    alignas(32) float e[kW];
+                    const std::size_t in_group = std::min(kW, count - gi * kW);
+                    for (std::uint32_t m = intersect_box8<Arch>(p, groups[gi], pr.tmax, e) & ((1u << in_group) - 1u);
+                         m != 0; m &= m - 1) {
+                        const int j = __builtin_ctz(m);
+                        out[used++] = {to_caller_t(pr, e[j]), std::uint32_t(gi * kW + std::size_t(j))};
+                    }
+                }
+            }
+        }
+        return {std::min(i, rays.size()), used};
+    }
+
+    // collect_boxes in lanes: 8 rays per vector against one box at a time.
+    // Each lane runs intersect_box's arithmetic on its own ray (its near
+    // planes chosen by the signs of its reciprocals, as prepare() does), so
+    // the bits are those of the per-ray tests.
+    static SIMDBVH_FORCE_INLINE kernels::detail::TreeWalk boxes_in_lanes(std::span<const Ray> rays,
+                                                                         std::span<const std::uint8_t> live,
+                                                                         std::span<const Box8> groups,
+                                                                         std::size_t count,
+                                                                         std::pair<float, std::uint32_t>* out,
+                                                                         std::size_t used, std::size_t cap,
+                                                                         std::uint32_t* first) {
+        using B = Batch<Arch>;
+        constexpr std::size_t kW = B::size;
+        static_assert(kW == 8, "8 rays per batch");
+        alignas(32) float ent[kernels::kCollectBoxesMax * kW];
+        // Box b's hit lanes are byte b % 8 of rows[b / 8]; transposed, byte l
+        // of rows[q] holds lane l's hits among boxes 8q .. 8q + 7 (no branch
+        // per hit: which rays hit which boxes is close to random).
+        std::uint64_t rows[kernels::kCollectBoxesMax / kW];
+        const std::size_t nrows = (count + kW - 1) / kW;
+        const auto test = [&](const RayLanes8<Arch>& r, std::uint32_t vec) __attribute__((always_inline)) {
+            for (std::size_t q = 0; q < nrows; ++q) rows[q] = 0;
             if (vec != 0) {
                 for (std::size_t b = 0; b < count; ++b) {
                     B tn;
@@ -154,57 +193,41 @@ struct BatchLoops {
                     rows[b / kW] |= std::uint64_t(h & vec) << (8 * (b % kW));
                 }
             }
-            const std::size_t nrows = (count + kW - 1) / kW;
             for (std::size_t q = 0; q < nrows; ++q) rows[q] = transpose_bits8x8(rows[q]);
-            for (std::size_t l = 0; l < g; ++l) {
-                first[i + l] = std::uint32_t(used);
-                if ((alone >> l & 1u) == 0) {
-                    for (std::size_t q0 = 0; q0 < nrows; q0 += 8) {  // 64 boxes per word
-                        std::uint64_t hit = 0;  // lane l's ray hits box q0 * 8 + bit
-                        for (std::size_t q = q0; q < std::min(nrows, q0 + 8); ++q)
-                            hit |= ((rows[q] >> (8 * l)) & 0xFFu) << (8 * (q - q0));
-                        for (std::uint64_t m = hit; m != 0; m &= m - 1) {
-                            const std::size_t b = kW * q0 + std::size_t(__builtin_ctzll(m));
-                            out[used++] = {ent[kW * b + l], std::uint32_t(b)};
-                        }
-                    }
-                    continue;
-                }
-                const PreparedRay r = prepare(rays[i + l]);
-                const RayPack<Arch> p = pack_ray<Arch>(r);
-                for (std::size_t gi = 0; gi * kW < count; ++gi) {
-                    alignas(32) float e[kW];
-                    const std::size_t in_group = std::min(kW, count - gi * kW);
-                    for (std::uint32_t m = intersect_box8<Arch>(p, groups[gi], r.tmax, e) & ((1u << in_group) - 1u);
-                         m != 0; m &= m - 1) {
-                        const int j = __builtin_ctz(m);
-                        out[used++] = {to_caller_t(r, e[j]), std::uint32_t(gi * kW + std::size_t(j))};
+            return [&](std::size_t l, std::size_t used) __attribute__((always_inline)) {
+                for (std::size_t q0 = 0; q0 < nrows; q0 += 8) {  // 64 boxes per word
+                    std::uint64_t hit = 0;  // lane l's ray hits box q0 * 8 + bit
+                    for (std::size_t q = q0; q < std::min(nrows, q0 + 8); ++q)
+                        hit |= ((rows[q] >> (8 * l)) & 0xFFu) << (8 * (q - q0));
+                    for (std::uint64_t m = hit; m != 0; m &= m - 1) {
+                        const std::size_t b = kW * q0 + std::size_t(__builtin_ctzll(m));
+                        out[used++] = {ent[kW * b + l], std::uint32_t(b)};
                     }
                 }
-            }
-        }
-        return {std::min(i, rays.size()), used};
+                return used;
+            };
+        };
+        return each_ray8(rays, live, groups, count, out, used, cap, first, test);
     }
 
-    // collect_boxes under unions. The rays' prepare() as far as the slab test
-    // needs it, 8 rays per vector (ray_lanes8); then each ray alone against
-    // the groups of 8 boxes under a first level of super boxes (lane j of
-    // super s: the union of group 8s + j's boxes), testing only the groups
-    // whose super lane it hits. The conservative test is monotone in the box
-    // (a box inside one the test misses is missed: rounding is monotone, and
-    // a NaN slab value, an origin on a plane of a zero direction component,
-    // is discarded as the most permissive value), so no hit box is skipped;
-    // a box with a NaN coordinate makes its super lane unbounded. Each hit's
-    // entry is intersect_box8's lane, intersect_box's bits. A ray of
-    // instances-100's incoherent chunks tests the 2 supers and 3.46 of the 13
-    // groups (0.52 of them with a hit). A ray whose
-    // direction prepare() rescales (t_exp != 0) goes through prepare().
+    // collect_boxes under unions: each ray alone against the groups of 8
+    // boxes under a first level of super boxes (lane j of super s: the union
+    // of group 8s + j's boxes), testing only the groups whose super lane it
+    // hits. The conservative test is monotone in the box (a box inside one the
+    // test misses is missed: rounding is monotone, and a NaN slab value, an
+    // origin on a plane of a zero direction component, is discarded as the
+    // most permissive value), so no hit box is skipped; a box with a NaN
+    // coordinate makes its super lane unbounded. Each hit's entry is
+    // intersect_box8's lane, intersect_box's bits. A ray of instances-100's
+    // incoherent chunks tests the 2 supers and 3.46 of the 13 groups (0.52 of
+    // them with a hit).
     static SIMDBVH_FORCE_INLINE kernels::detail::TreeWalk boxes_under_unions(std::span<const Ray> rays,
-                                                                std::span<const std::uint8_t> live,
-                                                                std::span<const Box8> groups, std::size_t count,
-                                                                std::pair<float, std::uint32_t>* out,
-                                                                std::size_t used, std::size_t cap,
-                                                                std::uint32_t* first) {
+                                                                             std::span<const std::uint8_t> live,
+                                                                             std::span<const Box8> groups,
+                                                                             std::size_t count,
+                                                                             std::pair<float, std::uint32_t>* out,
+                                                                             std::size_t used, std::size_t cap,
+                                                                             std::uint32_t* first) {
         using B = Batch<Arch>;
         constexpr std::size_t kW = B::size;
         static_assert(kW == 8, "8 rays per batch");
@@ -226,21 +249,9 @@ struct BatchLoops {
                 supers[q].set(int(j), nan ? Aabb{{-kInf, -kInf, -kInf}, {kInf, kInf, kInf}} : u);
             }
         }
-        std::size_t i = 0;
-        for (; i < rays.size(); i += kW) {
-            const std::size_t g = std::min(kW, rays.size() - i);
-            if (cap - used < g * count) break;
-            std::uint32_t lanes = 0;
-            for (std::size_t l = 0; l < g; ++l) lanes |= std::uint32_t(live.empty() || live[i + l] != 0) << l;
-            if (lanes == 0) {  // no live ray (an any-hit query's rays that hit a plane, say)
-                for (std::size_t l = 0; l < g; ++l) first[i + l] = std::uint32_t(used);
-                continue;
-            }
-            const RayLanes8<Arch> r = ray_lanes8<Arch>(rays.data() + i, g);
-            const std::uint32_t alone = r.alone & lanes;
-            const std::uint32_t vec = r.valid & lanes & ~alone;
-            alignas(32) float f[9][kW];
-            const std::uint32_t hx = bits<Arch>(r.hx), hy = bits<Arch>(r.hy), hz = bits<Arch>(r.hz);
+        alignas(32) float f[9][kW];
+        std::uint32_t hx = 0, hy = 0, hz = 0;
+        const auto test = [&](const RayLanes8<Arch>& r, std::uint32_t vec) __attribute__((always_inline)) {
             if (vec != 0) {
                 r.ox.store_aligned(f[0]);
                 r.oy.store_aligned(f[1]);
@@ -251,53 +262,39 @@ struct BatchLoops {
                 r.tmin.store_aligned(f[6]);
                 r.tmax.store_aligned(f[7]);
                 r.slack.store_aligned(f[8]);
+                hx = bits<Arch>(r.hx), hy = bits<Arch>(r.hy), hz = bits<Arch>(r.hz);
             }
-            for (std::size_t l = 0; l < g; ++l) {
-                first[i + l] = std::uint32_t(used);
-                if ((vec >> l & 1u) != 0) {
-                    // The lane's RayPack, as pack_ray() of its PreparedRay (the slab test's fields).
-                    RayPack<Arch> p;
-                    p.ox = f[0][l], p.oy = f[1][l], p.oz = f[2][l];
-                    p.rdx = f[3][l], p.rdy = f[4][l], p.rdz = f[5][l];
-                    p.tmin = f[6][l], p.far_slack = f[8][l];
-                    const std::uint32_t nx = hx >> l & 1u, ny = hy >> l & 1u, nz = hz >> l & 1u;
-                    p.near_x = 32u * nx, p.far_x = 32u * (1u - nx);
-                    p.near_y = 64u + 32u * ny, p.far_y = 64u + 32u * (1u - ny);
-                    p.near_z = 128u + 32u * nz, p.far_z = 128u + 32u * (1u - nz);
-                    const B tmax(f[7][l]);
-                    std::uint32_t reach = 0;  // bit g: the ray hits group g's super lane
-                    for (std::size_t q = 0; q < nsup; ++q) {
-                        B ts;
-                        reach |= intersect_box8<Arch>(p, supers[q], tmax, ts) << (kW * q);
-                    }
-                    for (; reach != 0; reach &= reach - 1) {
-                        const std::size_t gi = std::size_t(__builtin_ctz(reach));  // < groups.size()
-                        B tn;
-                        alignas(32) float e[kW];
-                        const std::uint32_t h = intersect_box8<Arch>(p, groups[gi], tmax, tn);
-                        tn.store_aligned(e);
-                        for (std::uint32_t k = h; k != 0; k &= k - 1) {
-                            const int j = __builtin_ctz(k);
-                            out[used++] = {e[j], std::uint32_t(kW * gi + std::size_t(j))};
-                        }
-                    }
-                    continue;
+            return [&](std::size_t l, std::size_t used) __attribute__((always_inline)) {
+                // The lane's RayPack, as pack_ray() of its PreparedRay (the slab test's fields).
+                RayPack<Arch> p;
+                p.ox = f[0][l], p.oy = f[1][l], p.oz = f[2][l];
+                p.rdx = f[3][l], p.rdy = f[4][l], p.rdz = f[5][l];
+                p.tmin = f[6][l], p.far_slack = f[8][l];
+                const std::uint32_t nx = hx >> l & 1u, ny = hy >> l & 1u, nz = hz >> l & 1u;
+                p.near_x = 32u * nx, p.far_x = 32u * (1u - nx);
+                p.near_y = 64u + 32u * ny, p.far_y = 64u + 32u * (1u - ny);
+                p.near_z = 128u + 32u * nz, p.far_z = 128u + 32u * (1u - nz);
+                const B tmax(f[7][l]);
+                std::uint32_t reach = 0;  // bit g: the ray hits group g's super lane
+                for (std::size_t q = 0; q < nsup; ++q) {
+                    B ts;
+                    reach |= intersect_box8<Arch>(p, supers[q], tmax, ts) << (kW * q);
                 }
-                if ((alone >> l & 1u) == 0) continue;
-                const PreparedRay pr = prepare(rays[i + l]);
-                const RayPack<Arch> p = pack_ray<Arch>(pr);
-                for (std::size_t gi = 0; gi * kW < count; ++gi) {
+                for (; reach != 0; reach &= reach - 1) {
+                    const std::size_t gi = std::size_t(__builtin_ctz(reach));  // < groups.size()
+                    B tn;
                     alignas(32) float e[kW];
-                    const std::size_t in_group = std::min(kW, count - gi * kW);
-                    for (std::uint32_t m = intersect_box8<Arch>(p, groups[gi], pr.tmax, e) & ((1u << in_group) - 1u);
-                         m != 0; m &= m - 1) {
-                        const int j = __builtin_ctz(m);
-                        out[used++] = {to_caller_t(pr, e[j]), std::uint32_t(gi * kW + std::size_t(j))};
+                    const std::uint32_t h = intersect_box8<Arch>(p, groups[gi], tmax, tn);
+                    tn.store_aligned(e);
+                    for (std::uint32_t k = h; k != 0; k &= k - 1) {
+                        const int j = __builtin_ctz(k);
+                        out[used++] = {e[j], std::uint32_t(kW * gi + std::size_t(j))};
                     }
                 }
-            }
-        }
-        return {std::min(i, rays.size()), used};
+                return used;
+            };
+        };
+        return each_ray8(rays, live, groups, count, out, used, cap, first, test);
     }
 
     // batch.h's collect_boxes: up to kLanesBoxesMax boxes 8 rays per vector
