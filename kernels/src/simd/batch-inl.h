@@ -302,9 +302,10 @@ struct BatchLoops {
     // (simdbvh_bench_scene_desc, BVH8 AVX-512, AMD Zen 4, one thread, 262,144
     // rays; the scene's top-level leaves), in lanes -> under unions: room (5)
     // interior closest 8.53 -> 7.52, primary closest 11.09 -> 10.24;
-    // instances-16 interior closest 12.16 -> 10.99, primary closest 18.15 ->
-    // 19.46; instances-32 interior closest 9.37 -> 8.69, primary closest
-    // 14.12 -> 15.71; instances-48 8.63 -> 8.46 and 12.13 -> 15.18;
+    // instances-16 (two runs, each against the same earlier build in its
+    // process) interior closest 1.10x of it in lanes, 0.90x under unions,
+    // primary closest 1.11x and 1.07x; instances-32 interior closest 9.37 ->
+    // 8.69, primary closest 14.12 -> 15.71; instances-48 8.63 -> 8.46 and 12.13 -> 15.18;
     // instances-100 5.38-5.65 -> 5.91-5.99 (interior). A camera's rays share
     // the unions they hit (branches predicted), incoherent rays do not.
     static constexpr std::size_t kLanesBoxesMax = 16;
