@@ -643,6 +643,33 @@ TEST(SceneNormals, SphereAndPlane) {
     EXPECT_GE(b.hi.z, 12.0f);
 }
 
+// World bounds: the union of each instance's transformed geometry box (two
+// instances per geometry, transforms in either order), and nothing of a
+// geometry no instance uses.
+TEST(SceneNormals, WorldBoundsOverInstancesSharingGeometries) {
+    SceneDesc d;
+    d.geometries.push_back(BoxSet{{Aabb{{0, 0, 0}, {1, 1, 1}}, Aabb{{2, 0, 0}, {3, 1, 1}}}});  // [0,3]x[0,1]x[0,1]
+    d.geometries.push_back(BoxSet{{Aabb{{-1, -1, -1}, {0, 0, 0}}}});
+    d.geometries.push_back(BoxSet{{Aabb{{100, 100, 100}, {101, 101, 101}}}});  // no instance
+    d.instances.push_back({0, Affine3::translation({10, 0, 0})});
+    d.instances.push_back({1, Affine3::scaling(2)});
+    d.instances.push_back({0, Affine3{}});
+    d.instances.push_back({1, Affine3::translation({0, 5, 0})});
+    const Aabb geom[2] = {Aabb{{0, 0, 0}, {3, 1, 1}}, Aabb{{-1, -1, -1}, {0, 0, 0}}};
+    Aabb want;
+    for (const Instance& in : d.instances) want.grow(transform_box(in.transform, geom[in.geometry]));
+    const Aabb b = world_bounds(d);
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_EQ(b.lo[k], want.lo[k]) << k;
+        EXPECT_EQ(b.hi[k], want.hi[k]) << k;
+    }
+    // By hand, up to transform_box's outward rounding: [-2, 13] x [-2, 5] x [-2, 1].
+    EXPECT_NEAR(b.lo.x, -2.0f, 1e-5f);
+    EXPECT_NEAR(b.hi.x, 13.0f, 1e-5f);
+    EXPECT_NEAR(b.hi.y, 5.0f, 1e-5f);
+    EXPECT_NEAR(b.hi.z, 1.0f, 1e-5f);
+}
+
 TEST(SceneValidate, ErrorsNameTheItem) {
     auto expect_error = [](const SceneDesc& s, const std::string& want) {
         try {
