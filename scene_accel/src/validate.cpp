@@ -1,16 +1,22 @@
 // Scene validation: every error names the offending item by its path.
 #include <cmath>
+#include <optional>
 #include <string>
 #include <variant>
+#include <vector>
 
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/scene_accel/scene.h"
+#include "simdbvh/scene_accel/shapes.h"
+#include "simdbvh/scene_accel/transform.h"
 
 namespace simdbvh {
 
 namespace {
 
 std::string at(const char* list, std::size_t i) { return std::string(list) + "[" + std::to_string(i) + "]"; }
+
+bool finite_box(const Aabb& b) { return is_finite(b.lo) && is_finite(b.hi); }
 
 void check_finite(Vec3 v, const std::string& path) {
     if (!is_finite(v)) throw Error(path + ": not finite");
@@ -29,6 +35,8 @@ void validate_geometry(const Geometry& g, const std::string& path) {
             check_finite(s->spheres[i].center, p + ".center");
             if (!std::isfinite(s->spheres[i].radius)) throw Error(p + ".radius: not finite");
             if (s->spheres[i].radius < 0.0f) throw Error(p + ".radius: negative");
+            if (!finite_box(sphere_bounds(s->spheres[i])))
+                throw Error(p + ": its bounds (center +- radius) exceed the float range");
         }
     } else {
         const BoxSet& b = std::get<BoxSet>(g);
@@ -37,8 +45,24 @@ void validate_geometry(const Geometry& g, const std::string& path) {
             check_finite(b.boxes[i].lo, p + ".min");
             check_finite(b.boxes[i].hi, p + ".max");
             if (b.boxes[i].is_empty()) throw Error(p + ": min > max");
+            if (!finite_box(padded_box(b.boxes[i]))) throw Error(p + ": its padded bounds exceed the float range");
         }
     }
+}
+
+// The box a geometry's bottom tree bounds it by (mesh vertices, padded sphere
+// and box bounds; finite once validate_geometry passed).
+Aabb tree_bounds(const Geometry& g) {
+    Aabb b;
+    if (const Mesh* m = std::get_if<Mesh>(&g)) {
+        for (const Triangle& t : m->triangles)
+            for (int k = 0; k < 3; ++k) b.grow(m->positions[t[k]]);
+    } else if (const SphereSet* s = std::get_if<SphereSet>(&g)) {
+        for (const Sphere& sp : s->spheres) b.grow(sphere_bounds(sp));
+    } else {
+        for (const Aabb& x : std::get<BoxSet>(g).boxes) b.grow(padded_box(x));
+    }
+    return b;
 }
 
 }  // namespace
@@ -54,6 +78,19 @@ void validate(const SceneDesc& scene) {
         } catch (const Error& e) {
             throw Error(at("instances", i) + "." + e.what());
         }
+    }
+    // Each instance's world box must be finite floats: the top level's boxes
+    // (an instance taken beyond the float range has a world box of +-inf or
+    // NaN, which no hierarchy can order, and world points no float holds).
+    std::vector<std::optional<Aabb>> bounds(scene.geometries.size());
+    for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+        const Instance& in = scene.instances[i];
+        std::optional<Aabb>& g = bounds[in.geometry];
+        if (!g) g = tree_bounds(scene.geometries[in.geometry]);
+        if (g->is_empty()) continue;
+        if (!finite_box(transform_box(in.transform, *g)))
+            throw Error(at("instances", i) + ".transform: takes " + at("geometries", in.geometry) +
+                        " beyond the float range (its world bounds are not finite)");
     }
     for (std::size_t i = 0; i < scene.planes.size(); ++i) {
         const Plane& p = scene.planes[i];

@@ -77,6 +77,12 @@ TEST(SceneJson, ErrorsNameTheJsonPath) {
     expect_error(R"({"geometries": [1, 2)", "not valid JSON");
     expect_error(R"({"geometries": [{"spheres": [{"center": [0, 0, 0], "radius": NaN}]}]})", "not valid JSON");
     expect_error(R"([1, 2])", "(root): expected an object");
+    // Bounds past the float range: an instance scaled past it, a sphere whose center + radius is.
+    expect_error(R"({"geometries": [{"boxes": [{"min": [-3e38, -3e38, -3e38], "max": [3e38, 3e38, 3e38]}]}],
+                     "instances": [{"geometry": 0}, {"geometry": 0}, {"geometry": 0, "scale": 1e30}]})",
+                 "instances[2].transform: takes geometries[0] beyond the float range");
+    expect_error(R"({"geometries": [{"spheres": [{"center": [3e38, 0, 0], "radius": 3e38}]}]})",
+                 "geometries[0].spheres[0]: its bounds (center +- radius) exceed the float range");
     expect_error(R"({"geometries": [{"spheres": [{"center": [0, 0, 0], "radius": 1, "radius": -1}]}]})",
                  "duplicate key 'radius'");
 }

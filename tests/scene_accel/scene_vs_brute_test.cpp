@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <ostream>
 #include <sstream>
 #include <mutex>
@@ -700,6 +701,62 @@ TEST(SceneValidate, ErrorsNameTheItem) {
     s = base;
     s.geometries.push_back(BoxSet{{Aabb{{1, 0, 0}, {0, 1, 1}}}});
     expect_error(s, "geometries[1].boxes[0]: min > max");
+}
+
+// Bounds beyond the float range are refused by every path with the item named,
+// the builds and the brute force alike. Before: three instances whose world
+// boxes overflowed (a box of +-3e38 scaled by 1e30) stopped the build with an
+// internal error ("the top level's wide collapse split a BVH2 leaf") while the
+// brute force traced the scene; a sphere's center + radius past FLT_MAX built.
+// Scenes near the limit, still finite, build and match the brute force.
+TEST(SceneValidate, BoundsBeyondTheFloatRange) {
+    const std::vector<Ray> rays = {Ray{{0, 0, 0}, 0.0f, {1, 1, 1}, INFINITY}, Ray{{0, 0, 0}, 0.0f, {1, 0, 0}, INFINITY}};
+    auto expect_refused = [&](const SceneDesc& d, const std::string& want) {
+        auto check = [&](const char* path, auto&& run) {
+            try {
+                run();
+                ADD_FAILURE() << path << ": no error, wanted " << want;
+            } catch (const Error& e) {
+                EXPECT_NE(std::string(e.what()).find(want), std::string::npos) << path << ": " << e.what();
+            }
+        };
+        std::vector<SceneHit> hits(rays.size());
+        check("bvh4", [&] { SceneBvhN<4>::build(d); });
+        check("bvh8", [&] { SceneBvhN<8>::build(d); });
+        check("bvh16", [&] { SceneBvhN<16>::build(d); });
+        check("brute", [&] { brute_force_intersect(d, rays, hits); });
+    };
+    const float big = 3e38f;
+    SceneDesc boxes;
+    boxes.geometries.push_back(SphereSet{{Sphere{{0, 0, 0}, 1}}});
+    boxes.geometries.push_back(BoxSet{{Aabb{{-big, -big, -big}, {big, big, big}}}});
+    boxes.instances = {{0, Affine3{}}, {0, Affine3{}}, {1, Affine3::scaling(1e30f)}};
+    expect_refused(boxes, "instances[2].transform: takes geometries[1] beyond the float range");
+    SceneDesc sphere;
+    sphere.geometries.push_back(SphereSet{{Sphere{{0, 0, 0}, 1}, Sphere{{big, 0, 0}, big}}});
+    sphere.instances = {{0, Affine3{}}};
+    expect_refused(sphere, "geometries[0].spheres[1]: its bounds (center +- radius) exceed the float range");
+    SceneDesc edge;
+    const float fmax = std::numeric_limits<float>::max();
+    edge.geometries.push_back(BoxSet{{Aabb{{0, 0, 0}, {1, 1, 1}}, Aabb{{0, 0, 0}, {fmax, 1, 1}}}});
+    edge.instances = {{0, Affine3{}}};
+    expect_refused(edge, "geometries[0].boxes[1]: its padded bounds exceed the float range");
+
+    // Finite, if huge: boxes at [2e38, 3e38] (their centroids overflow) placed three times.
+    SceneDesc near;
+    near.geometries.push_back(BoxSet{{Aabb{{2e38f, 2e38f, 2e38f}, {big, big, big}}}});
+    near.geometries.push_back(SphereSet{{Sphere{{0, 0, 0}, 1}}});
+    near.instances = {{0, Affine3{}}, {1, Affine3{}}, {0, Affine3::translation({1e37f, 0, 0})}, {0, Affine3{}}};
+    std::vector<Ray> far = rays;
+    far.push_back(Ray{{2.5e38f, 2.5e38f, 0}, 0.0f, {0, 0, 1}, INFINITY});
+    std::vector<SceneHit> want(far.size()), want_any(far.size());
+    brute_force_intersect(near, far, want);
+    brute_force_occluded(near, far, want_any);
+    EXPECT_TRUE(want[0].hit() && want[1].hit() && want[2].hit());
+    EXPECT_EQ(want[2].inst, 0u);  // instances 0, 2 and 3 tie at z = 2e38: the lowest wins
+    check_width<4>(near, far, want, want_any);
+    check_width<8>(near, far, want, want_any);
+    check_width<16>(near, far, want, want_any);
 }
 
 }  // namespace

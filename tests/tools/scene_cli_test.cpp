@@ -198,6 +198,15 @@ TEST_F(SceneCli, BadJsonExits2NamingThePathAndWritesNothing) {
     const CliRun i = run_cli("info --scene " + scene);
     EXPECT_EQ(i.status, 2) << i.output;
     EXPECT_NE(i.output.find("instances[1].transform"), std::string::npos) << i.output;
+    // An instance scaled past the float range: refused up front (it used to stop the build with an internal error).
+    const std::string huge = write("huge.json", R"({"geometries": [{"boxes": [{"min": [-3e38, -3e38, -3e38],
+        "max": [3e38, 3e38, 3e38]}]}], "instances": [{"geometry": 0}, {"geometry": 0}, {"geometry": 0, "scale": 1e30}]})");
+    const CliRun h = run_cli("trace --scene " + huge + " --rays " + ray_file + " --out " + out);
+    EXPECT_EQ(h.status, 2) << h.output;
+    EXPECT_NE(h.output.find("huge.json: instances[2].transform: takes geometries[0] beyond the float range"),
+              std::string::npos)
+        << h.output;
+    EXPECT_FALSE(fs::exists(out));
 }
 
 }  // namespace

@@ -50,8 +50,9 @@ struct SceneDesc {
 
 // Throws simdbvh::Error naming the offending item (e.g. "instances[3].transform:
 // singular") for a missing geometry reference, a non-finite value, a negative
-// radius, an inverted box, a zero plane normal, a singular transform, or a
-// mesh the BVH2 rejects.
+// radius, an inverted box, a zero plane normal, a singular transform, a
+// sphere, box or instance whose bounds exceed the float range (e.g. a radius
+// of 3e38, or a transform scaling a geometry past it), or a mesh the BVH2 rejects.
 void validate(const SceneDesc& scene);
 
 // Instance bounds: seed 004's 8 transformed corners of the bottom tree's box,
