@@ -6,6 +6,7 @@
 // planes, and the ray a bottom level sees.
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include "simdbvh/kernels/box.h"
 #include "simdbvh/scene_accel/scene.h"
@@ -16,6 +17,18 @@
 namespace simdbvh::scene_accel {
 
 #define SIMDBVH_SCENE_INLINE inline __attribute__((always_inline))
+
+// The tmax a ray gets from a closest hit found so far at caller's t `t` (a
+// plane's, another instance's), so that every hit whose t rounds to `t` is
+// still found and the tie goes to the lower id as in the brute force, which
+// traces each instance with the ray's own tmax. A traversal compares t in
+// its prepared ray's scale (PreparedRay::t_exp), which is exact for a normal
+// t; a subnormal or zero t (a ray with a direction near 1e38) is coarser
+// than that scale, so a hit a little beyond it there can round to it: the
+// next float up keeps those (and a hit that rounds above `t` loses to it).
+SIMDBVH_SCENE_INLINE float tmax_keeping_ties(float t) {
+    return std::fabs(t) < std::numeric_limits<float>::min() ? std::nextafter(t, INFINITY) : t;
+}
 
 // Width-2 box test (Ize 2013, as the BVH2's) with every box grown by `slack`
 // world units (0 for bottom levels).

@@ -65,11 +65,12 @@ struct InstanceLeaf {
     bool visit(const PreparedRay& r, std::uint32_t inst, Hit& best) const {
         const InstanceRecord& rec = scene->instances()[inst];
         Ray obj = object_ray(rec.inv, *world);
-        if (hit.hit()) obj.tmax = hit.t;
+        if (hit.hit()) obj.tmax = scene_accel::tmax_keeping_ties(hit.t);
         const Hit h = bottom.trace(scene->bottoms()[rec.geometry], obj);
         if (!h.hit() || !closer(h.t, inst, h.prim, hit)) return false;
         hit = SceneHit{h.t, h.u, h.v, h.prim, rec.geometry, inst};
-        best.t = r.t_exp == 0 ? h.t : std::ldexp(h.t, -r.t_exp);
+        const float keep = scene_accel::tmax_keeping_ties(h.t);  // the culling distance, ties kept
+        best.t = r.t_exp == 0 ? keep : std::ldexp(keep, -r.t_exp);
         best.prim = 0;
         return true;
     }
@@ -92,7 +93,7 @@ SceneHit trace(const SceneBvhN<N>& s, const Ray& ray, Isa isa) {
     if (leaf.hit.hit() && Query::kAnyHit) return leaf.hit;
     if (s.top().nodes.empty()) return leaf.hit;
     Ray w = ray;
-    if (leaf.hit.hit()) w.tmax = leaf.hit.t;  // equal-t hits are still found (inclusive tests), lower ids win
+    if (leaf.hit.hit()) w.tmax = scene_accel::tmax_keeping_ties(leaf.hit.t);  // equal-t hits are still found (inclusive tests), lower ids win
     leaf.world = &w;
     const float o = std::max({std::fabs(ray.org.x), std::fabs(ray.org.y), std::fabs(ray.org.z)});
     const SlackBox2Test test{s.slack_scale() * (o + s.scene_magnitude())};
@@ -241,7 +242,7 @@ void trace_one_instance(const SceneBvhN<N>& s, std::span<const Ray> world, const
         if (!live[i]) continue;
         ids.push_back(std::uint32_t(i));
         obj.push_back(object_ray(rec.inv, world[i]));
-        if (hits[i].hit()) obj.back().tmax = hits[i].t;
+        if (hits[i].hit()) obj.back().tmax = scene_accel::tmax_keeping_ties(hits[i].t);
     }
     std::vector<Hit>& got = x.got;
     got.resize(obj.size());
@@ -337,7 +338,7 @@ void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Sce
                 done[i] = 1;
                 continue;
             }
-            clamped[i].tmax = hits[i].t;
+            clamped[i].tmax = scene_accel::tmax_keeping_ties(hits[i].t);
         } else {
             hits[i] = SceneHit{};
             if (!valid_ray(rays[i])) {
@@ -398,7 +399,7 @@ void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Sce
                 const std::uint32_t i = pairs[j].second;
                 Ray& r = obj[j - b];
                 r = object_ray(recs[pairs[j].first].inv, world[i]);
-                if (hits[i].hit()) r.tmax = hits[i].t;
+                if (hits[i].hit()) r.tmax = scene_accel::tmax_keeping_ties(hits[i].t);
             }
             bottom.trace(bl, obj, got);
             for (std::size_t j = b; j < e; ++j) {

@@ -842,3 +842,51 @@ TEST(SceneFuzz, MutatedJsonScenesBuildAndMatchTheBruteForceOrNameTheProblem) {
 
 }  // namespace
 }  // namespace simdbvh
+
+namespace simdbvh {
+namespace {
+
+// A hit at a subnormal t (a direction near 1e38) that ties with a plane's:
+// the tie goes to the lower id, as in the brute force, which traces every
+// instance with the ray's own tmax. The traversals clamp an instance's tmax
+// to the closest hit so far, compared in the prepared ray's finer scale,
+// where the instance's hit lay a little beyond a plane's t that it rounds
+// to: the batches and the single-ray walk returned the plane (found by
+// `simdbvh trace --scene room` on rays with a direction component of 3e38).
+TEST(SceneTies, SubnormalTiesWithAPlaneGoToTheLowerId) {
+    SceneDesc d;
+    d.geometries.push_back(BoxSet{{Aabb{{-1, -1, -1}, {1, 0, 1}}}});
+    d.instances = {{0, Affine3{}}, {0, Affine3::translation({5, 0, 0})}};
+    d.planes.push_back({{0, 0, 0}, {0, 1, 0}});  // y = 0, the boxes' tops; inst id 2
+    std::vector<Ray> rays;
+    for (int k = 0; k < 64; ++k) {
+        const float x = (k % 2 ? 5.0f : 0.0f) + 0.013f * float(k % 7), z = -0.5f + 0.017f * float(k % 11);
+        const float dy = -(1e38f + 3.5e36f * float(k));  // 1e38 .. 3.2e38: t = y / -dy below 5e-39
+        rays.push_back(Ray{{x, 0.1f + 0.09f * float(k % 5), z}, 0.0f, {0.0f, dy, 0.0f}, INFINITY});
+    }
+    std::vector<SceneHit> want(rays.size()), want_any(rays.size()), plane_only(rays.size());
+    brute_force_intersect(d, rays, want);
+    brute_force_occluded(d, rays, want_any);
+    SceneDesc p;
+    p.planes = d.planes;
+    brute_force_intersect(p, rays, plane_only);
+    std::size_t ties = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        ASSERT_TRUE(want[i].hit()) << i;
+        EXPECT_LT(want[i].t, std::numeric_limits<float>::min()) << i;  // subnormal
+        if (want[i].t == plane_only[i].t) {
+            ++ties;
+            EXPECT_EQ(want[i].inst, std::uint32_t(i % 2)) << i;  // the box under the ray, not the plane (id 2)
+        }
+    }
+    EXPECT_GT(ties, 16u);  // the case this test is for
+    check_width<4>(d, rays, want, want_any);
+    check_width<8>(d, rays, want, want_any);
+    check_width<16>(d, rays, want, want_any);
+    const SceneBvhN<8> s = SceneBvhN<8>::build(d);
+    for (Isa isa : supported_isas())
+        for (std::size_t i = 0; i < rays.size(); ++i) ASSERT_EQ(intersect(s, rays[i], isa), want[i]) << name(isa) << " ray " << i;
+}
+
+}  // namespace
+}  // namespace simdbvh
