@@ -64,8 +64,8 @@ SIMDBVH_FORCE_INLINE RayLanes8<Arch> ray_lanes8(const Ray* rays, std::size_t g) 
     static_assert(B::size == 8, "8 rays per batch");
     __m256 c[8];
     transpose_rays8<Arch>(rays, g, c);
-    const B ox(c[0]), oy(c[1]), oz(c[2]), tmin(c[3]), tmax(c[7]);
-    B dx(c[4]), dy(c[5]), dz(c[6]);
+    const B tmin(c[3]), tmax(c[7]);
+    B ox(c[0]), oy(c[1]), oz(c[2]), dx(c[4]), dy(c[5]), dz(c[6]);
     const B inf(std::numeric_limits<float>::infinity()), zero(0.0f), one(1.0f);
     // valid_ray() (NaN compares false), and which directions prepare_scaled() rescales.
     const B ax = xsimd::abs(dx), ay = xsimd::abs(dy), az = xsimd::abs(dz);
@@ -74,11 +74,14 @@ SIMDBVH_FORCE_INLINE RayLanes8<Arch> ray_lanes8(const Ray* rays, std::size_t g) 
     const B big = xsimd::max(ax, xsimd::max(ay, az));
     const auto rescaled = (big < B(kRescaleBelow)) | (big > B(kRescaleAbove));
     const std::uint32_t valid = bits<Arch>(ok) & ((1u << g) - 1u);
-    // The flush of subnormal components to zeros of the same sign.
+    // The flush of subnormal components to zeros of the same sign (direction and origin).
     const B tiny(std::numeric_limits<float>::min()), sign(-0.0f);
     dx = xsimd::select(ax < tiny, dx & sign, dx);
     dy = xsimd::select(ay < tiny, dy & sign, dy);
     dz = xsimd::select(az < tiny, dz & sign, dz);
+    ox = xsimd::select(xsimd::abs(ox) < tiny, ox & sign, ox);
+    oy = xsimd::select(xsimd::abs(oy) < tiny, oy & sign, oy);
+    oz = xsimd::select(xsimd::abs(oz) < tiny, oz & sign, oz);
     // Reciprocals (1 / +-0 = +-inf), whose sign bits pick the near planes
     // (never 0 or NaN for a finite direction), and far_slack_for(tmin).
     const B rdx = one / dx, rdy = one / dy, rdz = one / dz;

@@ -84,7 +84,7 @@ inline bool valid_ray(const Ray& r) {
     return usable_dir(r.dir) && is_finite(r.org) && !std::isnan(r.tmin) && !std::isnan(r.tmax) && r.tmin <= r.tmax;
 }
 
-// The first stage of prepare(): org, dir (rescaled, subnormals flushed),
+// The first stage of prepare(): org (subnormals flushed), dir (rescaled, subnormals flushed),
 // tmin, tmax, t_exp and valid, the same values prepare() gives; the
 // reciprocals, near planes, octant, watertight permutation and shear are left
 // at their defaults. For tests that read only those fields (the scenes'
@@ -95,7 +95,11 @@ inline bool valid_ray(const Ray& r) {
 // on them in the wide traversal's stream loop (bvh8/src/stream-inl.h).
 inline __attribute__((always_inline)) PreparedRay prepare_scaled(const Ray& r) {
     PreparedRay p;
-    p.org = r.org;
+    // Subnormal origin components flushed to zeros of the same sign (as the
+    // direction's below): the triangle test's products underflow there, so it
+    // treats them as zero, and the box tests must see the ray where it does.
+    auto flush = [](float d) { return std::fabs(d) < std::numeric_limits<float>::min() ? std::copysign(0.0f, d) : d; };
+    p.org = {flush(r.org.x), flush(r.org.y), flush(r.org.z)};
     p.dir = r.dir;
     p.tmin = r.tmin;
     p.tmax = r.tmax;
@@ -112,7 +116,6 @@ inline __attribute__((always_inline)) PreparedRay prepare_scaled(const Ray& r) {
             p.tmax = std::ldexp(r.tmax, -k);
             p.t_exp = k;
         }
-        auto flush = [](float d) { return std::fabs(d) < std::numeric_limits<float>::min() ? std::copysign(0.0f, d) : d; };
         p.dir = {flush(p.dir.x), flush(p.dir.y), flush(p.dir.z)};
     }
     return p;
