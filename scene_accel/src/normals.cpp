@@ -4,23 +4,11 @@
 #include <vector>
 
 #include "simdbvh/scene_accel/scene.h"
+#include "geometry_bounds.h"
 
 namespace simdbvh {
 
 namespace {
-
-Aabb geometry_bounds(const Geometry& g) {
-    Aabb b;
-    if (const Mesh* m = std::get_if<Mesh>(&g)) {
-        for (const Triangle& t : m->triangles)
-            for (int k = 0; k < 3; ++k) b.grow(m->positions[t[k]]);
-    } else if (const SphereSet* s = std::get_if<SphereSet>(&g)) {
-        for (const Sphere& sp : s->spheres) b.grow(sphere_bounds(sp));
-    } else {
-        for (const Aabb& x : std::get<BoxSet>(g).boxes) b.grow(x);
-    }
-    return b;
-}
 
 Vec3 object_normal(const Geometry& g, const Ray& obj, const SceneHit& h) {
     const Vec3 p = obj.org + obj.dir * h.t;
@@ -68,7 +56,7 @@ Aabb world_bounds(const SceneDesc& scene) {
     Aabb b;
     for (const Instance& in : scene.instances) {
         std::optional<Aabb>& g = of_geometry.at(in.geometry);
-        if (!g) g = geometry_bounds(scene.geometries[in.geometry]);
+        if (!g) g = geometry_bounds(scene.geometries[in.geometry], false);
         b.grow(transform_box(in.transform, *g));
     }
     return b;

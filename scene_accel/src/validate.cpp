@@ -9,6 +9,7 @@
 #include "simdbvh/scene_accel/scene.h"
 #include "simdbvh/scene_accel/shapes.h"
 #include "simdbvh/scene_accel/transform.h"
+#include "geometry_bounds.h"
 
 namespace simdbvh {
 
@@ -50,21 +51,6 @@ void validate_geometry(const Geometry& g, const std::string& path) {
     }
 }
 
-// The box a geometry's bottom tree bounds it by (mesh vertices, padded sphere
-// and box bounds; finite once validate_geometry passed).
-Aabb tree_bounds(const Geometry& g) {
-    Aabb b;
-    if (const Mesh* m = std::get_if<Mesh>(&g)) {
-        for (const Triangle& t : m->triangles)
-            for (int k = 0; k < 3; ++k) b.grow(m->positions[t[k]]);
-    } else if (const SphereSet* s = std::get_if<SphereSet>(&g)) {
-        for (const Sphere& sp : s->spheres) b.grow(sphere_bounds(sp));
-    } else {
-        for (const Aabb& x : std::get<BoxSet>(g).boxes) b.grow(padded_box(x));
-    }
-    return b;
-}
-
 }  // namespace
 
 void validate(const SceneDesc& scene) {
@@ -86,7 +72,7 @@ void validate(const SceneDesc& scene) {
     for (std::size_t i = 0; i < scene.instances.size(); ++i) {
         const Instance& in = scene.instances[i];
         std::optional<Aabb>& g = bounds[in.geometry];
-        if (!g) g = tree_bounds(scene.geometries[in.geometry]);
+        if (!g) g = geometry_bounds(scene.geometries[in.geometry], true);  // as the bottom trees bound them
         if (g->is_empty()) continue;
         if (!finite_box(transform_box(in.transform, *g)))
             throw Error(at("instances", i) + ".transform: takes " + at("geometries", in.geometry) +
