@@ -5,7 +5,7 @@
 
 namespace simdbvh {
 
-Aabb geometry_bounds(const Geometry& g, bool padded) {
+Aabb geometry_bounds(const Geometry& g) {
     Aabb b;
     if (const Mesh* m = std::get_if<Mesh>(&g)) {
         for (const Triangle& t : m->triangles)
@@ -13,7 +13,7 @@ Aabb geometry_bounds(const Geometry& g, bool padded) {
     } else if (const SphereSet* s = std::get_if<SphereSet>(&g)) {
         for (const Sphere& sp : s->spheres) b.grow(sphere_bounds(sp));
     } else {
-        for (const Aabb& x : std::get<BoxSet>(g).boxes) b.grow(padded ? padded_box(x) : x);
+        for (const Aabb& x : std::get<BoxSet>(g).boxes) b.grow(x);
     }
     return b;
 }

@@ -56,7 +56,7 @@ Aabb world_bounds(const SceneDesc& scene) {
     Aabb b;
     for (const Instance& in : scene.instances) {
         std::optional<Aabb>& g = of_geometry.at(in.geometry);
-        if (!g) g = geometry_bounds(scene.geometries[in.geometry], false);
+        if (!g) g = geometry_bounds(scene.geometries[in.geometry]);
         b.grow(transform_box(in.transform, *g));
     }
     return b;

@@ -1,6 +1,5 @@
 // Scene validation: every error names the offending item by its path.
 #include <cmath>
-#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -23,21 +22,26 @@ void check_finite(Vec3 v, const std::string& path) {
     if (!is_finite(v)) throw Error(path + ": not finite");
 }
 
-void validate_geometry(const Geometry& g, const std::string& path) {
+// Checks geometry g and returns the box its bottom tree bounds it by (mesh
+// vertices, padded sphere and box bounds), finite once the checks pass.
+Aabb validate_geometry(const Geometry& g, const std::string& path) {
+    Aabb bounds;
     if (const Mesh* m = std::get_if<Mesh>(&g)) {
         try {
             validate(*m);
         } catch (const Error& e) {
             throw Error(path + ".mesh: " + e.what());
         }
+        bounds = geometry_bounds(g);
     } else if (const SphereSet* s = std::get_if<SphereSet>(&g)) {
         for (std::size_t i = 0; i < s->spheres.size(); ++i) {
             const std::string p = path + "." + at("spheres", i);
             check_finite(s->spheres[i].center, p + ".center");
             if (!std::isfinite(s->spheres[i].radius)) throw Error(p + ".radius: not finite");
             if (s->spheres[i].radius < 0.0f) throw Error(p + ".radius: negative");
-            if (!finite_box(sphere_bounds(s->spheres[i])))
-                throw Error(p + ": its bounds (center +- radius) exceed the float range");
+            const Aabb b = sphere_bounds(s->spheres[i]);
+            if (!finite_box(b)) throw Error(p + ": its bounds (center +- radius) exceed the float range");
+            bounds.grow(b);
         }
     } else {
         const BoxSet& b = std::get<BoxSet>(g);
@@ -46,15 +50,20 @@ void validate_geometry(const Geometry& g, const std::string& path) {
             check_finite(b.boxes[i].lo, p + ".min");
             check_finite(b.boxes[i].hi, p + ".max");
             if (b.boxes[i].is_empty()) throw Error(p + ": min > max");
-            if (!finite_box(padded_box(b.boxes[i]))) throw Error(p + ": its padded bounds exceed the float range");
+            const Aabb padded = padded_box(b.boxes[i]);
+            if (!finite_box(padded)) throw Error(p + ": its padded bounds exceed the float range");
+            bounds.grow(padded);
         }
     }
+    return bounds;
 }
 
 }  // namespace
 
 void validate(const SceneDesc& scene) {
-    for (std::size_t i = 0; i < scene.geometries.size(); ++i) validate_geometry(scene.geometries[i], at("geometries", i));
+    std::vector<Aabb> bounds;
+    for (std::size_t i = 0; i < scene.geometries.size(); ++i)
+        bounds.push_back(validate_geometry(scene.geometries[i], at("geometries", i)));
     for (std::size_t i = 0; i < scene.instances.size(); ++i) {
         const Instance& in = scene.instances[i];
         if (in.geometry >= scene.geometries.size())
@@ -64,17 +73,11 @@ void validate(const SceneDesc& scene) {
         } catch (const Error& e) {
             throw Error(at("instances", i) + "." + e.what());
         }
-    }
-    // Each instance's world box must be finite floats: the top level's boxes
-    // (an instance taken beyond the float range has a world box of +-inf or
-    // NaN, which no hierarchy can order, and world points no float holds).
-    std::vector<std::optional<Aabb>> bounds(scene.geometries.size());
-    for (std::size_t i = 0; i < scene.instances.size(); ++i) {
-        const Instance& in = scene.instances[i];
-        std::optional<Aabb>& g = bounds[in.geometry];
-        if (!g) g = geometry_bounds(scene.geometries[in.geometry], true);  // as the bottom trees bound them
-        if (g->is_empty()) continue;
-        if (!finite_box(transform_box(in.transform, *g)))
+        // The world box must be finite floats: it is a top-level box (an
+        // instance taken beyond the float range has a world box of +-inf or
+        // NaN, which no hierarchy can order, and world points no float holds).
+        const Aabb& g = bounds[in.geometry];
+        if (!g.is_empty() && !finite_box(transform_box(in.transform, g)))
             throw Error(at("instances", i) + ".transform: takes " + at("geometries", in.geometry) +
                         " beyond the float range (its world bounds are not finite)");
     }
