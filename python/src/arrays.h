@@ -47,6 +47,14 @@ inline int check_threads(int threads) {
     return threads;
 }
 
+// A path or name for the C++ loaders: they read it as a C string, which would
+// end at an embedded NUL (Python strings may hold one) and open another file.
+inline const std::string& path_arg(const std::string& path, const char* what) {
+    if (const auto at = path.find('\0'); at != std::string::npos)
+        throw Error(std::string(what) + " contains a NUL byte (at character " + std::to_string(at) + ")");
+    return path;
+}
+
 // isa=None -> nullopt (the caller's default); a name -> that ISA, checked against the CPU.
 inline std::optional<Isa> isa_arg(const std::optional<std::string>& isa) {
     if (!isa) return std::nullopt;

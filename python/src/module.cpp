@@ -409,9 +409,11 @@ PYBIND11_MODULE(_simdbvh, m) {
         }, "Edge statistics after welding equal vertices: whether the mesh bounds a volume.");
 
     m.def("load", [](const std::string& path) {
+        path_arg(path, "path");
         py::gil_scoped_release nogil;
         return scene::load_scene(path);
-    }, py::arg("path"), "Loads a mesh file (.ply .obj .stl .off, optionally .gz) or a named scene.");
+    }, py::arg("path"), "Loads a mesh file (.ply .obj .stl .off, optionally .gz) or a named scene. Raises simdbvh.Error for a "
+          "missing or bad file or a path containing a NUL byte.");
 
     py::class_<Bvh>(m, "BVH", "A bounding volume hierarchy over a mesh, and its queries.")
         .def(py::init<Mesh, const std::string&, const std::optional<std::string>&>(), py::arg("mesh"),

@@ -364,6 +364,7 @@ void bind_scene(py::module_& m) {
         .def("__repr__", &Scene::repr);
 
     m.def("load_scene", [](const std::string& name, const std::string& method, const std::optional<std::string>& isa) {
+        path_arg(name, "name");
         SceneDesc desc;
         {
             py::gil_scoped_release nogil;
@@ -373,7 +374,7 @@ void bind_scene(py::module_& m) {
     }, py::arg("name"), py::arg("method") = "bvh8", py::arg("isa") = py::none(),
           "A scene from a built-in name (room, spheres-N, instances-N: N dragons), a .json scene file (README, "
           "'Scene files') or any mesh simdbvh.load() takes (one geometry, one identity instance). Raises "
-          "simdbvh.Error for a missing file, bad JSON or an uncached mesh.");
+          "simdbvh.Error for a missing file, bad JSON, an uncached mesh or a name containing a NUL byte.");
 }
 
 }  // namespace simdbvh::python

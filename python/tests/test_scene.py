@@ -438,6 +438,16 @@ def test_query_and_loading_errors(tmp_path):
     assert issubclass(simdbvh.Error, ValueError)
 
 
+def test_a_scene_name_with_a_nul_byte_is_refused(tmp_path):
+    """The loaders would read the name up to the NUL: the existing s.json and tri.obj, or the built-in room."""
+    (tmp_path / "s.json").write_text('{"geometries": [{"spheres": [{"center": [0, 0, 0], "radius": 1}]}]}')
+    (tmp_path / "tri.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    for name in (str(tmp_path / "s.json") + "\0.obj", str(tmp_path / "tri.obj") + "\0", "spheres-10\0x"):
+        with pytest.raises(simdbvh.Error, match="name contains a NUL byte"):
+            simdbvh.load_scene(name)
+    assert simdbvh.load_scene(str(tmp_path / "s.json")).num_geometries == 1
+
+
 # --- the GIL -----------------------------------------------------------------------------------------
 
 

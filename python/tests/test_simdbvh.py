@@ -290,6 +290,17 @@ def test_load_a_file(tmp_path):
     assert h["prim"][0] == 0 and h["t"][0] == 1.0
 
 
+def test_a_path_with_a_nul_byte_is_refused(tmp_path):
+    """A C++ loader would read the path up to the NUL and open another file: here the existing tri.obj."""
+    path = tmp_path / "tri.obj"
+    path.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    with pytest.raises(simdbvh.Error, match="path contains a NUL byte"):
+        simdbvh.load(str(path) + "\0.ply")
+    with pytest.raises(simdbvh.Error, match="path contains a NUL byte"):
+        simdbvh.load(os.fsencode(str(path)) + b"\0")
+    assert len(simdbvh.load(str(path))) == 1
+
+
 def test_gil_is_released_during_a_long_trace():
     """A second Python thread keeps running while one thread traces."""
     mesh = sphere_mesh(64)
