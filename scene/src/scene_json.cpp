@@ -1,13 +1,12 @@
 // The JSON scene format (nlohmann-json), strict: every problem is reported
 // with its JSON path, e.g. "scene.json: instances[3].transform: singular".
 #include <cmath>
-#include <fstream>
 #include <limits>
 #include <map>
+#include <new>
 #include <numbers>
 #include <set>
 #include <vector>
-#include <sstream>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -15,6 +14,7 @@
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/scene/scene_desc.h"
 #include "simdbvh/scene/scenes.h"
+#include "size_limit.h"
 
 namespace simdbvh::scene {
 
@@ -231,12 +231,18 @@ SceneDesc parse_scene_json(std::string_view text, const std::filesystem::path& b
     }
 }
 
+// Read as the meshes are (read_file): a regular file only (symlinks resolved; a
+// FIFO, device or folder refused at once), raw or gzip, within json_limit.
 SceneDesc load_scene_json(const std::filesystem::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    if (!in) throw Error(file.string() + ": cannot open");
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return parse_scene_json(ss.str(), file.parent_path(), file.string());
+    const std::string label = file.string();
+    std::vector<char> text;
+    try {
+        text = detail::read_file(file, detail::json_limit);
+    } catch (const std::bad_alloc&) {
+        throw Error(label + ": out of memory while reading the file");
+    }
+    if (text.empty()) throw Error(label + ": file is empty (0 bytes)");
+    return parse_scene_json(std::string_view(text.data(), text.size()), file.parent_path(), label);
 }
 
 }  // namespace simdbvh::scene

@@ -119,4 +119,9 @@ std::optional<Allowance> off_limit(const std::string&, std::string_view prefix, 
 
 std::optional<Allowance> obj_limit(const std::string&, std::string_view, bool) { return text_allowance(); }
 
+std::optional<Allowance> json_limit(const std::string&, std::string_view, bool) {
+    return Allowance{std::min(kMaxJsonBytes, text_cap()), true,
+                     "a JSON scene may have (4 GiB or the physical memory, whichever is smaller)"};
+}
+
 }  // namespace simdbvh::scene::detail

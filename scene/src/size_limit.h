@@ -8,6 +8,8 @@
 //   OFF: header + 1 KiB per vertex line + 8 KiB per face line, + 16 MiB slack.
 //   OBJ, ASCII STL (no counts) and every text format: at most kMaxTextBytes
 //        (64 GiB) and at most the machine's physical memory.
+//   A JSON scene: at most kMaxJsonBytes (4 GiB) and at most the physical
+//        memory (its document takes several times the text).
 // Text formats are also checked for NUL bytes chunk by chunk (fail fast).
 #include <cstdint>
 #include <functional>
@@ -30,6 +32,7 @@ struct Allowance {
 using SizeLimit = std::function<std::optional<Allowance>(const std::string& file, std::string_view prefix, bool complete)>;
 
 inline constexpr std::uint64_t kMaxTextBytes = std::uint64_t(64) << 30;
+inline constexpr std::uint64_t kMaxJsonBytes = std::uint64_t(4) << 30;
 inline constexpr std::uint64_t kSlackBytes = std::uint64_t(16) << 20;
 
 // min(kMaxTextBytes, physical memory).
@@ -43,6 +46,7 @@ std::optional<Allowance> ply_limit(const std::string& file, std::string_view pre
 std::optional<Allowance> stl_limit(const std::string& file, std::string_view prefix, bool complete);
 std::optional<Allowance> off_limit(const std::string& file, std::string_view prefix, bool complete);
 std::optional<Allowance> obj_limit(const std::string& file, std::string_view prefix, bool complete);
+std::optional<Allowance> json_limit(const std::string& file, std::string_view prefix, bool complete);
 
 // Reads a regular file (symlinks followed; devices, FIFOs, sockets and
 // folders refused), gzip (by magic bytes, whatever the name; concatenated

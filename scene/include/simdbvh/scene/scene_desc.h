@@ -27,10 +27,12 @@ SceneDesc room_scene();
 bool is_builtin_scene(std::string_view name);
 SceneDesc builtin_scene(std::string_view name);
 
-// A JSON scene file. Throws simdbvh::Error "<file>: <JSON path>: <problem>"
-// for malformed JSON, unknown keys, wrong types, missing references, negative
-// radii, singular transforms or non-finite numbers. Mesh references are scene
-// names (load_scene) or paths relative to the file's folder.
+// A JSON scene file, read as the mesh files are: a regular file (symlinks
+// resolved; a FIFO, device or folder refused), raw or gzip, at most 4 GiB
+// (and the physical memory). Throws simdbvh::Error "<file>: <JSON path>:
+// <problem>" for malformed JSON, unknown keys, wrong types, missing
+// references, negative radii, singular transforms or non-finite numbers. Mesh
+// references are scene names (load_scene) or paths relative to the file's folder.
 SceneDesc load_scene_json(const std::filesystem::path& file);
 SceneDesc parse_scene_json(std::string_view text, const std::filesystem::path& base_dir, std::string_view label);
 
