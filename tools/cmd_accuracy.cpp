@@ -2,6 +2,7 @@
 // variant: throughput and the classification against the double reference,
 // plus each family's own expectation (must hit, must miss, no self-hit).
 // Config (here) -> run (accuracy_run.cpp) -> report (accuracy_report.cpp).
+#include <algorithm>
 #include <filesystem>
 #include <sstream>
 
@@ -49,7 +50,12 @@ AccuracyConfig parse_accuracy(const std::vector<std::string>& args) {
     NamedPaths outputs;
     if (o.has("json")) outputs.emplace_back("--json", c.json_file);
     if (o.has("report")) outputs.emplace_back("--report", (std::filesystem::path(c.report_dir) / "accuracy.md").string());
-    check_outputs(outputs, {{"--scene", c.families.random_scene}}, /*create_parent=*/true);
+    // The random family's scene: --scene, else dragon-res4 when cached (family_random.cpp).
+    const bool random = std::find(c.which.begin(), c.which.end(), scene::Family::random) != c.which.end();
+    Inputs inputs;
+    if (!c.families.random_scene.empty()) inputs.scenes.emplace_back("--scene", c.families.random_scene);
+    else if (random) inputs.scenes.emplace_back("the random family's scene", "dragon-res4");
+    check_outputs(outputs, inputs, /*create_parent=*/true);
     if (o.has("report")) std::filesystem::create_directories(c.report_dir);
     return c;
 }

@@ -70,8 +70,8 @@ BenchConfig parse_bench(const std::vector<std::string>& args) {
     NamedPaths outputs{{"--json", c.json_file}};
     if (!o.has("no-report")) outputs.emplace_back("--report", dir + "/report.md");
     if (o.has("readme")) outputs.emplace_back("--readme", c.readme);
-    NamedPaths inputs{{"--scene", c.scene}};
-    for (const std::string& s : c.width_scenes) inputs.emplace_back("--width-scenes", s);
+    Inputs inputs{.scenes = {{"--scene", c.scene}}};
+    for (const std::string& s : c.width_scenes) inputs.scenes.emplace_back("--width-scenes", s);
     check_outputs(outputs, inputs, /*create_parent=*/true);
     c.machine = machine_line();
     c.command = command_line("bench", args);

@@ -31,7 +31,8 @@ int cmd_classify(const std::vector<std::string>& args) {
     const int threads = int(o.get_int("threads", 1, 1, 1024));
     const std::string json = o.get("json", "");
     if (!json.empty())
-        check_outputs({{"--json", json}}, {{"--scene", scene_name}, {"--rays", rays_file}, {"--hits", hits_file}});
+        check_outputs({{"--json", json}},
+                      {.files = {{"--rays", rays_file}, {"--hits", hits_file}}, .scenes = {{"--scene", scene_name}}});
     const std::vector<Ray> rays = scene::read_rays(rays_file);
     const std::vector<Hit> hits = scene::read_hits(hits_file);
     if (hits.size() != rays.size())

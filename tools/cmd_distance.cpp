@@ -45,7 +45,7 @@ int cmd_gen_points(const std::vector<std::string>& args) {
     const auto count = std::size_t(o.get_int("count", 0, 1, 1LL << 31));
     const auto seed = std::uint64_t(o.get_int("seed", 1, 0, (1LL << 62)));
     const std::string out = o.require("out");
-    check_outputs({{"--out", out}}, {{"--scene", scene_name}});
+    check_outputs({{"--out", out}}, {.scenes = {{"--scene", scene_name}}});
     check_memory("--count " + std::to_string(count), std::uint64_t(count) * 24);
     const Mesh mesh = load_scene_with_progress(scene_name);
     if (mesh.size() == 0) throw Error(scene_name + ": has no triangles: no bounds to place query points in");
@@ -71,7 +71,7 @@ int cmd_distance(const std::vector<std::string>& args) {
     q.max_distance = parse_max_distance(o);
     PointQueryStats stats;
     if (o.has("stats")) q.stats = &stats;
-    check_outputs({{"--out", out}}, {{"--scene", scene_name}, {"--points", points_file}});
+    check_outputs({{"--out", out}}, {.files = {{"--points", points_file}}, .scenes = {{"--scene", scene_name}}});
     const auto points = scene::read_points(points_file);  // a bad points file fails before the build
     check_memory("--points " + points_file, std::uint64_t(points.size()) * (sizeof(ClosestPoint) + 20));
     InsideOptions io;

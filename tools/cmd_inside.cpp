@@ -26,7 +26,7 @@ int cmd_inside(const std::vector<std::string>& args) {
     io.threads = int(o.get_int("threads", 1, 1, 1024));
     io.rule = parse_rule(o);
     io.ray = parse_ray(o);
-    check_outputs({{"--out", out}}, {{"--scene", scene_name}, {"--points", points_file}});
+    check_outputs({{"--out", out}}, {.files = {{"--points", points_file}}, .scenes = {{"--scene", scene_name}}});
     const auto points = scene::read_points(points_file);
     check_memory("--points " + points_file, std::uint64_t(points.size()) * (sizeof(PointSide) + 1));
     const Mesh mesh = load_scene_with_progress(scene_name);

@@ -36,7 +36,7 @@ PanelConfig parse_panel(const std::vector<std::string>& args) {
     if (!o.has("no-report")) c.report_dir = dir;
     NamedPaths outputs{{"--json", c.json_file}};
     if (!o.has("no-report")) outputs.emplace_back("--report", dir + "/panel.md");
-    check_outputs(outputs, {{"--scene", c.scene}}, /*create_parent=*/true);
+    check_outputs(outputs, {.scenes = {{"--scene", c.scene}}}, /*create_parent=*/true);
     c.machine = machine_line();
     c.isa = active_isa();
     c.command = command_line("panel", args);

@@ -44,7 +44,7 @@ int cmd_render(const std::vector<std::string>& args) {
     const bool heat = o.has("heatmap");
     if (heat && spec.method != "bvh2" && !is_wide(spec.method))
         throw UsageError("--heatmap needs --method bvh2, bvh4, bvh8 or bvh16 (nodes visited are counted by our traversals)");
-    check_outputs({{"--out", out}}, {{"--scene", scene_name}});
+    check_outputs({{"--out", out}}, {.scenes = {{"--scene", scene_name}}});
     // Per pixel: a ray (32 bytes), a hit (16), a count (4), the picture (3) and its PNG (about 3).
     const std::string size_opt = "--width " + std::to_string(w) + " --height " + std::to_string(h);
     const std::uint64_t bytes = std::uint64_t(w) * std::uint64_t(h) * (32 + 16 + 4 + 3 + 3);

@@ -32,7 +32,9 @@ int cmd_bench_sweep(const std::vector<std::string>& args) {
     if (!o.has("no-report")) outputs.emplace_back("--report", dir + "/sweep.md");
     if (o.has("model-out")) outputs.emplace_back("--model-out", c.model_out);
     if (o.has("readme")) outputs.emplace_back("--readme", c.readme);
-    check_outputs(outputs, {}, /*create_parent=*/true);
+    Inputs inputs;  // the cached meshes among its scenes
+    for (const SweepScene& s : sweep_scenes(c.quick)) inputs.scenes.emplace_back("the sweep's scene", s.name);
+    check_outputs(outputs, inputs, /*create_parent=*/true);
     c.machine = machine_line();
     c.command = command_line("bench", args);
     progress("sweep on " + c.machine + ", ISA " + std::string(name(c.isa)), true);

@@ -31,7 +31,11 @@ int gen_family_rays(const Options& o, scene::Family fam) {
     NamedPaths outputs;
     if (o.has("mesh-out")) outputs.emplace_back("--mesh-out", o.get("mesh-out"));
     outputs.emplace_back("--out", out);
-    check_outputs(outputs, {{"--scene", o.get("scene")}});
+    // The random family's scene: --scene, else dragon-res4 when cached (family_random.cpp).
+    Inputs inputs;
+    if (o.has("scene")) inputs.scenes.emplace_back("--scene", o.get("scene"));
+    else if (fam == scene::Family::random) inputs.scenes.emplace_back("--kind random's scene", "dragon-res4");
+    check_outputs(outputs, inputs);
     progress("generating the " + kind_s + " family ...");
     auto cases = scene::make_family(fam, fo);
     const std::string want = o.get("case", cases.front().name);
@@ -89,7 +93,7 @@ int cmd_gen_rays(const std::vector<std::string>& args) {
     if (!o.has("count")) throw UsageError("'gen-rays': missing --count");
     const auto seed = std::uint64_t(o.get_int("seed", 1, 0, (1LL << 62)));
     const std::string out = o.require("out");
-    check_outputs({{"--out", out}}, {{"--scene", scene_name}});
+    check_outputs({{"--out", out}}, {.scenes = {{"--scene", scene_name}}});
     // Rays and their encoded bytes; diffuse rays also hold the primary rays and hits.
     const std::string count_opt = "--count " + std::to_string(count);
     const std::uint64_t per_ray = *kind == scene::RayKind::diffuse ? 32 + 32 + 16 + 32 : 32 + 32;
@@ -139,7 +143,7 @@ int cmd_trace(const std::vector<std::string>& args) {
         return trace_scene(o, scene_name, rays_file, out, spec, query == "any", parse_instance_bounds(o));
     }
     if (o.has("instance-bounds")) throw UsageError("--instance-bounds applies to scenes (room, instances-N, *.json)");
-    check_outputs({{"--out", out}}, {{"--scene", scene_name}, {"--rays", rays_file}});
+    check_outputs({{"--out", out}}, {.files = {{"--rays", rays_file}}, .scenes = {{"--scene", scene_name}}});
     // Read the rays first: a bad ray file fails before any expensive work.
     const auto rays = scene::read_rays(rays_file);
     const Mesh mesh = load_for_trace(scene_name, o.has("drop-invalid"));

@@ -11,6 +11,7 @@
 
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/scene/output.h"
+#include "simdbvh/scene/scene_inputs.h"
 
 namespace simdbvh::cli {
 namespace fs = std::filesystem;
@@ -32,14 +33,21 @@ void on_signal(int sig) {
 
 }  // namespace
 
-void check_outputs(const NamedPaths& outputs, const NamedPaths& inputs, bool create_parent) {
+void check_outputs(const NamedPaths& outputs, const Inputs& inputs, bool create_parent) {
+    // (what the message calls it, the file)
+    std::vector<std::pair<std::string, std::string>> read;
+    for (const auto& [opt, path] : inputs.files) read.emplace_back(opt + " " + path, path);
+    for (const auto& [opt, name] : inputs.scenes)
+        for (const scene::SceneInput& in : scene::scene_input_files(name))
+            read.emplace_back(in.via.empty() ? opt + " " + name
+                                             : in.path.string() + ", which " + opt + " " + name + " reads (" + in.via + ")",
+                              in.path.string());
     for (std::size_t i = 0; i < outputs.size(); ++i) {
         const auto& [opt, path] = outputs[i];
-        for (const auto& [in_opt, in_path] : inputs) {
+        for (const auto& [what, in_path] : read) {
             std::error_code ec;
             if (fs::is_regular_file(in_path, ec) && same_file(path, in_path))
-                throw Error(path + ": " + opt + " is the same file as " + in_opt + " " + in_path +
-                            " (refusing to replace an input)");
+                throw Error(path + ": " + opt + " is the same file as " + what + " (refusing to replace an input)");
         }
         for (std::size_t j = 0; j < i; ++j)
             if (same_file(path, outputs[j].second))

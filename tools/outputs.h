@@ -12,11 +12,18 @@ namespace simdbvh::cli {
 // (option, path) pairs, e.g. {"--out", "hits.bin"}.
 using NamedPaths = std::vector<std::pair<std::string, std::string>>;
 
+// What a command reads.
+struct Inputs {
+    NamedPaths files;   // read as given: {"--rays", "r.bin"}
+    NamedPaths scenes;  // scene names, each standing for every file it leads to (scene::scene_input_files):
+                        // {"--scene", "scene.json"} stands for the JSON file and each mesh it references
+};
+
 // Throws simdbvh::Error unless every output can be written (scene::check_writable; with create_parent for
 // files in a folder the command creates) and no output is the same file as an input or another output
-// (existing files: same device and inode; otherwise the paths with symlinks resolved). Inputs that are not
-// files (named scenes) are ignored.
-void check_outputs(const NamedPaths& outputs, const NamedPaths& inputs, bool create_parent = false);
+// (existing files: same device and inode, so symlinks and hard links are caught; otherwise the paths with
+// symlinks resolved). The message names the output and the input (and how the scene reaches it).
+void check_outputs(const NamedPaths& outputs, const Inputs& inputs, bool create_parent = false);
 
 // SIGINT, SIGTERM, SIGHUP, SIGPIPE: remove live temporary files, then die of the signal (or, where the
 // default action does nothing, as PID 1 in a container, exit 128 + signal).

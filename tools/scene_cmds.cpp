@@ -101,7 +101,7 @@ int info_scene(const std::string& name, const MethodSpec& spec, InstanceBounds b
 int trace_scene(const Options& o, const std::string& name, const std::string& rays_file, const std::string& out,
                 const MethodSpec& spec, bool any, InstanceBounds bounds) {
     const int width = scene_width(spec);
-    check_outputs({{"--out", out}}, {{"--scene", name}, {"--rays", rays_file}});
+    check_outputs({{"--out", out}}, {.files = {{"--rays", rays_file}}, .scenes = {{"--scene", name}}});
     if (o.has("stats")) throw UsageError("--stats does not apply to scenes");
     const auto rays = scene::read_rays(rays_file);  // a bad ray file fails before any expensive work
     progress("loading " + name + " ...");

@@ -36,31 +36,6 @@ std::vector<std::size_t> decades(std::size_t lo, std::size_t hi) {
     return out;
 }
 
-// Fit scenes: random soups and icospheres over the decades; held-out scenes:
-// the dragon at its resolutions, the bunny and the teapot (icospheres of odd
-// levels and a soup instead when they are not cached), at ray counts between
-// the decades.
-std::vector<SweepScene> sweep_scenes(bool quick) {
-    std::vector<SweepScene> s;
-    const std::size_t max_tris = quick ? 10000 : 1000000;
-    const auto rays = decades(1, quick ? 10000 : 1000000);
-    for (std::size_t n = 1; n <= max_tris; n *= 10) s.push_back({"soup-" + std::to_string(n), 0, false, rays});
-    for (int level = 0; level <= (quick ? 4 : 8); level += 2)
-        s.push_back({"icosphere-" + std::to_string(level), 0, false, rays});
-    // A real mesh among the fit scenes: scanned meshes cost more per incoherent ray than soups and spheres of
-    // the same size (deeper overlap), which moves the BVH2 / wide-tree crossover. Not one of the held-out scenes.
-    if (!quick && scene::is_cached("dragon-res3")) s.push_back({"dragon-res3", 0, false, rays});
-    const std::vector<std::size_t> held_rays = quick ? std::vector<std::size_t>{3, 300, 3000, 30000}
-                                                     : std::vector<std::size_t>{3, 300, 30000, 300000};
-    const char* held[] = {"dragon", "dragon-res2", "dragon-res4", "bunny", "teapot"};
-    const char* fallback[] = {"icosphere-7", "icosphere-5", "icosphere-3", "icosphere-1", "soup-3000"};
-    for (int i = 0; i < 5; ++i) {
-        const bool use = scene::is_cached(held[i]) && !(quick && i == 0);
-        s.push_back({use ? held[i] : fallback[i], 0, true, held_rays});
-    }
-    return s;
-}
-
 std::vector<MethodSpec> sweep_methods(Isa isa) {
     std::vector<MethodSpec> out;
     for (AccelMethod m : kAccelMethods) {
@@ -192,6 +167,31 @@ private:
 };
 
 }  // namespace
+
+// Fit scenes: random soups and icospheres over the decades; held-out scenes:
+// the dragon at its resolutions, the bunny and the teapot (icospheres of odd
+// levels and a soup instead when they are not cached), at ray counts between
+// the decades.
+std::vector<SweepScene> sweep_scenes(bool quick) {
+    std::vector<SweepScene> s;
+    const std::size_t max_tris = quick ? 10000 : 1000000;
+    const auto rays = decades(1, quick ? 10000 : 1000000);
+    for (std::size_t n = 1; n <= max_tris; n *= 10) s.push_back({"soup-" + std::to_string(n), 0, false, rays});
+    for (int level = 0; level <= (quick ? 4 : 8); level += 2)
+        s.push_back({"icosphere-" + std::to_string(level), 0, false, rays});
+    // A real mesh among the fit scenes: scanned meshes cost more per incoherent ray than soups and spheres of
+    // the same size (deeper overlap), which moves the BVH2 / wide-tree crossover. Not one of the held-out scenes.
+    if (!quick && scene::is_cached("dragon-res3")) s.push_back({"dragon-res3", 0, false, rays});
+    const std::vector<std::size_t> held_rays = quick ? std::vector<std::size_t>{3, 300, 3000, 30000}
+                                                     : std::vector<std::size_t>{3, 300, 30000, 300000};
+    const char* held[] = {"dragon", "dragon-res2", "dragon-res4", "bunny", "teapot"};
+    const char* fallback[] = {"icosphere-7", "icosphere-5", "icosphere-3", "icosphere-1", "soup-3000"};
+    for (int i = 0; i < 5; ++i) {
+        const bool use = scene::is_cached(held[i]) && !(quick && i == 0);
+        s.push_back({use ? held[i] : fallback[i], 0, true, held_rays});
+    }
+    return s;
+}
 
 SweepResults run_sweep(const SweepConfig& c) {
     SweepResults res;

@@ -56,6 +56,8 @@ struct SweepResults {
     std::vector<SweepCheck> checks;
 };
 
+// The scenes the sweep measures (cached meshes where available, procedural stand-ins otherwise).
+std::vector<SweepScene> sweep_scenes(bool quick);
 SweepResults run_sweep(const SweepConfig& c);
 // sweep_fit.cpp: the model from the fit rows, and the check on the held-out rows.
 CostModel fit_cost_model(const std::vector<SweepRow>& rows, Isa isa);
