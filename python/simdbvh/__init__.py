@@ -10,7 +10,8 @@
     scene = simdbvh.load_scene("room")            # or simdbvh.Scene(meshes=[mesh], spheres=..., instances=..., planes=...)
     hits = scene.intersect(origins, directions)   # dict: hit, t, u, v, prim, geom, inst
 
-Errors raise simdbvh.Error (a ValueError) with the library's message.
+Errors raise simdbvh.Error (a ValueError) with the library's message. Array arguments take real numbers
+(faces: integers) of any numpy dtype of that kind; bool, complex, string and object arrays are refused, not cast.
 """
 from ._simdbvh import BVH, Error, Mesh, Scene, isas, load, load_scene
 

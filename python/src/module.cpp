@@ -182,14 +182,15 @@ public:
         });
     }
 
-    py::dict closest(const py::handle& points, float max_distance, int threads) const {
+    py::dict closest(const py::handle& points, const py::handle& max_distance, int threads) const {
         const F32 p = as_points(points, "points");
+        const float max_d = real_arg(max_distance, "max_distance");
         const auto n = std::size_t(p.shape(0));
         std::vector<ClosestPoint> res(n);
         {
             py::gil_scoped_release nogil;
             PointQueryOptions o;
-            o.max_distance = max_distance;
+            o.max_distance = max_d;
             o.threads = check_threads(threads);
             if (method_ == "brute") {
                 for (std::size_t i = 0; i < n; ++i) res[i] = brute_force_closest_point(mesh_, vec3s(p)[i], o);
@@ -256,7 +257,7 @@ public:
 
     py::array_t<float> signed_distance(const py::handle& points, const std::string& rule, int threads,
                                        const std::string& ray) const {
-        py::dict near = closest(points, kInf, threads);
+        py::dict near = closest(points, py::float_(kInf), threads);
         const auto res = side_list(points, rule, threads, ray);
         auto d = near["distance"].cast<py::array_t<float>>();
         auto out = empty_array<float>(res.size());
@@ -386,13 +387,20 @@ void bind_scene(py::module_& m);  // scene.cpp: simdbvh.Scene and load_scene
 PYBIND11_MODULE(_simdbvh, m) {
     using namespace simdbvh;
     using namespace simdbvh::python;
-    m.doc() = "simdbvh: exact, fast ray and point queries against triangle meshes";
+    m.doc() =
+        "simdbvh: exact, fast ray and point queries against triangle meshes.\n\n"
+        "Array arguments (anything numpy.asarray reads): coordinates, bounds and transforms take real numbers of any "
+        "integer or floating dtype (converted to float32); faces and geometry indices take integers of any integer "
+        "dtype. Bool, complex, string and object arrays are refused (simdbvh.Error naming the argument), never "
+        "cast, and a conversion without memory for its copy raises simdbvh.Error naming the argument.";
     py::register_exception<Error>(m, "Error", PyExc_ValueError);
 
     py::class_<Mesh>(m, "Mesh", "A triangle mesh: float32 vertices (n, 3), int faces (m, 3).")
         .def(py::init(&mesh_from_arrays), py::arg("vertices"), py::arg("faces"),
-             "Copies the arrays (vertices converted to float32, faces to uint32). Raises simdbvh.Error for a bad "
-             "shape, a non-finite vertex used by a face, or an out-of-range index.")
+             "Copies the arrays (vertices: real numbers, converted to float32; faces: integers of any integer dtype, "
+             "read through their strides, stored as uint32). Raises simdbvh.Error for a bad shape, another dtype "
+             "(float faces are not truncated; bool, complex, string and object arrays are refused), a non-finite "
+             "vertex used by a face, an out-of-range index, or too little memory.")
         .def_property_readonly("vertices", &vertices_of, "The vertices, (n, 3) float32 (a copy).")
         .def_property_readonly("faces", &faces_of, "The faces, (m, 3) int64 (a copy).")
         .def("__len__", &Mesh::size, "The number of triangles.")
@@ -410,10 +418,16 @@ PYBIND11_MODULE(_simdbvh, m) {
 
     m.def("load", [](const std::string& path) {
         path_arg(path, "path");
-        py::gil_scoped_release nogil;
-        return scene::load_scene(path);
+        Mesh mesh;
+        {
+            py::gil_scoped_release nogil;
+            mesh = scene::load_scene(path);
+        }
+        // As an empty file is refused: a built-in (soup-0) or a file (only vertices) that yields no triangle.
+        if (mesh.triangles.empty()) throw Error(path + ": no triangles (an empty mesh)");
+        return mesh;
     }, py::arg("path"), "Loads a mesh file (.ply .obj .stl .off, optionally .gz) or a named scene. Raises simdbvh.Error for a "
-          "missing or bad file or a path containing a NUL byte.");
+          "missing or bad file, a mesh with no triangles or a path containing a NUL byte.");
 
     py::class_<Bvh>(m, "BVH", "A bounding volume hierarchy over a mesh, and its queries.")
         .def(py::init<Mesh, const std::string&, const std::optional<std::string>&>(), py::arg("mesh"),

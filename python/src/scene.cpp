@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <limits>
 #include <optional>
 #include <span>
@@ -26,20 +27,12 @@ namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-std::string shape_of(const F32& a) {
-    std::string s;
-    for (py::ssize_t k = 0; k < a.ndim(); ++k) s += (k ? ", " : "") + std::to_string(a.shape(k));
-    return "(" + s + ")";
-}
-
-// A C-contiguous float32 (n, cols) array; a 1-D array of cols numbers is one row.
-F32 as_rows(const py::handle& obj, py::ssize_t cols, const std::string& what) {
-    F32 a = F32::ensure(obj);
-    if (!a) throw Error(what + ": expected an array of numbers");
-    if (a.ndim() == 1 && a.shape(0) == cols) a = a.reshape({py::ssize_t(1), cols});
-    if (a.ndim() != 2 || a.shape(1) != cols)
-        throw Error(what + ": expected shape (n, " + std::to_string(cols) + "), got " + shape_of(a));
-    return a;
+// numpy's ndim of obj, or -1 when numpy cannot read it as an array.
+int ndim_of(const py::handle& obj) {
+    const py::array a = try_numpy(obj);
+    if (a) return int(a.ndim());
+    PyErr_Clear();
+    return -1;
 }
 
 // `obj` is one (n, cols) array, or a list/tuple of them (one geometry each).
@@ -48,8 +41,7 @@ std::vector<F32> row_sets(const py::handle& obj, py::ssize_t cols, const std::st
     if (py::isinstance<py::list>(obj) || py::isinstance<py::tuple>(obj)) {
         const auto seq = py::reinterpret_borrow<py::sequence>(obj);
         if (seq.size() > 0) {
-            const F32 first = F32::ensure(seq[0]);
-            if (first && first.ndim() == 2) {
+            if (ndim_of(seq[0]) == 2) {
                 std::vector<F32> out;
                 for (std::size_t i = 0; i < seq.size(); ++i)
                     out.push_back(as_rows(seq[i], cols, what + "[" + std::to_string(i) + "]"));
@@ -78,10 +70,11 @@ Mesh mesh_item(const py::handle& item, std::size_t i) {
 
 // A (3, 4) [A | b] or a (4, 4) matrix whose last row is 0 0 0 1.
 Affine3 transform_item(const py::handle& obj, const std::string& at) {
-    const F32 a = F32::ensure(obj);
-    if (!a) throw Error(at + ": expected a (3, 4) or (4, 4) array of numbers");
-    if (a.ndim() != 2 || a.shape(1) != 4 || (a.shape(0) != 3 && a.shape(0) != 4))
-        throw Error(at + ": expected shape (3, 4) or (4, 4), got " + shape_of(a));
+    const py::array in = as_numpy(obj, at);
+    check_dtype(in, Numbers::reals, at);
+    if (in.ndim() != 2 || in.shape(1) != 4 || (in.shape(0) != 3 && in.shape(0) != 4))
+        throw Error(at + ": expected shape (3, 4) or (4, 4), got " + shape_of(in));
+    const F32 a = convert<float>(in, at);
     const float* p = a.data();
     if (a.shape(0) == 4 && !(p[12] == 0.0f && p[13] == 0.0f && p[14] == 0.0f && p[15] == 1.0f))
         throw Error(at + ": a (4, 4) transform must have the last row 0, 0, 0, 1 (affine)");
@@ -97,12 +90,13 @@ Instance instance_item(const py::handle& item, std::size_t i) {
         py::reinterpret_borrow<py::sequence>(item).size() != 2)
         throw Error(at + ": expected a (geometry_index, transform) pair");
     const auto pair = py::reinterpret_borrow<py::sequence>(item);
-    long long g = 0;
-    try {
-        g = pair[0].cast<long long>();
-    } catch (const py::cast_error&) {
-        throw Error(at + ".geometry: expected an integer index");
-    }
+    // An integer of any integer type (bool, a float or a string refused, as for faces).
+    const py::array index = as_numpy(pair[0], at + ".geometry");
+    const char kind = index.dtype().kind();
+    if (index.ndim() != 0 || (kind != 'i' && kind != 'u'))
+        throw Error(at + ".geometry: expected an integer index, got " +
+                    (index.ndim() ? "shape " + shape_of(index) : "dtype " + dtype_of(index)));
+    const long long g = convert<long long>(index, at + ".geometry").data()[0];
     if (g < 0 || g >= (long long)kNoGeometry) throw Error(at + ".geometry: no geometry " + std::to_string(g));
     return Instance{std::uint32_t(g), transform_item(pair[1], at + ".transform")};
 }
@@ -325,7 +319,8 @@ void bind_scene(py::module_& m) {
              py::kw_only(), py::arg("meshes") = py::none(), py::arg("spheres") = py::none(),
              py::arg("boxes") = py::none(), py::arg("instances") = py::none(), py::arg("planes") = py::none(),
              py::arg("method") = "bvh8", py::arg("isa") = py::none(),
-             "Builds a scene from arrays (all copied, converted to float32). Geometry indices run over meshes, "
+             "Builds a scene from arrays (all copied; real numbers converted to float32, faces and geometry "
+             "indices integers, as simdbvh.Mesh). Geometry indices run over meshes, "
              "then sphere sets, then box sets, in the order given.\n"
              "meshes: a list of simdbvh.Mesh or (vertices (n, 3), faces (m, 3)) pairs.\n"
              "spheres: an (n, 4) array of center x, y, z and radius (one geometry), or a list of them.\n"
@@ -370,11 +365,18 @@ void bind_scene(py::module_& m) {
             py::gil_scoped_release nogil;
             desc = scene::load_scene_desc(name);
         }
+        // A mesh name or file (not a built-in scene, not JSON) with no triangles is refused, as simdbvh.load does.
+        if (!scene::is_builtin_scene(name) && std::filesystem::path(name).extension() != ".json" &&
+            desc.geometries.size() == 1) {
+            const Mesh* mesh = std::get_if<Mesh>(&desc.geometries[0]);
+            if (mesh && mesh->triangles.empty()) throw Error(name + ": no triangles (an empty mesh)");
+        }
         return Scene(std::move(desc), method, isa);
     }, py::arg("name"), py::arg("method") = "bvh8", py::arg("isa") = py::none(),
           "A scene from a built-in name (room, spheres-N, instances-N: N dragons), a .json scene file (README, "
           "'Scene files') or any mesh simdbvh.load() takes (one geometry, one identity instance). Raises "
-          "simdbvh.Error for a missing file, bad JSON, an uncached mesh or a name containing a NUL byte.");
+          "simdbvh.Error for a missing file, bad JSON, an uncached mesh, a mesh with no triangles or a name containing a "
+          "NUL byte.");
 }
 
 }  // namespace simdbvh::python
