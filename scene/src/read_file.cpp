@@ -138,7 +138,17 @@ std::vector<char> read_file(const std::filesystem::path& path, const SizeLimit& 
         used += n;
         data.resize(used);
         const bool complete = n < want;
-        if (!allow) allow = limit(file, std::string_view(data.data(), used), complete);
+        if (!allow) {
+            allow = limit(file, std::string_view(data.data(), used), complete);
+            // A raw file's size is known: room for all of it (and the last chunk's
+            // read) at once, so the data is held once, not twice while the
+            // vector grows by copying.
+            if (allow && !gz && !complete) {
+                struct stat st {};
+                if (::fstat(in.fd, &st) == 0 && st.st_size > 0)
+                    data.reserve(std::size_t(std::min<std::uint64_t>(std::uint64_t(st.st_size), allow->max_bytes)) + kChunk);
+            }
+        }
         if (allow && allow->text) {
             const std::size_t at = nul_offset(data, scanned);
             scanned = used;

@@ -84,7 +84,7 @@ TEST(SceneJson, ErrorsNameTheJsonPath) {
     expect_error(R"({"geometries": [{"spheres": [{"center": [3e38, 0, 0], "radius": 3e38}]}]})",
                  "geometries[0].spheres[0]: its bounds (center +- radius) exceed the float range");
     expect_error(R"({"geometries": [{"spheres": [{"center": [0, 0, 0], "radius": 1, "radius": -1}]}]})",
-                 "duplicate key 'radius'");
+                 "geometries[0].spheres[0]: duplicate key 'radius'");
 }
 
 TEST(SceneBuiltin, InstancesAreDeterministicAndInvertible) {

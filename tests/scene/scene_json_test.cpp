@@ -6,10 +6,13 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <sys/resource.h>
+
 #include <atomic>
 #include <csignal>
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <thread>
 
@@ -32,8 +35,36 @@ std::string json_error(const fs::path& file) {
     return "";
 }
 
+// The message of parsing `text` ("" when it parsed).
+std::string text_error(const std::string& text) {
+    try {
+        parse_scene_json(text, ".", "t.json");
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
 void expect_has(const std::string& msg, const std::string& part) {
     EXPECT_NE(msg.find(part), std::string::npos) << "wanted '" << part << "' in: " << msg;
+}
+
+// Growth of the process's peak resident set (MiB) while `f` runs (each test
+// runs in a process of its own under ctest, so the peak is this test's).
+template <class F>
+double peak_growth_mib(F&& f) {
+    rusage before{}, after{};
+    getrusage(RUSAGE_SELF, &before);
+    f();
+    getrusage(RUSAGE_SELF, &after);
+    return double(after.ru_maxrss - before.ru_maxrss) / 1024.0;
+}
+
+std::string repeat(std::string_view s, std::size_t n) {
+    std::string out;
+    out.reserve(s.size() * n);
+    for (std::size_t i = 0; i < n; ++i) out += s;
+    return out;
 }
 
 // A FIFO named x.json is refused at once (it blocked in open, then read
@@ -79,6 +110,77 @@ TEST(SceneJsonFile, DevicesAndFoldersAreRefusedByKind) {
                                            "instances": [{"geometry": 0}]})");
     fs::create_symlink(dir / "real.json", dir / "link.json");
     EXPECT_EQ(load_scene_json(dir / "link.json").instances.size(), 1u);
+}
+
+// An array of n instances parses in work linear in n (nlohmann's parser
+// callback walked the whole array after each element: 10^5 instances took
+// 1.5 s, 10^6 270 s). Not timed: this checks the content of a large array.
+TEST(SceneJsonBounds, LargeInstanceArrays) {
+    const std::size_t n = 100'000;
+    std::string text = R"({"geometries": [{"spheres": [{"center": [0, 0, 0], "radius": 1}]}], "instances": [)";
+    for (std::size_t i = 0; i < n; ++i)
+        text += (i ? ", " : "") + std::string(R"({"geometry": 0, "translate": [)") + std::to_string(i) + ", 0, 0]}";
+    text += "]}";
+    const SceneDesc s = parse_scene_json(text, ".", "t.json");
+    ASSERT_EQ(s.instances.size(), n);
+    for (std::size_t i = 0; i < n; i += 997) EXPECT_EQ(s.instances[i].transform.m[0][3], float(i)) << i;
+}
+
+// Nesting is limited to 512 arrays and objects: 10^6 nested objects stop at
+// the limit (their document took about 150 bytes each, 10^7 of them 3 GB).
+TEST(SceneJsonBounds, NestingDeeperThan512Stops) {
+    const std::size_t n = 1'000'000;
+    const std::string deep = repeat(R"({"a":)", n) + "{}" + std::string(n, '}');
+    std::string msg;
+    const double mib = peak_growth_mib([&] { msg = text_error(deep); });
+    expect_has(msg, "t.json: not valid JSON for a scene: arrays and objects nested deeper than 512 levels");
+    EXPECT_LT(mib, 32.0) << msg;
+    // 512 levels are parsed (the scene's own checks answer), 513 are not.
+    expect_has(text_error(R"({"planes": )" + std::string(511, '[') + std::string(511, ']') + "}"),
+               "t.json: planes[0]: expected an object");
+    expect_has(text_error(R"({"planes": )" + std::string(512, '[') + std::string(512, ']') + "}"),
+               "nested deeper than 512 levels");
+}
+
+// The text is held once: 64 MiB of whitespace around a scene cost about 64
+// MiB (it was copied from the stream into a string, and nlohmann's lexer kept
+// a copy of each run of whitespace in its token buffer).
+TEST(SceneJsonBounds, WhitespaceIsHeldOnce) {
+    test::TempDir dir;
+    const fs::path file = dir / "blank.json";
+    {
+        std::ofstream out(file, std::ios::binary);
+        const std::string mib(std::size_t(1) << 20, ' '), lines(std::size_t(1) << 20, '\n');
+        for (int i = 0; i < 32; ++i) out << mib << lines;
+        out << R"({"geometries": [{"spheres": [{"center": [0, 0, 0], "radius": 1}]}]})" << mib;
+    }
+    SceneDesc s;
+    const double mib = peak_growth_mib([&] { s = load_scene_json(file); });
+    EXPECT_EQ(s.geometries.size(), 1u);
+    EXPECT_LT(mib, 96.0);
+}
+
+// Long runs of whitespace are passed short, but not inside strings (names
+// differing only there stay different, an escaped quote included), and errors
+// after them give the file's own line and column.
+TEST(SceneJsonBounds, LongWhitespaceKeepsStringsAndPositions) {
+    // Runs of 5000 and of 4096 spaces inside names, plain and after an escaped quote:
+    // squeezed to 4096, two names would be the same ("duplicate name").
+    const std::string sphere = R"("spheres": [{"center": [0, 0, 0], "radius": 1}])";
+    std::string text = R"({"geometries": [)";
+    for (const char* head : {"", "\\\""})
+        for (std::size_t run : {5000, 4096})
+            text += std::string(text.back() == '[' ? "" : ", ") + R"({"name": ")" + head + std::string(run, ' ') + "x\", " +
+                    sphere + "}";
+    text += R"(], "instances": [{"geometry": "\")" + std::string(4096, ' ') + "x\"}]}";
+    const SceneDesc s = parse_scene_json(text, ".", "t.json");
+    ASSERT_EQ(s.geometries.size(), 4u);
+    ASSERT_EQ(s.instances.size(), 1u);
+    EXPECT_EQ(s.instances[0].geometry, 3u);
+    expect_has(text_error(std::string(3, '\n') + std::string(10000, ' ') + "{\"geometries\":\n" + std::string(20000, ' ') +
+                          "[1, NaN]}"),
+               "t.json: not valid JSON at line 5, column 20005: syntax error while parsing value - invalid literal");
+    expect_has(text_error("{\"geometries\": [1, NaN]}"), "t.json: not valid JSON at line 1, column 20: syntax error");
 }
 
 }  // namespace
