@@ -10,10 +10,12 @@
 #include <limits>
 #include <mutex>
 #include <optional>
+#include <shared_mutex>
 #include <string>
 #include <vector>
 
 #include "arrays.h"
+#include "rw_lock.h"
 #include "simdbvh/bvh2/closest_point.h"
 #include "simdbvh/bvh2/crossings.h"
 #include "simdbvh/bvh2/inside.h"
@@ -77,8 +79,11 @@ public:
         std::int64_t* pprim = prim.mutable_data();
         bool* phit = hit.mutable_data();
         std::vector<Hit> all(points || normals ? n : 0);  // the rows below need every hit
+        py::array_t<float> pts = empty_points(points ? n : 0), nrm = empty_points(normals ? n : 0);
+        const int nthreads = check_threads(threads);
         {
             py::gil_scoped_release nogil;
+            const std::shared_lock<RwLock> hold(lock_);
             auto write = [&](std::span<const Hit> h, std::size_t b) {
                 for (std::size_t k = 0; k < h.size(); ++k) {
                     const std::size_t i = b + k;
@@ -90,7 +95,6 @@ public:
                 }
                 if (!all.empty()) std::copy(h.begin(), h.end(), all.begin() + std::ptrdiff_t(b));
             };
-            const int nthreads = check_threads(threads);
             if (bvh4_ || bvh8_ || bvh16_) {
                 auto wide = [&](const auto& bvh) {
                     auto trace = [&](std::span<const Ray> r, std::span<Hit> h, const TraceOptions& opts) {
@@ -137,29 +141,28 @@ public:
                     write(h, b);
                 });
             }
+            // The rows read the vertices: under the same hold as the trace.
+            if (points) hit_points(all, pts.mutable_data());
+            if (normals) hit_normals(all, nrm.mutable_data());
         }
-        const std::vector<Hit>& hits = all;
         py::dict out("hit"_a = hit, "t"_a = t, "prim"_a = prim, "u"_a = u, "v"_a = v);
-        if (points) out["points"] = hit_points(hits);
-        if (normals) out["normals"] = hit_normals(hits);
+        if (points) out["points"] = pts;
+        if (normals) out["normals"] = nrm;
         return out;
     }
 
-    // An (n, 3) array with row(hit, out) for each hit and NaN rows for misses.
+    // Rows of 3 floats from `out`: row(hit, out) for each hit, NaN rows for misses.
     template <class Row>
-    static py::array_t<float> hit_rows(const std::vector<Hit>& hits, Row row) {
-        auto a = empty_points(hits.size());
-        float* p = a.mutable_data();
+    static void hit_rows(const std::vector<Hit>& hits, float* p, Row row) {
         for (std::size_t i = 0; i < hits.size(); ++i, p += 3) {
             if (hits[i].hit()) row(hits[i], p);
             else p[0] = p[1] = p[2] = std::numeric_limits<float>::quiet_NaN();
         }
-        return a;
     }
     // (1 - u - v) v0 + u v1 + v v2 in double, rounded once: on the hit triangle
     // (origin + t * direction can miss its plane by the rounding of t).
-    py::array_t<float> hit_points(const std::vector<Hit>& hits) const {
-        return hit_rows(hits, [&](const Hit& h, float* p) {
+    void hit_points(const std::vector<Hit>& hits, float* out) const {
+        hit_rows(hits, out, [&](const Hit& h, float* p) {
             const double w = 1.0 - double(h.u) - double(h.v);
             for (int k = 0; k < 3; ++k)
                 p[k] = float(w * mesh_.vertex(h.prim, 0)[k] + double(h.u) * mesh_.vertex(h.prim, 1)[k] +
@@ -168,8 +171,8 @@ public:
     }
     // Unit geometric normal (v1 - v0) x (v2 - v0) in double, by the triangle's
     // winding (not turned toward the ray).
-    py::array_t<float> hit_normals(const std::vector<Hit>& hits) const {
-        return hit_rows(hits, [&](const Hit& h, float* p) {
+    void hit_normals(const std::vector<Hit>& hits, float* out) const {
+        hit_rows(hits, out, [&](const Hit& h, float* p) {
             double e1[3], e2[3];
             for (int k = 0; k < 3; ++k) {
                 e1[k] = double(mesh_.vertex(h.prim, 1)[k]) - mesh_.vertex(h.prim, 0)[k];
@@ -182,21 +185,39 @@ public:
         });
     }
 
+    // Without the GIL, holding lock_: the closest points of p.
+    void closest_points(const F32& p, float max_distance, int threads, std::vector<ClosestPoint>& res) const {
+        const auto n = std::size_t(p.shape(0));
+        PointQueryOptions o;
+        o.max_distance = max_distance;
+        o.threads = threads;
+        if (method_ == "brute") {
+            for (std::size_t i = 0; i < n; ++i) res[i] = brute_force_closest_point(mesh_, vec3s(p)[i], o);
+        } else {
+            with_tree([&](const auto& t) { closest_point(t, std::span<const Vec3>(vec3s(p), n), res, o); });
+        }
+    }
+
+    // Without the GIL, holding lock_: the sides of p.
+    void classify(const F32& p, const InsideOptions& o, std::vector<PointSide>& res) const {
+        const auto n = std::size_t(p.shape(0));
+        if (method_ == "brute") {
+            for (std::size_t i = 0; i < n; ++i) res[i] = brute_force_classify_point(mesh_, vec3s(p)[i], o);
+        } else {
+            with_tree([&](const auto& t) { classify_points(t, std::span<const Vec3>(vec3s(p), n), res, o); });
+        }
+    }
+
     py::dict closest(const py::handle& points, const py::handle& max_distance, int threads) const {
         const F32 p = as_points(points, "points");
         const float max_d = real_arg(max_distance, "max_distance");
+        const int nthreads = check_threads(threads);
         const auto n = std::size_t(p.shape(0));
         std::vector<ClosestPoint> res(n);
         {
             py::gil_scoped_release nogil;
-            PointQueryOptions o;
-            o.max_distance = max_d;
-            o.threads = check_threads(threads);
-            if (method_ == "brute") {
-                for (std::size_t i = 0; i < n; ++i) res[i] = brute_force_closest_point(mesh_, vec3s(p)[i], o);
-            } else {
-                with_tree([&](const auto& t) { closest_point(t, std::span<const Vec3>(vec3s(p), n), res, o); });
-            }
+            const std::shared_lock<RwLock> hold(lock_);
+            closest_points(p, max_d, nthreads, res);
         }
         auto dist = empty_array<float>(n), u = empty_array<float>(n), v = empty_array<float>(n);
         auto prim = empty_array<std::int64_t>(n);
@@ -221,21 +242,22 @@ public:
         else f(bvh2());
     }
 
-    std::vector<PointSide> side_list(const py::handle& points, const std::string& rule, int threads,
-                                     const std::string& ray) const {
+    static InsideOptions inside_options(const std::string& rule, int threads, const std::string& ray) {
         InsideOptions o;
         o.rule = parse_rule(rule);
         o.ray = count_ray_named(ray);
-        const F32 p = as_points(points, "points");
-        const auto n = std::size_t(p.shape(0));
         o.threads = check_threads(threads);
-        std::vector<PointSide> res(n);
+        return o;
+    }
+
+    std::vector<PointSide> side_list(const py::handle& points, const std::string& rule, int threads,
+                                     const std::string& ray) const {
+        const InsideOptions o = inside_options(rule, threads, ray);
+        const F32 p = as_points(points, "points");
+        std::vector<PointSide> res(std::size_t(p.shape(0)));
         py::gil_scoped_release nogil;
-        if (method_ == "brute") {
-            for (std::size_t i = 0; i < n; ++i) res[i] = brute_force_classify_point(mesh_, vec3s(p)[i], o);
-        } else {
-            with_tree([&](const auto& t) { classify_points(t, std::span<const Vec3>(vec3s(p), n), res, o); });
-        }
+        const std::shared_lock<RwLock> hold(lock_);
+        classify(p, o, res);
         return res;
     }
 
@@ -257,12 +279,20 @@ public:
 
     py::array_t<float> signed_distance(const py::handle& points, const std::string& rule, int threads,
                                        const std::string& ray) const {
-        py::dict near = closest(points, py::float_(kInf), threads);
-        const auto res = side_list(points, rule, threads, ray);
-        auto d = near["distance"].cast<py::array_t<float>>();
-        auto out = empty_array<float>(res.size());
-        for (std::size_t i = 0; i < res.size(); ++i) {
-            const float v = d.data()[i];
+        const InsideOptions o = inside_options(rule, threads, ray);
+        const F32 p = as_points(points, "points");
+        const auto n = std::size_t(p.shape(0));
+        std::vector<ClosestPoint> near(n);
+        std::vector<PointSide> res(n);
+        {
+            py::gil_scoped_release nogil;
+            const std::shared_lock<RwLock> hold(lock_);  // both answers for the same vertices
+            closest_points(p, kInf, o.threads, near);
+            classify(p, o, res);
+        }
+        auto out = empty_array<float>(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            const float v = near[i].distance;
             out.mutable_data()[i] = res[i].side == Side::surface ? 0.0f : (res[i].side == Side::inside ? -v : v);
         }
         return out;
@@ -272,12 +302,14 @@ public:
                    int threads) const {
         const std::vector<Ray> rays = make_rays(o, d, tmin, tmax);
         std::vector<CrossingCount> res(rays.size());
+        const int nthreads = check_threads(threads);
         {
             py::gil_scoped_release nogil;
+            const std::shared_lock<RwLock> hold(lock_);
             if (method_ == "brute") {
                 for (std::size_t i = 0; i < rays.size(); ++i) res[i] = brute_force_count_crossings(mesh_, rays[i]);
             } else {
-                count_crossings(bvh2(), rays, res, check_threads(threads));
+                count_crossings(bvh2(), rays, res, nthreads);
             }
         }
         auto w = empty_array<std::int32_t>(res.size());
@@ -296,6 +328,7 @@ public:
         std::vector<AllHits> res(rays.size());
         {
             py::gil_scoped_release nogil;
+            const std::shared_lock<RwLock> hold(lock_);
             for (std::size_t i = 0; i < rays.size(); ++i)
                 res[i] = method_ == "brute" ? brute_force_intersect_all(mesh_, rays[i], max_hits)
                                             : intersect_all(bvh2(), rays[i], max_hits);
@@ -338,6 +371,7 @@ public:
         validate(moved);
         check_threads(threads);
         py::gil_scoped_release nogil;
+        const std::unique_lock<RwLock> hold(lock_);  // waits for the running queries, holds back new ones
         if (bvh2_built_) bvh2_.refit(moved, threads);  // else built later from the moved vertices
         if (bvh4_) bvh4_->refit(moved, threads);
         if (bvh8_) bvh8_->refit(moved, threads);
@@ -362,6 +396,8 @@ private:
     std::optional<Bvh4> bvh4_;
     std::optional<Bvh8> bvh8_;
     std::optional<Bvh16> bvh16_;
+    // Queries hold it shared, refit alone: a query sees the vertices and boxes before or after a refit.
+    mutable RwLock lock_;
 };
 
 py::array_t<float> vertices_of(const Mesh& m) {
@@ -429,7 +465,12 @@ PYBIND11_MODULE(_simdbvh, m) {
     }, py::arg("path"), "Loads a mesh file (.ply .obj .stl .off, optionally .gz) or a named scene. Raises simdbvh.Error for a "
           "missing or bad file, a mesh with no triangles or a path containing a NUL byte.");
 
-    py::class_<Bvh>(m, "BVH", "A bounding volume hierarchy over a mesh, and its queries.")
+    py::class_<Bvh>(m, "BVH",
+                    "A bounding volume hierarchy over a mesh, and its queries.\n\n"
+                    "Threads: every query releases the GIL, and queries on one BVH from many threads run side by "
+                    "side. refit is serialised with them by the object: it waits for the running queries and holds "
+                    "back new ones until it is done, so each query answers for the vertices before or after a refit, "
+                    "never a mix.")
         .def(py::init<Mesh, const std::string&, const std::optional<std::string>&>(), py::arg("mesh"),
              py::arg("method") = "bvh8", py::arg("isa") = py::none(),
              "method: 'bvh8' (default), 'bvh4' or 'bvh16' (SIMD wide trees), 'bvh2' or 'brute'; isa: 'scalar', 'avx2', 'avx512' or None (chosen by speed: the faster SIMD path measured once per process on the first batch of 8192 rays or more, or SIMDBVH_ISA when set). "
@@ -463,7 +504,8 @@ PYBIND11_MODULE(_simdbvh, m) {
              "Moves the mesh's vertices ((n, 3), the same n; faces unchanged) and refits the trees in place: "
              "boxes recomputed bottom-up, topology kept, O(n). Results afterwards are those of a BVH built on the "
              "moved mesh, bit for bit. Raises simdbvh.Error (the BVH unchanged) for another shape or a non-finite "
-             "vertex.")
+             "vertex. Safe while other threads query this BVH: it waits for their running queries and holds back "
+             "new ones while it refits.")
         .def("closest_point", &Bvh::closest, py::arg("points"), py::arg("max_distance") = kInf,
              py::arg("threads") = 1,
              "Closest points: dict of distance (inf when none within max_distance), prim (-1), points (n, 3), u, v.")
