@@ -82,8 +82,8 @@ private:
         out.push_back({p, via});
     }
 
-    // The JSON file and its geometries' mesh references (scene_json.cpp, Parser::mesh: a relative reference
-    // that names a file in the JSON file's folder is that file, anything else goes to load_scene).
+    // The JSON file and its geometries' mesh references (json_mesh_path: a path relative to the JSON file's
+    // folder, or a name for load_scene).
     void json(const fs::path& file, const std::string& via) {
         std::error_code ec;
         const fs::path key = fs::weakly_canonical(file, ec);
@@ -105,8 +105,7 @@ private:
             // The named file's own references need no file name; nested ones do.
             const std::string where = "geometries[" + std::to_string(i) + "].mesh";
             const std::string step = via.empty() ? where : chain(via, file.string() + ": " + where);
-            const fs::path local = file.parent_path() / ref;
-            if (fs::path(ref).is_relative() && fs::is_regular_file(local, ec)) mesh(local.string(), step);
+            if (const auto path = json_mesh_path(file.parent_path(), ref)) mesh(path->string(), step);
             else mesh(ref, step);
         }
     }

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "simdbvh/kernels/error.h"
+#include "simdbvh/scene/load.h"
 #include "simdbvh/scene/scene_desc.h"
 #include "simdbvh/scene/scenes.h"
 #include "size_limit.h"
@@ -279,15 +280,23 @@ struct Parser {
         return {number(j[0], path[0]), number(j[1], path[1]), number(j[2], path[2])};
     }
 
+    // A mesh reference, read as json_mesh_path says: a string with a '/' or a
+    // '.' is a file path relative to the JSON file's folder (unless absolute),
+    // never looked up in the current folder; anything else is a mesh name, and
+    // one that load_scene does not know is an error here, not a file.
     Mesh mesh(const Json& j, const Path& path) const {
-        if (!j.is_string()) fail(path, "expected a scene name or a mesh path");
-        const std::string ref = j.get<std::string>();
-        const std::filesystem::path local = base / ref;
-        std::error_code ec;
+        if (!j.is_string()) fail(path, "expected a mesh name or a mesh file path");
+        const std::string& ref = j.get_ref<const std::string&>();
+        const std::optional<std::filesystem::path> file = json_mesh_path(base, ref);
+        if (!file && !is_mesh_name(ref)) {
+            std::string names;
+            for (const std::string& n : scene_names()) names += (names.empty() ? "" : ", ") + n;
+            fail(path, json_quote(ref) + " is neither a mesh name (" + names +
+                           ") nor a file path (a mesh file's name has its extension: .ply, .obj, .stl or .off, "
+                           "optionally .gz)");
+        }
         try {
-            if (std::filesystem::path(ref).is_relative() && std::filesystem::is_regular_file(local, ec))
-                return load_scene(local.string());
-            return load_scene(ref);
+            return file ? load_mesh(*file) : load_scene(ref);
         } catch (const Error& e) {
             fail(path, e.what());
         }
@@ -462,6 +471,12 @@ SceneDesc parse_scene_json(std::string_view text, const std::filesystem::path& b
     } catch (const Error& e) {
         throw Error(std::string(label) + ": " + e.what());
     }
+}
+
+std::optional<std::filesystem::path> json_mesh_path(const std::filesystem::path& json_dir, std::string_view ref) {
+    if (ref.find_first_of("/.") == std::string_view::npos) return std::nullopt;
+    const std::filesystem::path p{std::string(ref)};
+    return p.is_absolute() ? p : json_dir / p;
 }
 
 // Read as the meshes are (read_file): a regular file only (symlinks resolved; a

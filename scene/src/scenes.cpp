@@ -54,6 +54,13 @@ std::vector<std::string> scene_names() {
     return names;
 }
 
+bool is_mesh_name(std::string_view name) {
+    for (const Cached& c : kCached)
+        if (name == c.name) return true;
+    std::optional<std::uint64_t> n;
+    return match(name, "icosphere", n) || match(name, "soup", n) || name == "terrain";
+}
+
 std::optional<std::filesystem::path> cached_scene_file(std::string_view name) {
     for (const Cached& c : kCached) {
         if (name != c.name) continue;

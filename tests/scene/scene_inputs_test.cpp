@@ -79,7 +79,7 @@ TEST(SceneInputs, JsonMeshesRelativeToTheFileAndNestedScenes) {
                                         (dir / "cache" / "bunny.ply").string(),
                                         (dir / "sub/inner.json").string(),
                                         (dir / "sub/inner.json").parent_path().string() + "/b.obj",
-                                        "elsewhere.obj"};  // not beside the file: load_scene's path (the cwd)
+                                        (dir / "elsewhere.obj").string()};  // missing: still beside the file, never the cwd
     EXPECT_EQ(got, want);
     EXPECT_EQ(in.at(1).via, "geometries[0].mesh");
     EXPECT_EQ(in.at(2).via, "geometries[2].mesh -> the cache file of 'bunny'");

@@ -18,6 +18,7 @@
 
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/scene/scene_desc.h"
+#include "simdbvh/scene/scenes.h"
 #include "support/scene.h"
 
 namespace simdbvh::scene {
@@ -110,6 +111,64 @@ TEST(SceneJsonFile, DevicesAndFoldersAreRefusedByKind) {
                                            "instances": [{"geometry": 0}]})");
     fs::create_symlink(dir / "real.json", dir / "link.json");
     EXPECT_EQ(load_scene_json(dir / "link.json").instances.size(), 1u);
+}
+
+// Runs `f` with the current folder set to `dir`, then restores it.
+template <class F>
+void in_folder(const fs::path& dir, F&& f) {
+    const fs::path before = fs::current_path();
+    fs::current_path(dir);
+    try {
+        f();
+    } catch (...) {
+        fs::current_path(before);
+        throw;
+    }
+    fs::current_path(before);
+}
+
+const std::string kTriangleObj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+
+// A mesh path is relative to the JSON file's folder and only there: scenes/s.json
+// naming part.obj, loaded from other/ holding a part.obj, loaded other/part.obj.
+TEST(SceneJsonMeshes, PathsAreRelativeToTheJsonFileNeverTheCurrentFolder) {
+    test::TempDir dir;
+    fs::create_directories(dir / "scenes" / "sub");
+    fs::create_directories(dir / "other");
+    test::write_text(dir / "other" / "part.obj", kTriangleObj);
+    test::write_text(dir / "scenes" / "s.json", R"({"geometries": [{"mesh": "part.obj"}]})");
+    std::string msg;
+    in_folder(dir / "other", [&] { msg = json_error(fs::path("..") / "scenes" / "s.json"); });
+    expect_has(msg, "../scenes/s.json: geometries[0].mesh: ../scenes/part.obj: cannot open");
+    // Beside the file, in a folder below it, by an absolute path: found from any current folder.
+    test::write_text(dir / "scenes" / "part.obj", kTriangleObj);
+    test::write_text(dir / "scenes" / "sub" / "two.obj", kTriangleObj + "f 3 2 1\n");
+    test::write_text(dir / "scenes" / "t.json", R"({"geometries": [{"mesh": "part.obj"}, {"mesh": "sub/two.obj"},
+        {"mesh": ")" + (dir / "other" / "part.obj").string() + R"("}, {"mesh": "icosphere-1"}]})");
+    SceneDesc s;
+    in_folder(dir / "other", [&] { s = load_scene_json(fs::path("..") / "scenes" / "t.json"); });
+    ASSERT_EQ(s.geometries.size(), 4u);
+    EXPECT_EQ(std::get<Mesh>(s.geometries[0]).triangles.size(), 1u);
+    EXPECT_EQ(std::get<Mesh>(s.geometries[1]).triangles.size(), 2u);
+    EXPECT_EQ(std::get<Mesh>(s.geometries[2]).triangles.size(), 1u);
+    EXPECT_EQ(std::get<Mesh>(s.geometries[3]).triangles.size(), 80u);
+}
+
+// The rule (json_mesh_path): a '/' or a '.' makes a path; anything else is a
+// mesh name, and an unknown name is an error, never a file of that name.
+TEST(SceneJsonMeshes, NamesAreNeverFiles) {
+    EXPECT_EQ(json_mesh_path("scenes", "part.obj"), fs::path("scenes/part.obj"));
+    EXPECT_EQ(json_mesh_path("scenes", "sub/part"), fs::path("scenes/sub/part"));
+    EXPECT_EQ(json_mesh_path("scenes", "/abs/part.ply"), fs::path("/abs/part.ply"));
+    EXPECT_EQ(json_mesh_path("", "part.obj"), fs::path("part.obj"));
+    EXPECT_EQ(json_mesh_path("scenes", "bunny"), std::nullopt);
+    EXPECT_EQ(json_mesh_path("scenes", "icosphere-2"), std::nullopt);
+    test::TempDir dir;
+    test::write_text(dir / "bunnyy", kTriangleObj);  // a file named like the name: not read
+    std::string msg;
+    in_folder(dir.path(), [&] { msg = text_error(R"({"geometries": [{"mesh": "bunnyy"}]})"); });
+    expect_has(msg, "t.json: geometries[0].mesh: 'bunnyy' is neither a mesh name (dragon, ");
+    expect_has(msg, "nor a file path");
 }
 
 // An array of n instances parses in work linear in n (nlohmann's parser

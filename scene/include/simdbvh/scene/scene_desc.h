@@ -3,6 +3,7 @@
 // built-in scenes and the strict JSON scene format (README, "Scene files").
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string_view>
 #include <vector>
 
@@ -32,8 +33,16 @@ SceneDesc builtin_scene(std::string_view name);
 // (and the physical memory). Throws simdbvh::Error "<file>: <JSON path>:
 // <problem>" for malformed JSON, unknown keys, wrong types, missing
 // references, negative radii, singular transforms or non-finite numbers. Mesh
-// references are scene names (load_scene) or paths relative to the file's folder.
+// references are mesh names or paths relative to the file's folder
+// (json_mesh_path).
 SceneDesc load_scene_json(const std::filesystem::path& file);
+// How a JSON scene's "mesh" string is read: a string with a '/' or a '.' is a
+// mesh file's path (a file name has its format's extension), relative to the
+// JSON file's folder `json_dir` unless absolute, and never looked up in the
+// current folder; anything else is a mesh name for load_scene (bunny,
+// icosphere-3, ...; is_mesh_name), never a file. Returns the path, or
+// nullopt for a name.
+std::optional<std::filesystem::path> json_mesh_path(const std::filesystem::path& json_dir, std::string_view ref);
 SceneDesc parse_scene_json(std::string_view text, const std::filesystem::path& base_dir, std::string_view label);
 
 // A built-in name, a .json file, or any mesh load_scene() takes (as one

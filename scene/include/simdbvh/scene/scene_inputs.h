@@ -18,7 +18,7 @@ struct SceneInput {
 // Every file that load_scene(name) or load_scene_desc(name) may read, under either reading (a name that is
 // not a scene of the other loader is a path there): the file at that path; a cached scene's file
 // (cached_scene_file); the cached meshes of a built-in scene (room: bunny and teapot; instances-N: dragon);
-// a JSON scene's mesh references, resolved as load_scene_json resolves them (the JSON file's folder first),
+// a JSON scene's mesh references, resolved as load_scene_json resolves them (json_mesh_path),
 // and theirs in turn (each JSON file once). Procedural names (icosphere, soup, terrain, spheres-N) read
 // nothing, nor does a cached name that is not cached. Other paths are listed whether or not a file exists
 // there; a JSON file that does not parse adds only itself (loading it fails before any output is written).

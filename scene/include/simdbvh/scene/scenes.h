@@ -19,6 +19,10 @@ std::filesystem::path cache_dir();
 // icosphere[-N] (level N, default 4), soup[-N] (N random triangles, default
 // 10000), terrain (>= 1M triangles, uneven density). Anything else is a path.
 std::vector<std::string> scene_names();
+// A name load_scene() reads without a file of that name: a cached scene's
+// name, icosphere[-N], soup[-N] or terrain (N decimal digits; a bad level or
+// count is load_scene's to report).
+bool is_mesh_name(std::string_view name);
 // The cached file of a named npm scene, or nullopt when it is not cached.
 std::optional<std::filesystem::path> cached_scene_file(std::string_view name);
 bool is_cached(std::string_view name);
