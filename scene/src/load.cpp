@@ -15,13 +15,13 @@
 namespace simdbvh::scene::detail {
 
 void fail(const std::string& file, std::size_t line, const std::string& problem) {
-    if (line) throw Error(file + ":" + std::to_string(line) + ": " + problem);
-    throw Error(file + ": " + problem);
+    if (line) throw Error(printable(file) + ":" + std::to_string(line) + ": " + problem);
+    throw Error(printable(file) + ": " + problem);
 }
 
-std::string quote(std::string_view s) {
-    std::string out = "'";
-    const std::size_t n = std::min<std::size_t>(s.size(), 40);
+std::string printable(std::string_view s, std::size_t max) {
+    std::string out;
+    const std::size_t n = std::min(s.size(), max);
     for (std::size_t i = 0; i < n; ++i) {
         const unsigned char c = static_cast<unsigned char>(s[i]);
         if (c >= 0x20 && c < 0x7f) {
@@ -34,8 +34,10 @@ std::string quote(std::string_view s) {
         }
     }
     if (s.size() > n) out += "...";
-    return out + "'";
+    return out;
 }
+
+std::string quote(std::string_view s) { return "'" + printable(s, 40) + "'"; }
 
 static bool strip_plus(std::string_view& tok) {
     if (!tok.empty() && tok[0] == '+') {

@@ -25,8 +25,19 @@ namespace {
 
 using Json = nlohmann::json;
 
-std::string json_quote(const std::string& s) { return "'" + s + "'"; }
-std::string json_key(const std::string& path, const std::string& k) { return path.empty() ? k : path + "." + k; }
+// Text from the file in messages goes through the loaders' helpers
+// (text.h): quote() cuts it to 40 bytes, and both escape every byte outside
+// printable ASCII, so a 1 MB key or an ESC in a name reaches no terminal.
+std::string json_quote(std::string_view s) { return detail::quote(s); }
+// A member in a JSON path: .key for a plain key (letters, digits, '_', at
+// most 40), ['...'] (quoted) for any other.
+std::string json_key(const std::string& path, std::string_view k) {
+    const bool plain = !k.empty() && k.size() <= 40 && std::all_of(k.begin(), k.end(), [](char c) {
+        return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
+    });
+    if (!plain) return path + "[" + json_quote(k) + "]";
+    return path.empty() ? std::string(k) : path + "." + std::string(k);
+}
 
 // The document, built by our own SAX handler over the text in place (no copy).
 // Not nlohmann's parser callback: its DOM builder, after every object or
@@ -220,7 +231,7 @@ Json parse_document(std::string_view text) {
         const std::size_t col = what.find(", column ");
         const std::size_t colon = col == std::string::npos ? col : what.find(": ", col);
         if (colon != std::string::npos) what = what.substr(colon + 2);
-        throw Error("not valid JSON " + text_position(text, skips.offset(*b.error_at)) + ": " + what);
+        throw Error("not valid JSON " + text_position(text, skips.offset(*b.error_at)) + ": " + detail::printable(what, 200));
     }
     throw Error(b.error.empty() ? std::string("not valid JSON") : b.error);
 }
@@ -239,7 +250,7 @@ struct Path {
         if (!parent) return std::string();
         std::string s = parent->str();
         if (index != kNoIndex) return s + "[" + std::to_string(index) + "]";
-        return json_key(s, std::string(name));
+        return json_key(s, name);
     }
 };
 
@@ -307,7 +318,8 @@ struct Parser {
         only_keys(j, path, {"name", "mesh", "spheres", "boxes"});
         if (const Json* n = member(j, "name")) {
             if (!n->is_string()) fail(path / "name", "expected a string");
-            if (!names.emplace(n->get<std::string>(), index).second) fail(path / "name", "duplicate name");
+            if (!names.emplace(n->get<std::string>(), index).second)
+                fail(path / "name", "duplicate name " + json_quote(n->get_ref<const std::string&>()));
         }
         const Json* m = member(j, "mesh");
         const Json* sph = member(j, "spheres");
@@ -368,7 +380,7 @@ struct Parser {
         if (!g) fail(path, "needs geometry");
         if (g->is_string()) {
             auto it = names.find(g->get_ref<const std::string&>());
-            if (it == names.end()) fail(path / "geometry", "no geometry named '" + g->get<std::string>() + "'");
+            if (it == names.end()) fail(path / "geometry", "no geometry named " + json_quote(g->get_ref<const std::string&>()));
             in.geometry = it->second;
         } else if (g->is_number_unsigned()) {
             const auto v = g->get<std::uint64_t>();
@@ -458,18 +470,19 @@ struct Parser {
 }  // namespace
 
 SceneDesc parse_scene_json(std::string_view text, const std::filesystem::path& base_dir, std::string_view label) {
+    const std::string file = detail::printable(label);
     Json root;
     try {
         root = parse_document(text);
     } catch (const Error& e) {
-        throw Error(std::string(label) + ": " + e.what());
+        throw Error(file + ": " + e.what());
     } catch (const std::bad_alloc&) {
-        throw Error(std::string(label) + ": out of memory while parsing the JSON");
+        throw Error(file + ": out of memory while parsing the JSON");
     }
     try {
         return Parser{base_dir}.scene(root);
     } catch (const Error& e) {
-        throw Error(std::string(label) + ": " + e.what());
+        throw Error(file + ": " + e.what());
     }
 }
 
@@ -487,9 +500,9 @@ SceneDesc load_scene_json(const std::filesystem::path& file) {
     try {
         text = detail::read_file(file, detail::json_limit);
     } catch (const std::bad_alloc&) {
-        throw Error(label + ": out of memory while reading the file");
+        throw Error(detail::printable(label) + ": out of memory while reading the file");
     }
-    if (text.empty()) throw Error(label + ": file is empty (0 bytes)");
+    if (text.empty()) throw Error(detail::printable(label) + ": file is empty (0 bytes)");
     return parse_scene_json(std::string_view(text.data(), text.size()), file.parent_path(), label);
 }
 

@@ -14,10 +14,16 @@
 
 namespace simdbvh::scene::detail {
 
-// Errors: "<file>:<line>: <problem>" or "<file>: <problem>" (line 0).
+// Errors: "<file>:<line>: <problem>" or "<file>: <problem>" (line 0), the
+// file name made printable.
 [[noreturn]] void fail(const std::string& file, std::size_t line, const std::string& problem);
 
-// Quotes a token for messages (truncated, non-printable bytes escaped).
+// Text from the input (a file name, a key, a token) for a message: every byte
+// outside printable ASCII (control characters such as ESC, DEL, non-ASCII)
+// as \xNN, so a terminal is never sent an escape sequence; cut after `max`
+// bytes of the input with "...".
+std::string printable(std::string_view s, std::size_t max = std::string_view::npos);
+// printable(s, 40) in single quotes.
 std::string quote(std::string_view s);
 
 // A text cursor over [p, end): splits lines (LF, CRLF or CR) and tokens.

@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "simdbvh/kernels/error.h"
+#include "simdbvh/scene/load.h"
 #include "simdbvh/scene/scene_desc.h"
 #include "simdbvh/scene/scenes.h"
 #include "support/scene.h"
@@ -169,6 +170,44 @@ TEST(SceneJsonMeshes, NamesAreNeverFiles) {
     in_folder(dir.path(), [&] { msg = text_error(R"({"geometries": [{"mesh": "bunnyy"}]})"); });
     expect_has(msg, "t.json: geometries[0].mesh: 'bunnyy' is neither a mesh name (dragon, ");
     expect_has(msg, "nor a file path");
+}
+
+// Text from the file is quoted short with its control characters escaped:
+// a 1 MB unknown key was echoed whole, an ESC in a key, a name or a file name
+// reached the terminal raw.
+TEST(SceneJsonMessages, FileTextIsQuotedShortAndEscaped) {
+    const std::string big(std::size_t(1) << 20, 'k');
+    std::string msg = text_error(R"({")" + big + R"(": 1})");
+    expect_has(msg, "t.json: ['kkkk");
+    expect_has(msg, "...']: unknown key");
+    EXPECT_LT(msg.size(), 200u) << msg.size();
+    msg = text_error(R"({"geometries": [{"spheres": [], "\u001b[31mred": 1}]})");
+    expect_has(msg, R"(t.json: geometries[0]['\x1b[31mred']: unknown key)");
+    EXPECT_EQ(msg.find('\x1b'), std::string::npos);
+    msg = text_error(R"({"geometries": [{"spheres": []}], "instances": [{"geometry": "\u001b]0;x\u0007"}]})");
+    expect_has(msg, R"(t.json: instances[0].geometry: no geometry named '\x1b]0;x\x07')");
+    msg = text_error(R"({"geometries": [{"name": "a", "spheres": []}, {"name": "a", "spheres": [], "radius": 1, "radius": 2}]})");
+    expect_has(msg, "t.json: geometries[1]: duplicate key 'radius'");
+    // nlohmann's message quotes the token it stopped in: cut short too.
+    msg = text_error(R"({")" + big + "\x01" + R"("})");
+    expect_has(msg, "t.json: not valid JSON at line 1, column 1048579: syntax error while parsing object key");
+    EXPECT_LT(msg.size(), 300u) << msg.size();
+    // File names, in the JSON loader's and the mesh loaders' messages.
+    test::TempDir dir;
+    const fs::path odd = dir / "a\x1b[2Jb.json";
+    test::write_text(odd, "{");
+    msg = json_error(odd);
+    expect_has(msg, R"(a\x1b[2Jb.json: not valid JSON)");
+    EXPECT_EQ(msg.find('\x1b'), std::string::npos) << msg;
+    msg = json_error(dir / "c\x1b.json");
+    expect_has(msg, R"(c\x1b.json: cannot open)");
+    EXPECT_EQ(msg.find('\x1b'), std::string::npos) << msg;
+    try {
+        load_mesh(dir / "m\x1b.obj");
+        ADD_FAILURE() << "loaded";
+    } catch (const Error& e) {
+        expect_has(e.what(), R"(m\x1b.obj: cannot open)");
+    }
 }
 
 // An array of n instances parses in work linear in n (nlohmann's parser
