@@ -298,6 +298,9 @@ struct Parser {
     Mesh mesh(const Json& j, const Path& path) const {
         if (!j.is_string()) fail(path, "expected a mesh name or a mesh file path");
         const std::string& ref = j.get_ref<const std::string&>();
+        // A file name cannot hold a NUL ("\u0000"): opened as a C string, the path would end there.
+        if (ref.find('\0') != std::string::npos)
+            fail(path, json_quote(ref) + " contains a NUL character (\\u0000), which no file name or mesh name has");
         const std::optional<std::filesystem::path> file = json_mesh_path(base, ref);
         if (!file && !is_mesh_name(ref)) {
             std::string names;

@@ -172,6 +172,16 @@ TEST(SceneJsonMeshes, NamesAreNeverFiles) {
     expect_has(msg, "nor a file path");
 }
 
+// A NUL in a mesh string cut the path there ("part.obj\u0000.ply" opened part.obj).
+TEST(SceneJsonMeshes, NulInAMeshStringIsRefused) {
+    test::TempDir dir;
+    test::write_text(dir / "part.obj", kTriangleObj);
+    test::write_text(dir / "s.json", R"({"geometries": [{"mesh": "part.obj\u0000.ply"}]})");
+    const std::string msg = json_error(dir / "s.json");
+    expect_has(msg, (dir / "s.json").string() + R"(: geometries[0].mesh: 'part.obj\x00.ply' contains a NUL character)");
+    expect_has(text_error(R"({"geometries": [{"mesh": "bunny\u0000"}]})"), "geometries[0].mesh: 'bunny\\x00' contains a NUL");
+}
+
 // Text from the file is quoted short with its control characters escaped:
 // a 1 MB unknown key was echoed whole, an ESC in a key, a name or a file name
 // reached the terminal raw.
