@@ -5,12 +5,12 @@
 #include <filesystem>
 #include <numbers>
 #include <string>
-#include <system_error>
 
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/scene/scene_desc.h"
 #include "simdbvh/scene/scenes.h"
 #include "rng.h"
+#include "text.h"
 
 namespace simdbvh::scene {
 
@@ -93,32 +93,34 @@ SceneDesc room_scene() {
     return s;
 }
 
+// A family's name ("instances-" or "spheres-" and anything without a '/' or a
+// '.', which no mesh file's path lacks) is a built-in name whatever follows the
+// dash, so that a bad count gets the family's message, not a mesh loader's.
 bool is_builtin_scene(std::string_view name) {
-    return name == "room" || count_of(name, "instances") || count_of(name, "spheres");
+    if (name == "room") return true;
+    if (name.find_first_of("/.") != std::string_view::npos) return false;
+    return name.starts_with("instances-") || name.starts_with("spheres-");
 }
 
 SceneDesc builtin_scene(std::string_view name) {
     constexpr std::size_t kMaxCount = 10'000'000;
-    for (std::string_view base : {"instances", "spheres"})
-        if (auto n = count_of(name, base); n && *n > kMaxCount)
-            throw Error("scene '" + std::string(name) + "': at most 10000000 " + std::string(base));
     if (name == "room") return room_scene();
-    if (auto n = count_of(name, "instances")) return instances_scene(load_scene("dragon"), *n);
-    if (auto n = count_of(name, "spheres")) return spheres_scene(*n);
-    throw Error("unknown built-in scene '" + std::string(name) + "' (instances-N, spheres-N, room)");
+    for (std::string_view base : {"instances", "spheres"}) {
+        if (!name.starts_with(base) || name.size() == base.size() || name[base.size()] != '-') continue;
+        const auto n = count_of(name, base);
+        if (!n || *n > kMaxCount)
+            throw Error("scene " + detail::quote(name) + ": the count N of " + std::string(base) +
+                        "-N must be a whole number from 1 to 10000000");
+        if (base == "instances") return instances_scene(load_scene("dragon"), *n);
+        return spheres_scene(*n);
+    }
+    throw Error("unknown built-in scene " + detail::quote(name) + " (instances-N, spheres-N, room)");
 }
 
 SceneDesc load_scene_desc(std::string_view name) {
     if (is_builtin_scene(name)) return builtin_scene(name);
     const std::filesystem::path p{std::string(name)};
     if (p.extension() == ".json") return load_scene_json(p);
-    // "instances-0", "spheres-x": a built-in's name with a bad count (unless such a file exists).
-    for (std::string_view base : {"instances-", "spheres-"}) {
-        std::error_code ec;
-        if (name.substr(0, base.size()) == base && !std::filesystem::exists(p, ec))
-            throw Error("scene '" + std::string(name) + "': not a built-in scene (" + std::string(base) +
-                        "N needs N a whole number from 1 to 10000000) and no such file");
-    }
     SceneDesc s;
     s.geometries.push_back(load_scene(name));
     s.instances.push_back({0, Affine3{}});

@@ -24,7 +24,10 @@ SceneDesc spheres_scene(std::size_t n, std::uint64_t seed = 2);
 // cache: throws simdbvh::Error saying how to fetch them when missing).
 SceneDesc room_scene();
 
-// instances-N (N dragons), spheres-N, room.
+// instances-N (N dragons), spheres-N, room. Every name of the two families
+// ("instances-" or "spheres-" followed by anything without a '/' or a '.') is
+// a built-in name, so builtin_scene reports a bad count ("spheres-0", "spheres--5":
+// N must be a whole number from 1 to 10000000) instead of a mesh loader.
 bool is_builtin_scene(std::string_view name);
 SceneDesc builtin_scene(std::string_view name);
 
