@@ -1,5 +1,7 @@
 // The JSON scene format (nlohmann-json), strict: every problem is reported
 // with its JSON path, e.g. "scene.json: instances[3].transform: singular".
+// Without "instances", every geometry is placed once with the identity;
+// "instances": [] places none. Mesh references: json_mesh_path (Parser::mesh).
 #include <algorithm>
 #include <cmath>
 #include <iterator>
@@ -444,11 +446,16 @@ struct Parser {
             s.geometries.reserve(a.size());
             for (std::size_t i = 0; i < a.size(); ++i) s.geometries.push_back(geometry(a[i], p[i], names, std::uint32_t(i)));
         }
+        // Without "instances" every geometry is placed once, untransformed (as
+        // simdbvh.Scene without instances= in Python); an explicit list, even
+        // an empty one, places exactly what it lists.
         if (const Json* in = member(root, "instances")) {
             const Path p = top / "instances";
             const Json& a = array(*in, p);
             s.instances.reserve(a.size());
             for (std::size_t i = 0; i < a.size(); ++i) s.instances.push_back(instance(a[i], p[i], names, s.geometries.size()));
+        } else {
+            for (std::size_t g = 0; g < s.geometries.size(); ++g) s.instances.push_back({std::uint32_t(g), Affine3{}});
         }
         if (const Json* pl = member(root, "planes")) {
             const Path p = top / "planes";

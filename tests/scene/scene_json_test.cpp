@@ -220,6 +220,22 @@ TEST(SceneJsonMessages, FileTextIsQuotedShortAndEscaped) {
     }
 }
 
+// Without "instances" every geometry is placed once, untransformed (it placed
+// nothing: every ray missed), as Python's simdbvh.Scene without instances=;
+// an explicit empty list places nothing.
+TEST(SceneJsonInstances, AbsentPlacesEveryGeometryOnceEmptyPlacesNone) {
+    const std::string g = R"("geometries": [{"spheres": [{"center": [0, 0, 0], "radius": 1}]},
+                                             {"boxes": [{"min": [2, 0, 0], "max": [3, 1, 1]}]}])";
+    const SceneDesc s = parse_scene_json("{" + g + "}", ".", "t.json");
+    ASSERT_EQ(s.instances.size(), 2u);
+    for (std::uint32_t i = 0; i < 2; ++i) {
+        EXPECT_EQ(s.instances[i].geometry, i);
+        EXPECT_EQ(s.instances[i].transform.m, Affine3{}.m);
+    }
+    EXPECT_TRUE(parse_scene_json("{" + g + R"(, "instances": []})", ".", "t.json").instances.empty());
+    EXPECT_TRUE(parse_scene_json(R"({"planes": [{"point": [0, 0, 0], "normal": [0, 1, 0]}]})", ".", "t.json").instances.empty());
+}
+
 // An array of n instances parses in work linear in n (nlohmann's parser
 // callback walked the whole array after each element: 10^5 instances took
 // 1.5 s, 10^6 270 s). Not timed: this checks the content of a large array.
