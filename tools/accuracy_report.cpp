@@ -117,26 +117,29 @@ void report_accuracy(const AccuracyConfig& c, const AccuracyResults& res) {
                     {"rows", json_rows(res)},
                     {"inside", inside_json(res.inside)}};
     write_markdown_tables(c, res, rep.markdown);
-    auto save = [&](const fs::path& p) {
-        rep.save_json(p);
-        std::cout << "wrote " << p.string() << "\n";
-    };
-    if (!c.json_file.empty()) save(c.json_file);
+    // One set, written at the end (ReportFiles).
+    const std::string json = json_text(rep.json);
+    ReportFiles set;
+    if (!c.json_file.empty()) set.add(c.json_file, json);
     if (c.report_dir.empty()) {
         if (c.inside) rep.markdown << inside_markdown(res.inside, false);
         std::cout << rep.markdown.str();
+        set.commit();
+        if (!c.json_file.empty()) std::cout << "wrote " << c.json_file << "\n";
         return;
     }
     const fs::path dir = c.report_dir;
-    save(dir / "accuracy.json");
-    const bool charts = run_chart_script("plot_accuracy.py", (dir / "accuracy.json").string(), dir.string());
+    set.add(dir / "accuracy.json", json);
+    const bool charts = set.add_charts("plot_accuracy.py", json, "accuracy.json", dir);
     if (c.inside) rep.markdown << inside_markdown(res.inside, charts && !res.inside.empty());
     if (charts)
         rep.markdown << "\n## Charts\n\n![speed against accuracy](speed_vs_accuracy.png)\n\n"
                         "![leak rate and t error against offset](offsets.png)\n";
     std::cout << rep.markdown.str();
-    rep.save_markdown(dir / "accuracy.md");
-    std::cout << "\nwrote " << (dir / "accuracy.md").string() << "\n";
+    set.add(dir / "accuracy.md", rep.markdown.str());
+    set.commit();
+    if (!c.json_file.empty()) std::cout << "\nwrote " << c.json_file;
+    std::cout << "\nwrote " << (dir / "accuracy.json").string() << "\nwrote " << (dir / "accuracy.md").string() << "\n";
 }
 
 }  // namespace simdbvh::cli

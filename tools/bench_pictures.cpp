@@ -2,14 +2,13 @@
 #include "bench_pictures.h"
 
 #include <algorithm>
+#include <iterator>
 
 #include "image.h"
 #include "methods.h"
 #include "simdbvh/scene/rays.h"
 
 namespace simdbvh::cli {
-
-namespace fs = std::filesystem;
 
 namespace {
 
@@ -27,7 +26,7 @@ std::vector<std::uint32_t> visits(Tracer& t, std::span<const Ray> rays) {
 
 }  // namespace
 
-Pictures write_pictures(const Mesh& mesh, const fs::path& dir, bool quick, int threads) {
+Pictures render_pictures(const Mesh& mesh, bool quick, int threads) {
     Pictures p;
     p.width = quick ? 320 : 640;
     p.height = quick ? 240 : 480;
@@ -47,13 +46,13 @@ Pictures write_pictures(const Mesh& mesh, const fs::path& dir, bool quick, int t
     t8->trace(rays, h8, false, nullptr);
     t2->trace(rays, h2, false, nullptr);
     te->trace(rays, he, false, nullptr);
-    write_png((dir / "render_bvh8.png").string(), shade_eye_light(mesh, rays, h8, w, h));
     const std::vector<std::uint32_t> c2 = visits(*t2, rays), c8 = visits(*t8, rays);
     const std::uint32_t cmax = std::max<std::uint32_t>(1, *std::max_element(c2.begin(), c2.end()));
-    write_png((dir / "heat_bvh2.png").string(), heat_map(c2, w, h, cmax));
-    write_png((dir / "heat_bvh8.png").string(), heat_map(c8, w, h, cmax));
-    write_png((dir / "disagree_bvh2_bvh8.png").string(), disagreement(h2, h8, w, h, &p.differ_bvh2_bvh8));
-    write_png((dir / "disagree_bvh8_embree.png").string(), disagreement(h8, he, w, h, &p.differ_bvh8_embree));
+    const Image images[] = {shade_eye_light(mesh, rays, h8, w, h), heat_map(c2, w, h, cmax), heat_map(c8, w, h, cmax),
+                            disagreement(h2, h8, w, h, &p.differ_bvh2_bvh8),
+                            disagreement(h8, he, w, h, &p.differ_bvh8_embree)};
+    static_assert(std::size(images) == std::size(kBenchPictures));
+    for (std::size_t i = 0; i < std::size(images); ++i) p.png.emplace_back(kBenchPictures[i], encode_png(images[i]));
     return p;
 }
 

@@ -6,6 +6,9 @@
 
 namespace simdbvh::cli {
 
+// Every file report_bench writes beyond --json and report.md (pictures, charts, --readme and --publish docs
+// and their pictures), for check_outputs; throws when a doc lacks its block (before the run).
+void add_bench_outputs(const BenchConfig& c, NamedPaths& outputs);
 void report_bench(const BenchConfig& c, const Mesh& mesh, const BenchResults& r);
 
 }  // namespace simdbvh::cli

@@ -8,6 +8,7 @@
 
 #include "accuracy.h"
 #include "refit_run.h"
+#include "results_doc.h"
 #include "simdbvh/mesh.h"
 
 namespace simdbvh::cli {
@@ -21,7 +22,8 @@ struct BenchConfig {
     int build_reps = 3;  // warm builds per method (median), after the cold (first) one
     int refit_frames = 20;  // the refit sequence (refit_run.h); 0: none
     std::size_t rays = 262144, sample = 1000, stats_rays = 16384;
-    std::string json_file, report_dir, readme;  // report_dir empty: --no-report
+    std::string json_file, report_dir;  // report_dir empty: --no-report
+    std::vector<ResultsDoc> docs;       // --readme, --publish
     std::string machine, command;
 };
 

@@ -49,14 +49,15 @@ AccuracyConfig parse_accuracy(const std::vector<std::string>& args) {
     // Fail on unwritable outputs before the long run.
     NamedPaths outputs;
     if (o.has("json")) outputs.emplace_back("--json", c.json_file);
-    if (o.has("report")) outputs.emplace_back("--report", (std::filesystem::path(c.report_dir) / "accuracy.md").string());
+    if (o.has("report"))
+        for (const char* f : {"accuracy.md", "accuracy.json", "speed_vs_accuracy.png", "offsets.png", "inside_outside.png"})
+            outputs.emplace_back("--report", (std::filesystem::path(c.report_dir) / f).string());
     // The random family's scene: --scene, else dragon-res4 when cached (family_random.cpp).
     const bool random = std::find(c.which.begin(), c.which.end(), scene::Family::random) != c.which.end();
     Inputs inputs;
     if (!c.families.random_scene.empty()) inputs.scenes.emplace_back("--scene", c.families.random_scene);
     else if (random) inputs.scenes.emplace_back("the random family's scene", "dragon-res4");
     check_outputs(outputs, inputs, /*create_parent=*/true);
-    if (o.has("report")) std::filesystem::create_directories(c.report_dir);
     return c;
 }
 

@@ -44,7 +44,7 @@ std::vector<std::string> width_scenes(const Options& o, const BenchConfig& c) {
 BenchConfig parse_bench(const std::vector<std::string>& args) {
     const Options o("bench", args,
                     {"scene", "threads", "json", "report", "reps", "build-reps", "rays", "sample", "stats-rays",
-                     "readme", "width-scenes", "refit-frames"},
+                     "readme", "publish", "width-scenes", "refit-frames"},
                     {"quick", "no-report"});
     BenchConfig c;
     c.scene = o.has("scene") ? o.get("scene") : default_scene(&c.scene_why);
@@ -65,11 +65,12 @@ BenchConfig parse_bench(const std::vector<std::string>& args) {
     const std::string dir = o.get("report", "out");
     c.json_file = o.get("json", dir + "/bench.json");
     if (!o.has("no-report")) c.report_dir = dir;
-    c.readme = o.get("readme");
-    // Outputs are checked before the long run; the command creates the report folder.
+    c.docs = parse_results_docs(o, o.has("no-report"));
+    // Every output (and every doc's block) is checked before the long run; the command creates the folders.
     NamedPaths outputs{{"--json", c.json_file}};
     if (!o.has("no-report")) outputs.emplace_back("--report", dir + "/report.md");
-    if (o.has("readme")) outputs.emplace_back("--readme", c.readme);
+    if (is_scene_desc(c.scene)) add_scene_desc_bench_outputs(c, outputs);
+    else add_bench_outputs(c, outputs);
     Inputs inputs{.scenes = {{"--scene", c.scene}}};
     for (const std::string& s : c.width_scenes) inputs.scenes.emplace_back("--width-scenes", s);
     check_outputs(outputs, inputs, /*create_parent=*/true);

@@ -35,7 +35,9 @@ PanelConfig parse_panel(const std::vector<std::string>& args) {
     c.json_file = o.get("json", dir + "/panel.json");
     if (!o.has("no-report")) c.report_dir = dir;
     NamedPaths outputs{{"--json", c.json_file}};
-    if (!o.has("no-report")) outputs.emplace_back("--report", dir + "/panel.md");
+    if (!o.has("no-report"))
+        for (const char* f : {"panel.md", "build_vs_trace.png", "sah_vs_mrays.png", "leaf_hist.png"})
+            outputs.emplace_back("--report", dir + "/" + f);
     check_outputs(outputs, {.scenes = {{"--scene", c.scene}}}, /*create_parent=*/true);
     c.machine = machine_line();
     c.isa = active_isa();

@@ -14,7 +14,8 @@
 namespace simdbvh::cli {
 
 int cmd_bench_sweep(const std::vector<std::string>& args) {
-    const Options o("bench --sweep", args, {"threads", "json", "report", "reps", "build-reps", "budget-ms", "model-out", "readme"},
+    const Options o("bench --sweep", args, {"threads", "json", "report", "reps", "build-reps", "budget-ms", "model-out", "readme",
+                                                  "publish"},
                     {"sweep", "quick", "no-report"});
     SweepConfig c;
     c.quick = o.has("quick");
@@ -27,11 +28,12 @@ int cmd_bench_sweep(const std::vector<std::string>& args) {
     c.json_file = o.get("json", dir + "/sweep.json");
     if (!o.has("no-report")) c.report_dir = dir;
     c.model_out = o.get("model-out");
-    c.readme = o.get("readme");
+    c.docs = parse_results_docs(o, o.has("no-report"));
+    // Every output and every block (--model-out, the docs) is checked before the sweep.
     NamedPaths outputs{{"--json", c.json_file}};
     if (!o.has("no-report")) outputs.emplace_back("--report", dir + "/sweep.md");
     if (o.has("model-out")) outputs.emplace_back("--model-out", c.model_out);
-    if (o.has("readme")) outputs.emplace_back("--readme", c.readme);
+    add_sweep_outputs(c, outputs);
     Inputs inputs;  // the cached meshes among its scenes
     for (const SweepScene& s : sweep_scenes(c.quick)) inputs.scenes.emplace_back("the sweep's scene", s.name);
     check_outputs(outputs, inputs, /*create_parent=*/true);

@@ -56,14 +56,24 @@ Image disagreement(std::span<const Hit> a, std::span<const Hit> b, int w, int h,
     return img;
 }
 
-void write_png(const std::string& file, const Image& img) {
+std::vector<unsigned char> encode_png(const Image& img) {
     std::vector<unsigned char> bytes;
     auto sink = [](void* ctx, void* data, int size) {
         auto* v = static_cast<std::vector<unsigned char>*>(ctx);
         v->insert(v->end(), static_cast<unsigned char*>(data), static_cast<unsigned char*>(data) + size);
     };
     if (!stbi_write_png_to_func(sink, &bytes, img.width, img.height, 3, img.rgb.data(), img.width * 3))
-        throw Error(file + ": PNG encoding failed");
+        throw Error("PNG encoding failed (" + std::to_string(img.width) + "x" + std::to_string(img.height) + ")");
+    return bytes;
+}
+
+void write_png(const std::string& file, const Image& img) {
+    std::vector<unsigned char> bytes;
+    try {
+        bytes = encode_png(img);
+    } catch (const Error& e) {
+        throw Error(file + ": " + e.what());
+    }
     scene::write_file_atomic(file, bytes);
 }
 

@@ -2,6 +2,7 @@
 
 #include <signal.h>
 #include <sys/resource.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -9,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "report.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/scene/output.h"
 #include "simdbvh/scene/scene_inputs.h"
@@ -25,6 +27,11 @@ bool same_file(const std::string& a, const std::string& b) {
 }
 
 void on_signal(int sig) {
+    // A chart script still writing into a staging folder would refill it: stopped first.
+    if (const pid_t child = running_script_pid(); child > 0) {
+        ::kill(child, SIGKILL);
+        ::waitpid(child, nullptr, 0);
+    }
     scene::remove_temp_files();
     ::signal(sig, SIG_DFL);
     ::raise(sig);

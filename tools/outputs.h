@@ -14,9 +14,9 @@ using NamedPaths = std::vector<std::pair<std::string, std::string>>;
 
 // What a command reads.
 struct Inputs {
-    NamedPaths files;   // read as given: {"--rays", "r.bin"}
-    NamedPaths scenes;  // scene names, each standing for every file it leads to (scene::scene_input_files):
-                        // {"--scene", "scene.json"} stands for the JSON file and each mesh it references
+    NamedPaths files = {};   // read as given: {"--rays", "r.bin"}
+    NamedPaths scenes = {};  // scene names, each standing for every file it leads to (scene::scene_input_files):
+                             // {"--scene", "scene.json"}: the JSON file and each mesh it references
 };
 
 // Throws simdbvh::Error unless every output can be written (scene::check_writable; with create_parent for
@@ -25,8 +25,9 @@ struct Inputs {
 // symlinks resolved). The message names the output and the input (and how the scene reaches it).
 void check_outputs(const NamedPaths& outputs, const Inputs& inputs, bool create_parent = false);
 
-// SIGINT, SIGTERM, SIGHUP, SIGPIPE: remove live temporary files, then die of the signal (or, where the
-// default action does nothing, as PID 1 in a container, exit 128 + signal).
+// SIGINT, SIGTERM, SIGHUP, SIGPIPE: kill a chart script still running (running_script_pid), remove live
+// temporary files and staging folders, then die of the signal (or, where the default action does nothing,
+// as PID 1 in a container, exit 128 + signal).
 void install_cleanup_handlers();
 
 // Throws simdbvh::Error naming `what` (e.g. "--count 2147483648") when `bytes` exceeds the memory this

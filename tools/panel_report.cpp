@@ -124,16 +124,22 @@ void report_panel(const PanelConfig& c, const Mesh& mesh, const std::vector<Pane
               << " primary rays\n"
               << speed_table(rows, c.threads_all).text() << "frame diff = frame hits (BVH2 + BVH8) not bit-identical to the "
               << rows[0].name << " row (0 expected)\n";
+    // One set, written at the end (ReportFiles).
     Report rep;
     rep.json = panel_json(c, mesh, rows);
-    rep.save_json(c.json_file);
-    std::cout << "\nwrote " << c.json_file << "\n";
-    if (c.report_dir.empty()) return;
-    const bool charts = run_chart_script("plot_panel.py", c.json_file, c.report_dir);
-    panel_markdown(c, mesh, rows, charts, rep.markdown);
+    const std::string json = json_text(rep.json);
+    ReportFiles set;
+    set.add(c.json_file, json);
     const std::filesystem::path md = std::filesystem::path(c.report_dir) / "panel.md";
-    rep.save_markdown(md);
-    std::cout << "wrote " << md.string() << "\n";
+    if (!c.report_dir.empty()) {
+        const bool charts = set.add_charts("plot_panel.py", json, std::filesystem::path(c.json_file).filename().string(),
+                                           c.report_dir);
+        panel_markdown(c, mesh, rows, charts, rep.markdown);
+        set.add(md, rep.markdown.str());
+    }
+    set.commit();
+    std::cout << "\nwrote " << c.json_file << "\n";
+    if (!c.report_dir.empty()) std::cout << "wrote " << md.string() << "\n";
 }
 
 }  // namespace simdbvh::cli

@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <csignal>
@@ -24,6 +25,11 @@
 namespace simdbvh::cli {
 
 namespace fs = std::filesystem;
+
+namespace {
+std::atomic<pid_t> g_running_script{0};
+static_assert(std::atomic<pid_t>::is_always_lock_free);
+}  // namespace
 
 std::string command_line(const std::string& command, const std::vector<std::string>& args) {
     std::string s = "simdbvh " + command;
@@ -90,9 +96,11 @@ void write_text(const fs::path& file, const std::string& text) {
     scene::write_file_atomic(file, std::span(reinterpret_cast<const unsigned char*>(text.data()), text.size()));
 }
 
-void replace_marked_block(const fs::path& file, const std::string& begin, const std::string& end,
-                          const std::string& body) {
-    std::ifstream f(file);
+std::string with_marked_block(const fs::path& file, const std::string& begin, const std::string& end,
+                              const std::string& body) {
+    std::error_code ec;
+    if (!fs::is_regular_file(file, ec)) throw Error(file.string() + ": cannot read (not a regular file)");
+    std::ifstream f(file, std::ios::binary);
     if (!f) throw Error(file.string() + ": cannot read");
     std::stringstream ss;
     ss << f.rdbuf();
@@ -100,7 +108,86 @@ void replace_marked_block(const fs::path& file, const std::string& begin, const 
     const auto pb = text.find(begin), pe = text.find(end);
     if (pb == std::string::npos || pe == std::string::npos || pe < pb)
         throw Error(file.string() + ": no '" + begin + "' ... '" + end + "' block");
-    write_text(file, text.substr(0, pb + begin.size()) + body + text.substr(pe));
+    if (text.find(begin, pb + 1) != std::string::npos || text.find(end, pe + 1) != std::string::npos)
+        throw Error(file.string() + ": the '" + begin + "' ... '" + end + "' block is there twice");
+    return text.substr(0, pb + begin.size()) + body + text.substr(pe);
+}
+
+void check_marked_block(const fs::path& file, const std::string& begin, const std::string& end) {
+    (void)with_marked_block(file, begin, end, "");
+}
+
+void ReportFiles::add(const fs::path& file, const std::string& text) {
+    add(file, std::vector<unsigned char>(text.begin(), text.end()));
+}
+
+void ReportFiles::add(const fs::path& file, std::vector<unsigned char> bytes) {
+    const fs::path key = file.lexically_normal();
+    for (auto& [p, b] : files_)
+        if (p == key) {
+            b = std::move(bytes);
+            return;
+        }
+    files_.emplace_back(key, std::move(bytes));
+}
+
+const std::vector<unsigned char>* ReportFiles::find(const fs::path& file) const {
+    const fs::path key = file.lexically_normal();
+    for (const auto& [p, b] : files_)
+        if (p == key) return &b;
+    return nullptr;
+}
+
+std::vector<fs::path> ReportFiles::paths() const {
+    std::vector<fs::path> v;
+    for (const auto& f : files_) v.push_back(f.first);
+    return v;
+}
+
+bool ReportFiles::add_charts(const std::string& script, const std::string& json, const std::string& json_name,
+                             const fs::path& dir) {
+    const scene::StagingDir staging;
+    const fs::path in = staging.path() / json_name;
+    scene::write_file_atomic(in, std::span(reinterpret_cast<const unsigned char*>(json.data()), json.size()));
+    const bool ok = run_chart_script(script, in.string(), staging.path().string());
+    if (!ok) return false;
+    std::vector<fs::path> pictures;
+    for (const auto& e : fs::directory_iterator(staging.path()))
+        if (e.is_regular_file() && e.path().extension() == ".png") pictures.push_back(e.path());
+    std::sort(pictures.begin(), pictures.end());
+    for (const fs::path& p : pictures) {
+        std::ifstream f(p, std::ios::binary);
+        std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+        if (!f && !f.eof()) throw Error(p.string() + ": cannot read the chart");
+        add(dir / p.filename(), std::move(bytes));
+    }
+    return true;
+}
+
+void ReportFiles::commit() const {
+    // The folders to create, outermost first, so that exactly those are removed on failure.
+    std::vector<fs::path> created;
+    for (const auto& [p, b] : files_) {
+        std::vector<fs::path> missing;
+        std::error_code ec;
+        for (fs::path d = p.parent_path(); !d.empty() && !fs::exists(d, ec); d = d.parent_path()) missing.push_back(d);
+        for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
+            if (!fs::create_directory(*it, ec) && ec) {
+                for (auto c = created.rbegin(); c != created.rend(); ++c) fs::remove_all(*c, ec);
+                throw Error(it->string() + ": cannot create the folder: " + ec.message());
+            }
+            created.push_back(*it);
+        }
+    }
+    std::vector<scene::OutputFile> out;
+    for (const auto& [p, b] : files_) out.push_back({p, b});
+    try {
+        scene::write_files_atomic(out);
+    } catch (...) {
+        std::error_code ec;
+        for (auto c = created.rbegin(); c != created.rend(); ++c) fs::remove_all(*c, ec);
+        throw;
+    }
 }
 
 bool PythonRun::ok() const { return started && !timed_out && WIFEXITED(status) && WEXITSTATUS(status) == 0; }
@@ -127,13 +214,17 @@ PythonRun run_python_script(const std::string& script, const std::vector<std::st
     std::vector<const char*> envp;
     for (char** e = environ; *e; ++e) {
         const std::string_view entry(*e);
-        const bool replaced = std::any_of(options.env.begin(), options.env.end(), [&](const std::string& o) {
-            const auto eq = o.find('=');
-            return entry.substr(0, entry.find('=')) == std::string_view(o).substr(0, eq);
-        });
+        const std::string_view key = entry.substr(0, entry.find('='));
+        const bool replaced = key == "PYTHONDONTWRITEBYTECODE" ||
+                              std::any_of(options.env.begin(), options.env.end(), [&](const std::string& o) {
+                                  return key == std::string_view(o).substr(0, o.find('='));
+                              });
         if (!replaced) envp.push_back(*e);
     }
     for (const std::string& o : options.env) envp.push_back(o.c_str());
+    const bool bytecode_set = std::any_of(options.env.begin(), options.env.end(),
+                                          [](const std::string& o) { return o.rfind("PYTHONDONTWRITEBYTECODE=", 0) == 0; });
+    if (!bytecode_set) envp.push_back("PYTHONDONTWRITEBYTECODE=1");
     envp.push_back(nullptr);
     std::cout.flush();
     std::cerr.flush();
@@ -151,6 +242,10 @@ PythonRun run_python_script(const std::string& script, const std::vector<std::st
     posix_spawn_file_actions_destroy(&fa);
     if (err != 0) return run;
     run.started = true;
+    g_running_script.store(pid);
+    struct Forget {
+        ~Forget() { g_running_script.store(0); }
+    } forget;
     if (options.timeout_seconds <= 0) {
         while (::waitpid(pid, &run.status, 0) < 0 && errno == EINTR) {
         }
@@ -169,6 +264,8 @@ PythonRun run_python_script(const std::string& script, const std::vector<std::st
         std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
 }
+
+int running_script_pid() noexcept { return g_running_script.load(); }
 
 bool run_chart_script(const std::string& script, const std::string& json_file, const std::string& out_dir) {
     const PythonRun run = run_python_script(script, {json_file, out_dir});

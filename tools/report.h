@@ -47,10 +47,35 @@ std::string json_text(const Json& doc);
 // Writes `text` atomically (temporary file, then rename), creating the folder.
 void write_text(const std::filesystem::path& file, const std::string& text);
 
-// Replaces what lies between the markers `begin` and `end` in `file` (both kept) with `body`; throws
-// simdbvh::Error naming the file when it cannot be read or lacks the markers.
-void replace_marked_block(const std::filesystem::path& file, const std::string& begin, const std::string& end,
-                          const std::string& body);
+// The text of `file` with what lies between the markers `begin` and `end` (both kept) replaced by `body`;
+// throws simdbvh::Error naming the file when it cannot be read or lacks the markers (or has them twice).
+std::string with_marked_block(const std::filesystem::path& file, const std::string& begin, const std::string& end,
+                              const std::string& body);
+// The same check alone, for config time: before the work whose result goes between the markers.
+void check_marked_block(const std::filesystem::path& file, const std::string& begin, const std::string& end);
+
+// The files of one report, committed together: nothing is written before commit(), which writes every file to
+// a temporary file beside it and renames them all into place only when each is complete
+// (scene::write_files_atomic). A failed or interrupted run leaves every file as it was.
+class ReportFiles {
+public:
+    void add(const std::filesystem::path& file, const std::string& text);
+    void add(const std::filesystem::path& file, std::vector<unsigned char> bytes);  // replaces an earlier one
+    // The bytes added for `file`, or nullptr.
+    const std::vector<unsigned char>* find(const std::filesystem::path& file) const;
+    // Runs scripts/SCRIPT (run_chart_script) on `json` (written as JSON_NAME) in a staging folder of its own
+    // (scene::StagingDir) and adds every PNG it draws there under `dir`. False, with a warning on stderr, when
+    // the script fails: the report then has tables only.
+    bool add_charts(const std::string& script, const std::string& json, const std::string& json_name,
+                    const std::filesystem::path& dir);
+    // Creates the missing folders, then writes every file, all or nothing; removes the folders it created
+    // when that fails. Throws simdbvh::Error naming the file.
+    void commit() const;
+    std::vector<std::filesystem::path> paths() const;
+
+private:
+    std::vector<std::pair<std::filesystem::path, std::vector<unsigned char>>> files_;
+};
 
 struct Report {
     Json json = Json::object();
@@ -78,12 +103,17 @@ struct PythonOptions {
 };
 
 // Runs scripts/SCRIPT ARGS... with /usr/bin/python3 (else python3 on the PATH), without a shell (any path
-// works); its stdout goes to /dev/null. Waits for it (at most the timeout, then kills it).
+// works), with PYTHONDONTWRITEBYTECODE=1 (no __pycache__ in the source tree); its stdout goes to /dev/null.
+// Waits for it (at most the timeout, then kills it).
 PythonRun run_python_script(const std::string& script, const std::vector<std::string>& args,
                             const PythonOptions& options = {});
 
 // Runs scripts/SCRIPT JSON_FILE OUT_DIR (matplotlib) through run_python_script. False, with a warning on
 // stderr, when it fails; the report then has tables only.
 bool run_chart_script(const std::string& script, const std::string& json_file, const std::string& out_dir);
+
+// The script run_python_script is waiting for (0: none): a signal handler kills it before it removes the
+// staging folder the script writes into.
+int running_script_pid() noexcept;
 
 }  // namespace simdbvh::cli

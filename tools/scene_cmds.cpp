@@ -140,8 +140,7 @@ Mesh scene_bounds_proxy(const std::string& name) {
     return m;
 }
 
-int render_scene(const std::string& name, const MethodSpec& spec, InstanceBounds bounds, int w, int h,
-                 const std::string& out) {
+Image render_scene_image(const std::string& name, const MethodSpec& spec, InstanceBounds bounds, int w, int h) {
     const int width = scene_width(spec);
     const SceneDesc desc = scene::load_scene_desc(name);
     const scene::Camera cam = scene::scene_camera(desc, w, h);
@@ -162,7 +161,13 @@ int render_scene(const std::string& name, const MethodSpec& spec, InstanceBounds
         const Vec3 col = tint(hits[i]) * shade;
         for (int k = 0; k < 3; ++k) img.rgb[3 * i + k] = std::uint8_t(std::clamp(255.0f * col[k], 0.0f, 255.0f));
     }
-    write_png(out, img);
+    return img;
+}
+
+int render_scene(const std::string& name, const MethodSpec& spec, InstanceBounds bounds, int w, int h,
+                 const std::string& out) {
+    const int width = scene_width(spec);
+    write_png(out, render_scene_image(name, spec, bounds, w, h));
     std::cout << "scene " << name << "  method " << (spec.method == "brute" ? "brute" : "bvh" + std::to_string(width))
               << "  isa " << simdbvh::name(spec.isa) << "  wrote " << w << "x" << h << " render to " << out << "\n";
     return 0;

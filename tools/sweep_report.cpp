@@ -12,6 +12,7 @@
 
 #include "common.h"
 #include "report.h"
+#include "simdbvh/kernels/error.h"
 #include "sweep_run.h"
 
 namespace simdbvh::cli {
@@ -172,6 +173,32 @@ std::string sweep_markdown(const SweepConfig& c, const SweepResults& r, const st
 
 }  // namespace
 
+namespace {
+
+const char* kSweepPictures[] = {"sweep_winners.png", "sweep_time.png"};
+const Block kSweepBlock{"<!-- sweep:begin -->", "<!-- sweep:end -->"};
+
+Block model_block_markers(Isa isa) {
+    const std::string i(name(isa));
+    return {"// sweep:" + i + ":begin", "// sweep:" + i + ":end"};
+}
+
+}  // namespace
+
+void add_sweep_outputs(const SweepConfig& c, NamedPaths& outputs) {
+    if (!c.model_out.empty()) {
+        const Block m = model_block_markers(c.isa);
+        try {
+            check_marked_block(c.model_out, m.begin, m.end);
+        } catch (const Error& e) {
+            throw Error(std::string("--model-out: ") + e.what());
+        }
+    }
+    if (!c.report_dir.empty())
+        for (const char* p : kSweepPictures) outputs.emplace_back("--report", (fs::path(c.report_dir) / p).string());
+    check_results_docs(c.docs, kSweepBlock, {std::begin(kSweepPictures), std::end(kSweepPictures)}, outputs);
+}
+
 void report_sweep(const SweepConfig& c, const SweepResults& r) {
     for (const std::string kind : {"incoherent", "primary"}) {
         std::cout << "\nwinner (time to answer), " << kind << " rays, 1 thread:\n" << winner_table(r, 1, kind).text();
@@ -180,35 +207,44 @@ void report_sweep(const SweepConfig& c, const SweepResults& r) {
     std::cout << "\nfitted cost model (" << name(c.isa) << "):\n" << model_table(r.model).text()
               << "\nauto check (held-out points): " << passed(r.checks) << " of " << r.checks.size()
               << " within 1.25x of the best\n" << check_table(r.checks).text();
+    // One set, written at the end (ReportFiles): the --model-out source is not touched unless everything
+    // else is written with it.
     Report rep;
     rep.json = sweep_json(c, r);
-    rep.save_json(c.json_file);
-    std::cout << "wrote " << c.json_file << "\n";
+    const std::string json = json_text(rep.json);
+    ReportFiles set;
+    set.add(c.json_file, json);
     if (!c.model_out.empty()) {
-        const std::string isa(name(c.isa));
-        replace_marked_block(c.model_out, "// sweep:" + isa + ":begin", "// sweep:" + isa + ":end", model_block(c, r.model));
-        std::cout << "wrote the " << isa << " coefficients into " << c.model_out << "\n";
+        const Block m = model_block_markers(c.isa);
+        set.add(c.model_out, with_marked_block(c.model_out, m.begin, m.end, model_block(c, r.model)));
     }
-    if (c.report_dir.empty()) return;
-    const bool charts = run_chart_script("plot_sweep.py", c.json_file, c.report_dir);
-    rep.markdown << "# simdbvh sweep: where brute force, BVH2 and the wide trees win\n\n"
-                 << sweep_markdown(c, r, "", charts) << "Winner maps (fit scenes):\n\n";
-    for (const std::string kind : {"incoherent", "primary"})
-        for (int threads : {1, c.threads_all}) {
-            if (threads != 1 && c.threads_all == 1) break;
-            rep.markdown << kind << ", " << threads << " thread(s):\n\n" << winner_table(r, threads, kind).markdown() << "\n";
-        }
-    rep.markdown << "Fitted cost model (ms; cost_model.h has the formula):\n\n" << model_table(r.model).markdown();
-    rep.save_markdown(fs::path(c.report_dir) / "sweep.md");
-    std::cout << "wrote " << c.report_dir << "/sweep.md\n";
-    if (c.readme.empty()) return;
-    const fs::path docs = fs::path(c.readme).parent_path() / "docs" / "results";
-    fs::create_directories(docs);
-    for (const char* png : {"sweep_winners.png", "sweep_time.png"})
-        if (fs::exists(fs::path(c.report_dir) / png))
-            fs::copy_file(fs::path(c.report_dir) / png, docs / png, fs::copy_options::overwrite_existing);
-    replace_marked_block(c.readme, "<!-- sweep:begin -->", "<!-- sweep:end -->",
-                         "\n" + sweep_markdown(c, r, "docs/results/", charts));
+    if (!c.report_dir.empty()) {
+        const fs::path dir = c.report_dir;
+        const bool charts = set.add_charts("plot_sweep.py", json, fs::path(c.json_file).filename().string(), dir);
+        rep.markdown << "# simdbvh sweep: where brute force, BVH2 and the wide trees win\n\n"
+                     << sweep_markdown(c, r, "", charts) << "Winner maps (fit scenes):\n\n";
+        for (const std::string kind : {"incoherent", "primary"})
+            for (int threads : {1, c.threads_all}) {
+                if (threads != 1 && c.threads_all == 1) break;
+                rep.markdown << kind << ", " << threads << " thread(s):\n\n" << winner_table(r, threads, kind).markdown()
+                             << "\n";
+            }
+        rep.markdown << "Fitted cost model (ms; cost_model.h has the formula):\n\n" << model_table(r.model).markdown();
+        set.add(dir / "sweep.md", rep.markdown.str());
+        std::vector<std::pair<std::string, std::string>> pictures;
+        for (const char* p : kSweepPictures) pictures.emplace_back(p, p);
+        add_results_docs(
+            set, c.docs, kSweepBlock, [&](const std::string& link) {
+                std::string block(1, '\n');  // (GCC 12 warns falsely on "literal" + string)
+                return block += sweep_markdown(c, r, link, charts);
+            },
+            dir, pictures);
+    }
+    set.commit();
+    std::cout << "wrote " << c.json_file << "\n";
+    if (!c.model_out.empty()) std::cout << "wrote the " << name(c.isa) << " coefficients into " << c.model_out << "\n";
+    if (!c.report_dir.empty()) std::cout << "wrote " << c.report_dir << "/sweep.md\n";
+    for (const ResultsDoc& d : c.docs) std::cout << "wrote the results block of " << d.file.string() << "\n";
 }
 
 }  // namespace simdbvh::cli

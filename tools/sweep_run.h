@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "results_doc.h"
 #include "simdbvh/bvh8/cost_model.h"
 
 namespace simdbvh::cli {
@@ -19,7 +20,8 @@ struct SweepConfig {
     int build_reps = 3;    // warm builds per method (median), after the cold one
     double budget_ms = 40;  // a trace expected to take longer is timed on evenly spaced rays and scaled
     Isa isa = Isa::scalar;  // brute8 and the wide trees run with it (SIMDBVH_ISA forces another)
-    std::string json_file, report_dir, model_out, readme;
+    std::string json_file, report_dir, model_out;
+    std::vector<ResultsDoc> docs;  // --readme, --publish
     std::string machine, command;
 };
 
@@ -62,6 +64,9 @@ SweepResults run_sweep(const SweepConfig& c);
 // sweep_fit.cpp: the model from the fit rows, and the check on the held-out rows.
 CostModel fit_cost_model(const std::vector<SweepRow>& rows, Isa isa);
 std::vector<SweepCheck> check_auto(const std::vector<SweepRow>& rows, const CostModel& model);
+// Every file report_sweep writes beyond --json and sweep.md, for check_outputs; throws when --model-out or a
+// doc lacks its block (before the run).
+void add_sweep_outputs(const SweepConfig& c, NamedPaths& outputs);
 void report_sweep(const SweepConfig& c, const SweepResults& r);
 
 }  // namespace simdbvh::cli

@@ -56,17 +56,20 @@ constexpr CommandText kCommands[] = {
            against the double-precision reference: agree, tie, leak, false_hit, wrong_triangle, t_error
            (docs/accuracy.md); O(rays x triangles), for ray families and samples
 )"},
-    {"bench", R"(bench    [--scene S] [--quick] [--threads N] [--json FILE] [--report DIR] [--readme README.md]
-           [--reps N] [--build-reps N] [--rays N] [--sample N] [--stats-rays N] [--no-report]
-           [--width-scenes S1,S2|none] [--refit-frames N]
+    {"bench", R"(bench    [--scene S] [--quick] [--threads N] [--json FILE] [--report DIR] [--no-report]
+           [--reps N] [--build-reps N] [--rays N] [--sample N] [--stats-rays N]
+           [--width-scenes S1,S2|none] [--refit-frames N] [--readme FILE] [--publish DIR]
            every method (bvh4, bvh8, bvh16 at every ISA the CPU has): builds cold and warm, Mrays/s (1 thread,
            all cores; median of --reps after a warm-up), accuracy; wide vs binary (width 2/4/8/16 per ISA:
            Mrays/s, nodes and box tests per ray, bytes/triangle, collapse time) on S and the width scenes
            (default: terrain; none with --quick); the refit sequence (S twisted 0.1 rad more per frame, N
            frames, default 20, 3 with --quick: BVH8 refit vs rebuild vs Embree's refit and rebuild);
-           report with charts and pictures
+           report with charts and pictures, written only under DIR (default out) and all at once at the end.
+           The maintainers' acts: --readme FILE rewrites FILE's results block (pictures in FILE's
+           folder/docs/results/), --publish DIR the block of DIR/results.md (pictures in DIR/results/; a missing
+           doc is created, one without the block gets it); blocks are checked before the run
 bench --sweep [--quick] [--threads N] [--reps N] [--build-reps N] [--budget-ms MS] [--report DIR] [--json FILE]
-           [--model-out bvh8/src/cost_model_fit.cpp] [--readme README.md] [--no-report]
+           [--model-out bvh8/src/cost_model_fit.cpp] [--readme FILE] [--publish DIR] [--no-report]
            time to answer (build + trace) of brute, brute8, bvh2, bvh4/8/16, embree over soup-N and icosphere-N
            (1..1M triangles) x 1..1M rays; the cost model of --method auto fitted to it (written into
            --model-out for the active ISA) and checked at held-out points (dragon, bunny, teapot)
@@ -85,8 +88,9 @@ bench --sweep [--quick] [--threads N] [--reps N] [--build-reps N] [--budget-ms M
 
 constexpr const char* kFooter = R"(S is a scene name (dragon, dragon-res2..4, bunny, teapot, icosphere[-N], soup[-N], terrain) or a mesh file
 (.ply .obj .stl .off, optionally .gz). SIMDBVH_ISA=scalar|avx2|avx512 or --isa forces the ISA.
-Outputs (--out, --mesh-out, --json, --report) are checked before any work, must not be an input, and are
-replaced only when complete (symlinks written through, devices and FIFOs written directly).
+Outputs (--out, --mesh-out, --json, --report) are checked before any work, must not be an input (nor a file a
+scene leads to), and are replaced only when complete, several outputs all at once (symlinks written through,
+devices and FIFOs written directly).
 )";
 
 }  // namespace

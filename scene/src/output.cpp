@@ -150,6 +150,7 @@ void write_files_atomic(std::span<const OutputFile> files) {
         if (p->direct()) p->commit();
     for (auto& p : pending)
         if (p->in_place()) p->commit();
+    const detail::BlockSignals block;  // the renames: all of them, or (on an error) those before it
     for (auto& p : pending)
         if (!p->direct() && !p->in_place()) p->commit();
 }

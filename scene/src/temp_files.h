@@ -1,10 +1,28 @@
 #pragma once
-// The registry of live temporary output files, cleared by remove_temp_files()
-// from a signal handler: fixed slots, lock-free atomics, no allocation.
+// The registry of live temporary output files and staging folders, cleared by
+// remove_temp_files() from a signal handler: fixed slots, lock-free atomics,
+// no allocation.
+#include <signal.h>
+
 #include <filesystem>
 #include <string>
 
 namespace simdbvh::scene::detail {
+
+// Blocks the usual termination signals (SIGINT, SIGTERM, SIGHUP, SIGPIPE) for its lifetime: a signal that
+// arrives meanwhile is delivered when it ends.
+struct BlockSignals {
+    sigset_t old;
+    BlockSignals();
+    ~BlockSignals();
+    BlockSignals(const BlockSignals&) = delete;
+    BlockSignals& operator=(const BlockSignals&) = delete;
+};
+
+// Registers a folder for removal on a signal (its files, one level, then the folder): the slot, or -1 when
+// every slot is taken. unregister_path(slot) forgets it.
+int register_dir(const char* path);
+void unregister_path(int slot);
 
 // A temporary file created with mkstemp (O_EXCL, random suffix, retried on EEXIST) in `dir`, named
 // .BASE.tmp.XXXXXX, and registered for removal on a signal. Signals are blocked between the creation and

@@ -71,4 +71,25 @@ TEST(Output, CheckWritable) {
     EXPECT_NE(msg([&] { sc::check_writable(dir / "file/f"); }), "");
 }
 
+// A staging folder: private, removed with its files on destruction, and by remove_temp_files() (the signal
+// handler's call) while it is live.
+TEST(Output, StagingDirIsRemovedWithItsFiles) {
+    test::TempDir dir;
+    fs::path kept;
+    {
+        const sc::StagingDir s(dir.path());
+        kept = s.path();
+        EXPECT_EQ(kept.parent_path(), dir.path());
+        EXPECT_EQ(kept.filename().string().rfind("simdbvh-staging.", 0), 0u) << kept;
+        test::write_text(kept / "a.png", "x");
+        test::write_text(kept / "b.json", "y");
+    }
+    EXPECT_FALSE(fs::exists(kept));
+    const sc::StagingDir live(dir.path());
+    for (int i = 0; i < 300; ++i) test::write_text(live.path() / std::to_string(i), "z");  // several listings
+    sc::remove_temp_files();
+    EXPECT_FALSE(fs::exists(live.path()));
+    EXPECT_TRUE(fs::is_empty(dir.path()));
+}
+
 }  // namespace

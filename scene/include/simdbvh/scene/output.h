@@ -24,9 +24,26 @@ struct OutputFile {
     std::span<const unsigned char> bytes;
 };
 // All or nothing: every temporary file is written first; only then are they put in place (direct writes to
-// non-regular files, in-place copies, then the renames). When a temporary file cannot be written, no output
-// is touched and every temporary file is removed.
+// non-regular files, in-place copies, then the renames, during which SIGINT, SIGTERM, SIGHUP and SIGPIPE wait:
+// a signal cannot leave half of the set renamed). When a temporary file cannot be written, no output is
+// touched and every temporary file is removed.
 void write_files_atomic(std::span<const OutputFile> files);
+
+// A private folder for files a run makes before it commits them (a chart script's pictures): created with
+// mkdtemp as PARENT/simdbvh-staging.XXXXXX (PARENT: the system's temporary folder unless given), removed
+// with its files on destruction, and by remove_temp_files() on a signal (its files, one level, then it).
+class StagingDir {
+public:
+    explicit StagingDir(const std::filesystem::path& parent = {});  // throws simdbvh::Error
+    ~StagingDir();
+    StagingDir(const StagingDir&) = delete;
+    StagingDir& operator=(const StagingDir&) = delete;
+    const std::filesystem::path& path() const { return path_; }
+
+private:
+    std::filesystem::path path_;
+    int slot_ = -1;
+};
 
 // The file a write to `file` replaces: symlinks (also dangling ones) resolved, at most 40 levels.
 std::filesystem::path output_target(const std::filesystem::path& file);
@@ -37,8 +54,8 @@ std::filesystem::path output_target(const std::filesystem::path& file);
 // ancestor is a writable directory (the caller creates it).
 void check_writable(const std::filesystem::path& file, bool create_parent = false);
 
-// Removes every temporary output file this process has open. Async-signal-safe (lock-free atomics and
-// unlink only): for a SIGINT/SIGTERM handler, which then re-raises the signal.
+// Removes every temporary output file and staging folder this process has open. Async-signal-safe (lock-free
+// atomics and system calls only): for a SIGINT/SIGTERM handler, which then re-raises the signal.
 void remove_temp_files() noexcept;
 
 }  // namespace simdbvh::scene
