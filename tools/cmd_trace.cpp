@@ -110,6 +110,14 @@ int cmd_gen_rays(const std::vector<std::string>& args) {
             throw Error(scene_name + ": cannot generate " + std::to_string(count) + " " + kind_s + " rays: got " +
                         std::to_string(rays.size()) + " (the mesh has " + std::to_string(mesh.size()) +
                         " triangles; diffuse rays need primary rays from the default camera to hit it)");
+        // A ray file is for tracing: a zero or non-finite direction (or origin) would miss everything.
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            const Vec3 d = rays[i].dir;
+            if (!is_finite(rays[i].org) || !is_finite(d) || (d.x == 0.0f && d.y == 0.0f && d.z == 0.0f))
+                throw Error(scene_name + ": " + kind_s + " ray " + std::to_string(i) +
+                            " has a zero or non-finite direction or origin (the scene's coordinates are beyond what "
+                            "float rays can aim at); nothing written");
+        }
         scene::write_file_atomic(out, scene::encode_rays(rays));
     } catch (const std::bad_alloc&) {
         throw Error(count_opt + ": out of memory (needs about " + format_bytes(std::uint64_t(count) * per_ray) +

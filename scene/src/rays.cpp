@@ -25,9 +25,54 @@ Aabb usable(const Aabb& b) {
     return b;
 }
 
+// Half the bounds' diagonal. Where the float products overflow (extents beyond about 1e19) it is taken in
+// double and capped at the largest float, so huge scenes keep their scale instead of falling to 1.
 float half_diagonal(const Aabb& b) {
     const float r = 0.5f * length(b.extent());
-    return r > 0.0f && std::isfinite(r) ? r : 1.0f;
+    if (r > 0.0f && std::isfinite(r)) return r;
+    if (!std::isinf(r)) return 1.0f;  // a point (or nothing): unit scale
+    double sum = 0;
+    for (int k = 0; k < 3; ++k) {
+        const double e = double(b.hi[k]) - double(b.lo[k]);
+        sum += e * e;
+    }
+    return float(std::fmin(0.5 * std::sqrt(sum), double(std::numeric_limits<float>::max())));
+}
+
+bool is_zero(Vec3 v) { return v.x == 0.0f && v.y == 0.0f && v.z == 0.0f; }
+
+// normalize(d), unless its float products overflow (|d| beyond about 1e19: a zero vector) or underflow (a
+// non-finite one): then in double. Every direction the float path gets right is kept bit for bit.
+Vec3 unit(Vec3 d) {
+    const Vec3 n = normalize(d);
+    if (is_finite(n) && !is_zero(n)) return n;
+    const double x = d.x, y = d.y, z = d.z, l = std::sqrt(x * x + y * y + z * z);
+    if (!(l > 0.0) || !std::isfinite(l)) return n;  // zero or non-finite: the caller's to refuse
+    return Vec3{float(x / l), float(y / l), float(z / l)};
+}
+
+// The direction from `from` to `to` (unit); the difference in double when it overflows floats.
+Vec3 unit_between(Vec3 from, Vec3 to) {
+    const Vec3 d = to - from;
+    if (is_finite(d)) return unit(d);
+    const double x = double(to.x) - double(from.x), y = double(to.y) - double(from.y), z = double(to.z) - double(from.z);
+    const double l = std::sqrt(x * x + y * y + z * z);
+    return Vec3{float(x / l), float(y / l), float(z / l)};
+}
+
+// a + b * s in double, each component clamped to the float range: a point as far out as floats reach.
+Vec3 clamped_point(Vec3 a, Vec3 b, double s) {
+    constexpr double kMax = std::numeric_limits<float>::max();
+    Vec3 out;
+    for (int k = 0; k < 3; ++k) out[k] = float(std::fmax(-kMax, std::fmin(kMax, double(a[k]) + double(b[k]) * s)));
+    return out;
+}
+
+// The bounds' centre and a point at fractions u of the extent, in double where the float sums overflow.
+Vec3 wide_center(const Aabb& b) {
+    Vec3 c;
+    for (int k = 0; k < 3; ++k) c[k] = float(0.5 * (double(b.lo[k]) + double(b.hi[k])));
+    return c;
 }
 
 // Duff et al. 2017, "Building an Orthonormal Basis, Revisited".
@@ -66,7 +111,21 @@ Camera default_camera(const Aabb& bounds_in, int width, int height) {
     const Vec3 view = normalize(Vec3{1.0f, 0.6f, 1.2f});
     Camera cam;
     cam.eye = c + view * (r / kSinHalfFov);
-    cam.forward = normalize(c - cam.eye);
+    if (!is_finite(cam.eye) || !is_finite(c)) {
+        // Huge bounds: the eye along the same view, as far out as floats reach (closer than the bounding
+        // sphere needs, so the picture shows the middle of the scene).
+        const Vec3 wc = wide_center(b);
+        double dist = double(r) / double(kSinHalfFov);
+        for (int k = 0; k < 3; ++k)
+            if (view[k] != 0.0f)
+                dist = std::fmin(dist, (double(std::numeric_limits<float>::max()) - std::fabs(double(wc[k]))) /
+                                           std::fabs(double(view[k])));
+        cam.eye = clamped_point(wc, view, dist);
+        cam.forward = unit_between(cam.eye, wc);
+        if (!is_finite(cam.forward) || is_zero(cam.forward)) cam.forward = view * -1.0f;
+    } else {
+        cam.forward = unit(c - cam.eye);
+    }
     const Vec3 right = normalize(cross(cam.forward, Vec3{0.0f, 1.0f, 0.0f}));
     const Vec3 up = cross(right, cam.forward);
     cam.right = right * (kTanHalfFov * float(width) / float(height));
@@ -85,7 +144,7 @@ std::vector<Ray> primary_rays(const Camera& cam) {
             const float px = (float(x) + 0.5f) / float(cam.width) * 2.0f - 1.0f;
             Ray r;
             r.org = cam.eye;
-            r.dir = normalize(cam.forward + cam.right * px + cam.up * py);
+            r.dir = unit(cam.forward + cam.right * px + cam.up * py);
             rays.push_back(r);
         }
     }
@@ -96,6 +155,7 @@ std::vector<Ray> incoherent_rays(const Aabb& bounds_in, std::size_t count, std::
     const Aabb b = usable(bounds_in);
     const Vec3 c = b.center(), e = b.extent();
     const float radius = 1.5f * half_diagonal(b);
+    const double wide_radius = 1.5 * double(half_diagonal(b));  // where `radius` overflows
     detail::Rng rng(seed);
     std::vector<Ray> rays;
     rays.reserve(count);
@@ -104,13 +164,20 @@ std::vector<Ray> incoherent_rays(const Aabb& bounds_in, std::size_t count, std::
         const float z = 1.0f - 2.0f * rng.uniform();
         const float phi = kTwoPi * rng.uniform();
         const float s = std::sqrt(std::fmax(0.0f, 1.0f - z * z));
-        const Vec3 o = c + Vec3{s * std::cos(phi), s * std::sin(phi), z} * radius;
-        const Vec3 target = b.lo + Vec3{e.x * rng.uniform(), e.y * rng.uniform(), e.z * rng.uniform()};
-        const Vec3 d = target - o;
-        if (dot(d, d) == 0.0f) continue;
+        const Vec3 on_sphere{s * std::cos(phi), s * std::sin(phi), z};
+        const Vec3 u{rng.uniform(), rng.uniform(), rng.uniform()};
+        Vec3 o = c + on_sphere * radius;
+        Vec3 target = b.lo + Vec3{e.x * u.x, e.y * u.y, e.z * u.z};
+        if (!is_finite(o) || !is_finite(target)) {
+            // Bounds near the float range: the sums overflow. The same points in double, clamped to floats.
+            o = clamped_point(wide_center(b), on_sphere, wide_radius);
+            for (int k = 0; k < 3; ++k)
+                target[k] = float(double(b.lo[k]) + (double(b.hi[k]) - double(b.lo[k])) * double(u[k]));
+        }
+        if (o.x == target.x && o.y == target.y && o.z == target.z) continue;  // no direction: draw again
         Ray r;
         r.org = o;
-        r.dir = normalize(d);
+        r.dir = unit_between(o, target);
         rays.push_back(r);
     }
     return rays;
