@@ -4,7 +4,9 @@
 #include "directed_rounding.h"
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <string>
 
 #include "simdbvh/kernels/error.h"
 
@@ -93,7 +95,23 @@ InverseAffine invert(const Affine3& t) {
     const double c02 = a[1][0] * a[2][1] - a[1][1] * a[2][0];
     const double det = a[0][0] * c00 + a[0][1] * c01 + a[0][2] * c02;
     const double na = row_norm(a);
-    if (!(std::fabs(det) > 1e-30 * na * na * na) || !std::isfinite(det)) throw Error("transform: singular");
+    // The condition test: |det| against the sum of the magnitudes of its six
+    // terms (the permanent of |A|). The ratio is 1 for any per-axis scale,
+    // scaled rotation or permutation, and scaling rows or columns leaves it
+    // unchanged (scale [1e-11, 1e10, 1] passes). The products of two floats
+    // are exact in double, so the computed det is within 4u = 2^-51 of that
+    // sum from the true one: a singular A (true det 0) stays below 2^-40.
+    const double terms = std::fabs(a[0][0]) * (std::fabs(a[1][1] * a[2][2]) + std::fabs(a[1][2] * a[2][1])) +
+                         std::fabs(a[0][1]) * (std::fabs(a[1][2] * a[2][0]) + std::fabs(a[1][0] * a[2][2])) +
+                         std::fabs(a[0][2]) * (std::fabs(a[1][0] * a[2][1]) + std::fabs(a[1][1] * a[2][0]));
+    constexpr double kMinRatio = 0x1p-40;
+    if (!(std::fabs(det) > kMinRatio * terms)) {
+        char ratio[32];
+        std::snprintf(ratio, sizeof ratio, "%.3g", terms > 0 ? std::fabs(det) / terms : 0.0);
+        throw Error(std::string("transform: singular: |det| is ") + ratio +
+                    " of the sum of the magnitudes of its six terms, at most 2^-40 (9.1e-13): A is singular or "
+                    "too close to it to invert (per-axis scales do not change this ratio)");
+    }
     D34 inv{};
     inv[0][0] = c00 / det;
     inv[1][0] = c01 / det;

@@ -236,6 +236,20 @@ TEST(SceneJsonInstances, AbsentPlacesEveryGeometryOnceEmptyPlacesNone) {
     EXPECT_TRUE(parse_scene_json(R"({"planes": [{"point": [0, 0, 0], "normal": [0, 1, 0]}]})", ".", "t.json").instances.empty());
 }
 
+// "scale": [1e-11, 1e10, 1] (det 0.1) was refused as singular; a singular
+// transform's message says what the test measures and its limit.
+TEST(SceneJsonInstances, AnisotropicScaleIsAccepted) {
+    const std::string g = R"("geometries": [{"spheres": [{"center": [0, 0, 0], "radius": 1}]}])";
+    const SceneDesc s = parse_scene_json("{" + g + R"(, "instances": [{"geometry": 0, "scale": [1e-11, 1e10, 1]}]})", ".",
+                                         "t.json");
+    ASSERT_EQ(s.instances.size(), 1u);
+    EXPECT_EQ(s.instances[0].transform.m[0][0], 1e-11f);
+    EXPECT_EQ(s.instances[0].transform.m[1][1], 1e10f);
+    expect_has(text_error("{" + g + R"(, "instances": [{"geometry": 0, "scale": [1, 0, 1]}]})"),
+               "t.json: instances[0].transform: singular: |det| is 0 of the sum of the magnitudes of its six terms, "
+               "at most 2^-40");
+}
+
 // An array of n instances parses in work linear in n (nlohmann's parser
 // callback walked the whole array after each element: 10^5 instances took
 // 1.5 s, 10^6 270 s). Not timed: this checks the content of a large array.

@@ -437,6 +437,23 @@ std::size_t brute_hit_count(const SceneDesc& d, const std::vector<Ray>& rays) {
 // Rays tangent to spheres (discriminant at or within a few ulps of 0): the
 // leaves' four-at-a-time discriminant (shape_traverse-inl.h) must reject
 // exactly the spheres hit_sphere rejects, at every width and ISA.
+// An instance scaled (1e-11, 1e10, 1) (accepted by the condition test; its
+// cond is 1e21, so the top level's slack covers everything) traces as the
+// brute force at every width and ISA.
+TEST(SceneTransforms, AnisotropicScaleAsTheBruteForce) {
+    SceneDesc d;
+    d.geometries.push_back(SphereSet{{Sphere{{0, 0, 0}, 1}}});
+    d.geometries.push_back(scene::icosphere(2));
+    Affine3 aniso;
+    aniso.m = {{{1e-11f, 0, 0, 0}, {0, 1e10f, 0, 0}, {0, 0, 1, 0}}};
+    d.instances.push_back({0, aniso});
+    d.instances.push_back({1, Affine3::translation({0, 0, 3}) * aniso});
+    d.instances.push_back({1, Affine3::translation({0, 0, -3})});
+    const std::vector<Ray> rays = rays_in({-5, -5e9f, -4}, {-4, 5e9f, 4}, {4, -5e9f, -4}, {5, 5e9f, 4}, 400);
+    EXPECT_GE(brute_hit_count(d, rays), 100u);
+    check_any_and_closest(d, rays);
+}
+
 TEST(SceneShapes, GrazingRaysAtSpheres) {
     SceneDesc d;
     SphereSet set;

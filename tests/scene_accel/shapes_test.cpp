@@ -372,5 +372,38 @@ TEST(Transform, SingularAndNonFiniteThrow) {
     EXPECT_NO_THROW(invert(Affine3::scaling(1e-6f)));
 }
 
+// The singularity test is a condition test that per-axis scales pass: scale
+// (1e-11, 1e10, 1) has det 0.1 and an exact inverse but was refused
+// (|det| <= 1e-30 ||A||^3); a truly singular matrix whose computed det is
+// rounding noise was accepted, and is refused.
+TEST(Transform, ConditionTestAcceptsAxisScalesRefusesSingular) {
+    Affine3 aniso;
+    aniso.m = {{{1e-11f, 0, 0, 0}, {0, 1e10f, 0, 0}, {0, 0, 1, 0}}};
+    const InverseAffine inv = invert(aniso);
+    EXPECT_EQ(inv.inv.m[0][0], float(1.0 / double(1e-11f)));
+    EXPECT_EQ(inv.inv.m[1][1], float(1.0 / double(1e10f)));
+    EXPECT_EQ(inv.inv.m[2][2], 1.0f);
+    EXPECT_NO_THROW(invert(Affine3::rotation({1, 2, 3}, 0.7) * aniso));
+    EXPECT_NO_THROW(invert(aniso * Affine3::rotation({1, 2, 3}, 0.7)));
+    // Ill-conditioned but exactly invertible: kept.
+    Affine3 shear;
+    shear.m = {{{1, 1, 0, 0}, {1, 1 + 0x1p-23f, 0, 0}, {0, 0, 1, 0}}};
+    EXPECT_NO_THROW(invert(shear));
+    // Row 0 = row 1 + row 2 exactly (checked below): singular, though the determinant computes to 8.9e-16.
+    Affine3 sum;
+    sum.m = {{{0x1.8c44eep+1f, 0x1.880e3cp+1f, 0x1.493b94p+1f, 0},
+              {0x1.e0fd68p+0f, 0x1.18f2c4p+0f, 0x1.22cedap+0f, 0},
+              {0x1.378c74p+0f, 0x1.f729b4p+0f, 0x1.6fa84ep+0f, 0}}};
+    for (int c = 0; c < 3; ++c) ASSERT_EQ(double(sum.m[0][c]), double(sum.m[1][c]) + double(sum.m[2][c])) << c;
+    try {
+        invert(sum);
+        ADD_FAILURE() << "a singular matrix was inverted";
+    } catch (const Error& e) {
+        const std::string msg = e.what();
+        EXPECT_NE(msg.find("transform: singular: |det| is "), std::string::npos) << msg;
+        EXPECT_NE(msg.find("of the sum of the magnitudes of its six terms, at most 2^-40"), std::string::npos) << msg;
+    }
+}
+
 }  // namespace
 }  // namespace simdbvh

@@ -32,8 +32,10 @@ struct InverseAffine {
     double cond = 1.0;   // ||A||_inf * ||A^-1||_inf (row-sum norms), >= 1
 };
 
-// Throws simdbvh::Error for a non-finite entry or a singular (or numerically
-// singular: |det| <= 1e-30 * ||A||_inf^3, or an inverse that overflows float) A.
+// Throws simdbvh::Error for a non-finite entry or a singular A: |det A| at
+// most 2^-40 of the sum of the magnitudes of its six terms (a ratio that
+// per-axis scales leave unchanged; a truly singular A computes below it), or
+// an inverse with an entry beyond the float range.
 InverseAffine invert(const Affine3& t);
 
 // x' = M x (point) and M v (vector), in double from float inputs, rounded once.
