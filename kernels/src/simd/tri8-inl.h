@@ -59,6 +59,15 @@ SIMDBVH_FORCE_INLINE Tri8Lanes<Arch> watertight_lanes(const RayPack<Arch>& r, co
     const B det = eu + ev + ew;
     const B az = r.sz * akz, bz = r.sz * bkz, cz = r.sz * ckz;
     const B tt = (eu * az + ev * bz + ew * cz) / det;
+    // With tmin = 0, lanes whose t lies within the band of 0 are decided by the
+    // scalar test (detail::accept_t in triangle.h: the side of the origin in double).
+    if (r.tmin == 0.0f) {
+        const B band =
+            B(simdbvh::detail::kTminBand) * xsimd::max(xsimd::max(xsimd::abs(az), xsimd::abs(bz)), xsimd::abs(cz));
+        const std::uint32_t near_tmin = cand & bits<Arch>((det != zero) & (xsimd::abs(tt) <= band));
+        out.exact |= near_tmin;
+        cand &= ~near_tmin;
+    }
     // det != 0 (ordered): a NaN det also fails here; the reference rejects it at the t test.
     cand &= bits<Arch>((det != zero) & (tt >= r.tmin) & (tt <= tmax));
     out.hits = cand;

@@ -1,6 +1,9 @@
 #pragma once
 // Scalar ray/triangle tests. Plain C++, no SIMD: the reference arithmetic that
 // every SIMD triangle kernel reproduces bit for bit (build with -ffp-contract=off).
+#include <algorithm>
+#include <cmath>
+
 #include "simdbvh/kernels/ray.h"
 
 namespace simdbvh {
@@ -53,6 +56,49 @@ inline float sheared_t(const PreparedRay& r, const ShearedTriangle& s, float eu,
     return (eu * az + ev * bz + ew * cz) / det;
 }
 
+// The comparison of a hit's t with tmin = 0 near 0. The box tests decide which
+// side of the origin a slab lies on exactly (the sign of (bound - origin) * (1/d)
+// survives rounding), but a float t from the sheared depths carries an error
+// of a few ulps of the triangle's largest depth, so a ray that leaves a face
+// from within rounding of it (true t slightly below tmin) could round to a t
+// at or above 0: the brute force would take that hit and the trees, whose
+// boxes lie behind the origin, would not. So with tmin = 0, where the float t
+// lies within kTminBand of the largest depth from 0, the side of the origin is
+// decided on the t of the triangle's plane computed in double from the
+// vertices, origin and direction; a hit kept there reports max(t, 0), never -0
+// (another tmin keeps the float comparison, so a hit re-traced with
+// tmin = tmax = its t hits again) (docs/accuracy.md,
+// "Rays that start on or near a surface"). Every path calls this (the SIMD
+// kernels send such lanes to the scalar test), so all agree bit for bit.
+inline constexpr float kTminBand = 0x1p-12f;
+
+inline float tmin_band(const PreparedRay& r, const ShearedTriangle& s) {
+    const float az = std::fabs(r.sz * s.a[r.kz]), bz = std::fabs(r.sz * s.b[r.kz]), cz = std::fabs(r.sz * s.c[r.kz]);
+    return kTminBand * std::max(std::max(az, bz), cz);
+}
+
+// The t at which the ray meets the plane of (v0, v1, v2), in double (the
+// differences of floats are exact there; the products carry 2^-53 errors).
+inline double plane_t(const PreparedRay& r, const Vec3& v0, const Vec3& v1, const Vec3& v2) {
+    const double e1x = double(v1.x) - v0.x, e1y = double(v1.y) - v0.y, e1z = double(v1.z) - v0.z;
+    const double e2x = double(v2.x) - v0.x, e2y = double(v2.y) - v0.y, e2z = double(v2.z) - v0.z;
+    const double nx = e1y * e2z - e1z * e2y, ny = e1z * e2x - e1x * e2z, nz = e1x * e2y - e1y * e2x;
+    const double px = double(v0.x) - r.org.x, py = double(v0.y) - r.org.y, pz = double(v0.z) - r.org.z;
+    return (nx * px + ny * py + nz * pz) / (nx * r.dir.x + ny * r.dir.y + nz * r.dir.z);
+}
+
+// Whether a hit at float t lies in [tmin, tmax]; with tmin = 0 near 0 (see
+// kTminBand) decided in double, and then t is raised to 0 if it rounded below.
+inline bool accept_t(const PreparedRay& r, const ShearedTriangle& s, const Vec3& v0, const Vec3& v1, const Vec3& v2,
+                     float tmax, float* t) {
+    if (r.tmin == 0.0f && std::fabs(*t) <= tmin_band(r, s)) {
+        if (!(*t <= tmax) || !(plane_t(r, v0, v1, v2) >= 0.0)) return false;
+        *t = std::max(*t, 0.0f) + 0.0f;  // + 0: -0 becomes +0
+        return true;
+    }
+    return *t >= r.tmin && *t <= tmax;  // also rejects NaN
+}
+
 }  // namespace detail
 
 // Watertight ray/triangle test (Woop, Benthin, Wald 2013, JCGT 2(1)), both faces.
@@ -72,8 +118,8 @@ inline bool intersect_watertight(const PreparedRay& r, const Vec3& v0, const Vec
     if ((eu < 0.0f || ev < 0.0f || ew < 0.0f) && (eu > 0.0f || ev > 0.0f || ew > 0.0f)) return false;
     const float det = eu + ev + ew;
     if (det == 0.0f) return false;
-    const float tt = detail::sheared_t(r, s, eu, ev, ew, det);
-    if (!(tt >= r.tmin && tt <= tmax)) return false;  // also rejects NaN
+    float tt = detail::sheared_t(r, s, eu, ev, ew, det);
+    if (!detail::accept_t(r, s, v0, v1, v2, tmax, &tt)) return false;
     *t = tt;
     *u = ev / det;
     *v = ew / det;
