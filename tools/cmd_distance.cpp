@@ -23,17 +23,10 @@ namespace {
 
 float parse_max_distance(const Options& o) {
     if (!o.has("max-distance")) return PointQueryOptions{}.max_distance;
-    const std::string s = o.get("max-distance");
-    std::size_t used = 0;
-    float v = -1.0f;
-    try {
-        v = std::stof(s, &used);
-    } catch (const std::exception&) {
-        used = 0;
-    }
-    if (used != s.size() || !(v >= 0.0f))
-        throw UsageError("--max-distance '" + s + "': expected a number >= 0 (inf for no limit)");
-    return v;
+    const std::optional<float> v = o.get_float("max-distance");
+    if (!v || !(*v >= 0.0f))
+        throw UsageError("--max-distance '" + o.get("max-distance") + "': expected a number >= 0 (inf for no limit)");
+    return *v;
 }
 
 }  // namespace

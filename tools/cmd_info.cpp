@@ -4,6 +4,7 @@
 
 #include "common.h"
 #include "methods.h"
+#include "printable.h"
 #include "scene_cmds.h"
 #include "simdbvh/bvh8/cost_model.h"
 
@@ -13,7 +14,9 @@ namespace {
 
 template <int N>
 WideStats wide_stats(const Bvh2& bvh2, const MethodSpec& spec) {
-    progress("collapsing to BVH" + std::to_string(N) + " ...");
+    std::string msg = "collapsing to BVH";  // (built with += : GCC 12 warns falsely on "literal" + string)
+    msg += std::to_string(N);
+    progress(msg + " ...");
     return BvhN<N>::build(bvh2, spec.bvh8).stats();
 }
 
@@ -25,11 +28,14 @@ int cmd_info(const std::vector<std::string>& args) {
     const Options o("info", args, valued, flags);
     const std::string scene_name = o.require("scene");
     const MethodSpec spec = parse_method(o);
-    if (is_scene_desc(scene_name)) return info_scene(scene_name, spec, parse_instance_bounds(o));
+    if (is_scene_desc(scene_name)) {
+        refuse_mesh_options(o, scene_name);
+        return info_scene(scene_name, spec, parse_instance_bounds(o));
+    }
     if (o.has("instance-bounds")) throw UsageError("--instance-bounds applies to scenes (room, instances-N, *.json)");
     const Mesh mesh = load_scene_with_progress(scene_name);
     const Aabb b = mesh.bounds();
-    std::printf("scene        %s\n", scene_name.c_str());
+    std::printf("scene        %s\n", printable(scene_name).c_str());
     std::printf("triangles    %zu\n", mesh.size());
     std::printf("vertices     %zu\n", mesh.positions.size());
     std::printf("bounds       [%g %g %g] - [%g %g %g]\n", b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z);

@@ -50,7 +50,7 @@ int cmd_render(const std::vector<std::string>& args) {
     const std::uint64_t bytes = std::uint64_t(w) * std::uint64_t(h) * (32 + 16 + 4 + 3 + 3);
     check_memory(size_opt, bytes);
     if (is_scene_desc(scene_name)) {
-        if (heat) throw UsageError("--heatmap does not apply to scenes");
+        refuse_mesh_options(o, scene_name);
         return render_scene(scene_name, spec, parse_instance_bounds(o), w, h, out);
     }
     if (o.has("instance-bounds")) throw UsageError("--instance-bounds applies to scenes (room, instances-N, *.json)");

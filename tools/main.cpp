@@ -10,11 +10,13 @@
 #include "common.h"
 #include "options.h"
 #include "outputs.h"
+#include "printable.h"
 #include "simdbvh/kernels/error.h"
 #include "usage.h"
 
 int main(int argc, char** argv) {
     using namespace simdbvh::cli;
+    escape_terminal_output();
     if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h" ||
         std::string(argv[1]) == "help") {
         std::fputs(usage().c_str(), argc < 2 ? stderr : stdout);

@@ -116,6 +116,12 @@ MethodSpec parse_method(const Options& o, const std::string& fallback) {
     s.quality = o.get("quality", "medium");
     if (s.quality != "medium" && s.quality != "high") throw UsageError("unknown --quality '" + s.quality + "' (medium, high)");
     s.robust = o.has("robust");
+    // Options of one kind of method are refused on the others, never ignored.
+    for (const char* k : {"quality", "robust"})
+        if (o.has(k) && s.method != "embree")
+            throw UsageError(std::string("--") + k + " applies to --method embree (not " + s.method + ")");
+    if (o.has("test") && s.method == "embree")
+        throw UsageError("--test applies to our methods (Embree has its own triangle test)");
     s.threads = int(o.get_int("threads", 1, 1, 1024));
     s.build.threads = s.threads;
     return s;

@@ -1,6 +1,9 @@
 #include "options.h"
 
 #include <charconv>
+#include <cmath>
+#include <cstdlib>
+#include <string_view>
 
 namespace simdbvh::cli {
 
@@ -52,6 +55,27 @@ long long Options::get_int(const std::string& key, long long fallback, long long
     if (ec != std::errc() || p != s.data() + s.size() || v < lo || v > hi)
         throw UsageError("'" + command_ + "': --" + key + " must be an integer in " + std::to_string(lo) + ".." +
                          std::to_string(hi) + ", got '" + s + "'");
+    return v;
+}
+
+std::optional<float> Options::get_float(const std::string& key) const {
+    auto it = values_.find(key);
+    if (it == values_.end()) return std::nullopt;
+    std::string_view s = it->second;
+    const bool plus = !s.empty() && s[0] == '+';
+    if (plus) s.remove_prefix(1);
+    if (s.empty() || (plus && (s[0] == '+' || s[0] == '-'))) return std::nullopt;
+    float v = 0;
+    auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v, std::chars_format::general);
+    if (p != s.data() + s.size()) return std::nullopt;
+    if (ec == std::errc::result_out_of_range) {
+        // from_chars reports underflow too: strtof gives the correctly rounded subnormal (or zero); overflow
+        // (an infinite result from a finite literal) is out of range.
+        v = std::strtof(std::string(s).c_str(), nullptr);
+        if (std::isinf(v)) return std::nullopt;
+    } else if (ec != std::errc()) {
+        return std::nullopt;
+    }
     return v;
 }
 

@@ -23,6 +23,10 @@ public:
     std::string get(const std::string& key, const std::string& fallback = "") const;
     std::string require(const std::string& key) const;
     long long get_int(const std::string& key, long long fallback, long long lo, long long hi) const;
+    // A float, strictly: the whole value is one number (std::from_chars: no spaces, an optional leading '+';
+    // inf, infinity and nan are numbers), correctly rounded, a subnormal included; one beyond the float range
+    // is refused. The caller checks the range.
+    std::optional<float> get_float(const std::string& key) const;
 
 private:
     std::string command_;

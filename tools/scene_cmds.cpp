@@ -10,6 +10,7 @@
 #include "common.h"
 #include "image.h"
 #include "outputs.h"
+#include "printable.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/scene/rays.h"
 #include "simdbvh/scene/scene_desc.h"
@@ -79,6 +80,16 @@ bool is_scene_desc(const std::string& name) {
     return scene::is_builtin_scene(name) || (name.size() > 5 && name.substr(name.size() - 5) == ".json");
 }
 
+void refuse_mesh_options(const Options& o, const std::string& name) {
+    // What the scene layer has no choice of: its triangle and box tests are its own, it has no Embree
+    // settings, packets, reordering or counters, and loads no mesh with --drop-invalid.
+    for (const char* opt : {"test", "box", "quality", "robust", "packets", "reorder", "stats", "drop-invalid",
+                            "expected-rays", "heatmap"})
+        if (o.has(opt))
+            throw UsageError(std::string("--") + opt + " does not apply to scenes (" + name +
+                             "; room, instances-N, spheres-N and *.json run on the scene layer)");
+}
+
 InstanceBounds parse_instance_bounds(const Options& o) {
     const std::string b = o.get("instance-bounds", "child-corners");
     if (b == "corners") return InstanceBounds::corners;
@@ -90,7 +101,7 @@ int info_scene(const std::string& name, const MethodSpec& spec, InstanceBounds b
     const int width = scene_width(spec);
     progress("loading " + name + " ...");
     const SceneDesc desc = scene::load_scene_desc(name);
-    std::printf("scene        %s\n", name.c_str());
+    std::printf("scene        %s\n", printable(name).c_str());
     std::printf("isa          %s\n", std::string(simdbvh::name(spec.isa)).c_str());
     if (width == 4) print_info<4>(desc, spec, bounds);
     if (width == 8) print_info<8>(desc, spec, bounds);
@@ -101,8 +112,8 @@ int info_scene(const std::string& name, const MethodSpec& spec, InstanceBounds b
 int trace_scene(const Options& o, const std::string& name, const std::string& rays_file, const std::string& out,
                 const MethodSpec& spec, bool any, InstanceBounds bounds) {
     const int width = scene_width(spec);
+    refuse_mesh_options(o, name);
     check_outputs({{"--out", out}}, {.files = {{"--rays", rays_file}}, .scenes = {{"--scene", name}}});
-    if (o.has("stats")) throw UsageError("--stats does not apply to scenes");
     const auto rays = scene::read_rays(rays_file);  // a bad ray file fails before any expensive work
     progress("loading " + name + " ...");
     const SceneDesc desc = scene::load_scene_desc(name);

@@ -12,6 +12,10 @@ namespace simdbvh::cli {
 
 // True for the names the scene layer takes (a built-in scene or *.json).
 bool is_scene_desc(const std::string& name);
+// One rule for the options of the mesh methods that scenes have no use for (--test, --box, --quality,
+// --robust, --packets, --reorder, --stats, --drop-invalid, --expected-rays, --heatmap): a UsageError naming
+// the option when it is given.
+void refuse_mesh_options(const Options& o, const std::string& name);
 // --instance-bounds corners | child-corners (default child-corners).
 InstanceBounds parse_instance_bounds(const Options& o);
 

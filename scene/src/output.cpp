@@ -43,6 +43,13 @@ int write_all(int fd, std::span<const unsigned char> bytes) {
 
 fs::path dir_of(const fs::path& p) { return p.has_parent_path() ? p.parent_path() : fs::path("."); }
 
+// An existing file the user may not write is not replaced, though the folder would let a rename do it (a
+// write-protected file, or another user's in a shared folder): as cp and shell redirection refuse it.
+void refuse_unwritable(const std::string& name, const fs::path& target) {
+    if (::access(target.c_str(), W_OK) != 0 && errno != ENOENT)
+        throw Error(name + ": is not writable (" + std::strerror(errno) + "); refusing to replace it");
+}
+
 // One output, prepared (temporary file written) and then committed.
 class Pending {
 public:
@@ -57,6 +64,7 @@ public:
                 direct_ = true;  // device, FIFO, socket: written at commit, no temporary file
                 return;
             }
+            refuse_unwritable(name_, target_);
             in_place_ = st.st_nlink > 1;
         } else if (errno != ENOENT) {
             throw Error(name_ + ": " + std::strerror(errno));
@@ -165,6 +173,7 @@ void check_writable(const fs::path& file, bool create_parent) {
             if (::access(target.c_str(), W_OK) != 0) throw Error(name + ": not writable: " + std::strerror(errno));
             return;
         }
+        refuse_unwritable(name, target);
     } else if (errno != ENOENT) {
         throw Error(name + ": " + std::strerror(errno));
     }

@@ -144,6 +144,7 @@ TEST_F(BadInput, InvalidRaysMissOnEveryMethod) {
     for (const char* m : {"bvh2", "bvh8", "brute", "embree"})
         for (const char* extra : {"", " --any-hit", " --test moller", " --box plain"}) {
             if (std::string(extra) == " --box plain" && std::string(m) != "bvh2") continue;
+            if (std::string(extra) == " --test moller" && std::string(m) == "embree") continue;  // not Embree's
             const CliRun t = run_cli(std::string("trace --scene icosphere-2 --rays ") + rays + " --out " + out + " --method " + m + extra);
             ASSERT_EQ(t.status, 0) << m << extra << "\n" << t.output;
             const auto hits = scene::read_hits(out);

@@ -9,7 +9,9 @@ namespace simdbvh::scene {
 // Writes `bytes` to `file`; throws simdbvh::Error naming the file. What is at the path decides how:
 // - nothing or a regular file: a uniquely named temporary file (.NAME.tmp.XXXXXX, O_EXCL) next to it is
 //   written, fsynced and renamed over it. An existing file keeps its mode (and, as root, its owner); a new
-//   one gets 0666 & ~umask. On failure the old file is untouched and no temporary file is left.
+//   one gets 0666 & ~umask. An existing file the user may not write (access W_OK) is refused, as cp refuses
+//   it, though the folder would allow the rename. On failure the old file is untouched and no temporary
+//   file is left.
 // - a symlink: resolved first; its final target is written as above, the link stays a link.
 // - a regular file with several hard links: the data is written to a temporary file first (so it is
 //   complete and the disk had room for it), then copied over the file in place (O_TRUNC) so every link
@@ -49,9 +51,9 @@ private:
 std::filesystem::path output_target(const std::filesystem::path& file);
 
 // Preflight, for config time: throws simdbvh::Error naming `file` unless it can be written: not a
-// directory; a non-regular file must be writable; otherwise its directory exists and a temporary file can
-// be created (and is removed) there. create_parent: the directory may be missing when its nearest existing
-// ancestor is a writable directory (the caller creates it).
+// directory; an existing file must be writable ("is not writable"); its directory exists and a temporary
+// file can be created (and is removed) there. create_parent: the directory may be missing when its nearest
+// existing ancestor is a writable directory (the caller creates it).
 void check_writable(const std::filesystem::path& file, bool create_parent = false);
 
 // Removes every temporary output file and staging folder this process has open. Async-signal-safe (lock-free
