@@ -188,7 +188,7 @@ private:
         Record rec;
         rec.scene = scene_;
         rec.method = base.method == "embree" ? base.label() : base.method;
-        rec.isa = base.isa_name();
+        rec.isa = t.ran_isa(base, any);
         rec.builder = base.builder_name();
         rec.width = base.method == "bvh2" ? 2 : base.width();
         rec.ray_kind = std::string(scene::name(kKinds[k]));

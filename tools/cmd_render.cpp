@@ -61,7 +61,7 @@ int cmd_render(const std::vector<std::string>& args) {
     } catch (const std::bad_alloc&) {
         throw Error(size_opt + ": out of memory (needs about " + format_bytes(bytes) + "); ask for a smaller image");
     }
-    std::cout << "method " << spec.label() << "  isa " << spec.isa_name() << "  wrote " << w << "x" << h << " "
+    std::cout << "method " << spec.label() << "  isa " << tracer->ran_isa(spec, false) << "  wrote " << w << "x" << h << " "
               << (heat ? "heat map" : "render") << " to " << out << "\n";
     return 0;
 }

@@ -175,7 +175,8 @@ int cmd_trace(const std::vector<std::string>& args) {
     scene::write_hits(out, hits);
     std::size_t n_hit = 0;
     for (const Hit& h : hits) n_hit += h.hit();
-    std::cout << "method " << spec.label() << "  isa " << spec.isa_name() << "  query " << (any ? "any" : "closest")
+    std::cout << "method " << spec.label() << "  isa " << tracer->ran_isa(spec, any) << spec.isa_note(any) << "  query "
+              << (any ? "any" : "closest")
               << "  threads " << spec.threads << "\n"
               << (tracer->chosen.empty() ? "" : "auto chose " + tracer->chosen + "\n")
               << "rays " << rays.size() << "  hits " << n_hit << "  build " << tracer->build_ms << " ms  trace "

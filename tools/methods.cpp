@@ -21,9 +21,17 @@ int MethodSpec::width() const {
 }
 
 std::string MethodSpec::label() const {
-    if (is_wide(method) || method == "brute8")
-        return method + (bvh8.quantized_nodes ? "q" : "") + "/" + std::string(name(isa)) +
-               (test == TriangleTest::moller ? "/moller" : "");
+    // The wide trees without --isa choose per query when they trace: the ISA is reported apart (isa_name).
+    if (is_wide(method) || method == "brute8") {
+        std::string l = method;
+        if (bvh8.quantized_nodes) l += "q";
+        if (!(is_wide(method) && isa_auto)) {
+            l += "/";
+            l += name(isa);
+        }
+        if (test == TriangleTest::moller) l += "/moller";
+        return l;
+    }
     if (method == "auto") return "auto/" + std::string(name(isa));
     if (method == "embree") return "embree/" + quality + (robust ? "/robust" : "/default");
     // Non-default variants are named: bvh2/moller, bvh2/plain-box, brute/moller.
@@ -32,11 +40,19 @@ std::string MethodSpec::label() const {
     if (box == BoxTest::plain) l += "/plain-box";
     return l;
 }
-std::string MethodSpec::isa_name() const {
-    if (is_wide(method) && isa_auto) return std::string(name(traversal_isa_choice(width(), false).isa));
+std::string MethodSpec::isa_name(bool any_hit) const {
+    if (is_wide(method) && isa_auto) return std::string(name(traversal_isa_choice(width(), any_hit).isa));
     if (is_wide(method) || method == "brute8" || method == "auto") return std::string(name(isa));
     if (method == "embree") return "embree-internal";
     return "scalar";
+}
+std::string MethodSpec::isa_note(bool any_hit) const {
+    if (!is_wide(method) || !isa_auto) return "";
+    const TraversalIsaChoice c = traversal_isa_choice(width(), any_hit);
+    if (c.forced) return " (forced)";
+    if (c.calibrated) return std::string(" (timed on ") + (any_hit ? "any-hit" : "closest-hit") + " traces)";
+    return " (the widest detected, not timed: batches of " + std::to_string(kIsaCalibrationRays) +
+           " rays or more are timed with every ISA)";
 }
 std::string MethodSpec::builder_name() const {
     if (method == "bvh2") return std::string(name(build.builder));
@@ -247,6 +263,11 @@ public:
     void trace(std::span<const Ray> rays, std::span<Hit> hits, bool any, TraceStats* stats) override {
         const TraceOptions o = trace_options(spec_, stats);
         any ? occluded(accel_, rays, hits, o) : intersect(accel_, rays, hits, o);
+    }
+    // brute and bvh2 run scalar; brute8 and the wide trees with the ISA Accel was built for.
+    std::string ran_isa(const MethodSpec&, bool) const override {
+        const AccelMethod m = accel_.method();
+        return m == AccelMethod::brute || m == AccelMethod::bvh2 ? "scalar" : std::string(name(accel_.isa()));
     }
 
 private:

@@ -27,8 +27,12 @@ struct MethodSpec {
     int threads = 1;                 // trace (and build) threads
 
     int width() const;               // 4, 8, 16 for bvh4, bvh8, bvh16; 0 for the others
-    std::string label() const;       // e.g. "bvh8/avx2", "embree/medium/robust"
-    std::string isa_name() const;    // the ISA that runs the trace
+    std::string label() const;       // e.g. "bvh8/avx2" ("bvh8" without --isa), "embree/medium/robust"
+    // The ISA a trace of this query runs with (the wide trees without --isa: their choice for that query).
+    std::string isa_name(bool any_hit = false) const;
+    // Why that ISA, for the wide trees without --isa: " (forced)", " (timed on any-hit traces)", or " (the
+    // widest detected, not timed: ...)"; "" for the other methods.
+    std::string isa_note(bool any_hit) const;
     std::string builder_name() const;
 };
 
@@ -36,6 +40,8 @@ class Tracer {
 public:
     virtual ~Tracer() = default;
     virtual void trace(std::span<const Ray> rays, std::span<Hit> hits, bool any_hit, TraceStats* stats) = 0;
+    // The ISA the last traces of this query ran with (auto: that of the method it built).
+    virtual std::string ran_isa(const MethodSpec& spec, bool any_hit) const { return spec.isa_name(any_hit); }
     double build_ms = 0;
     double collapse_ms = 0;  // the wide BVHs: collapse + pack (part of build_ms)
     double bytes_per_triangle = 0;
