@@ -15,6 +15,7 @@
 #include <cstring>
 #include <iostream>
 #include <fstream>
+#include <optional>
 #include <span>
 #include <string_view>
 #include <thread>
@@ -146,13 +147,19 @@ std::vector<fs::path> ReportFiles::paths() const {
 
 bool ReportFiles::add_charts(const std::string& script, const std::string& json, const std::string& json_name,
                              const fs::path& dir) {
-    const scene::StagingDir staging;
-    const fs::path in = staging.path() / json_name;
-    scene::write_file_atomic(in, std::span(reinterpret_cast<const unsigned char*>(json.data()), json.size()));
-    const bool ok = run_chart_script(script, in.string(), staging.path().string());
+    std::optional<scene::StagingDir> staging;
+    try {
+        staging.emplace();
+        scene::write_file_atomic(staging->path() / json_name,
+                                 std::span(reinterpret_cast<const unsigned char*>(json.data()), json.size()));
+    } catch (const Error& e) {
+        std::cerr << "[simdbvh] warning: no charts (" << e.what() << "); the report has tables only\n";
+        return false;
+    }
+    const bool ok = run_chart_script(script, (staging->path() / json_name).string(), staging->path().string());
     if (!ok) return false;
     std::vector<fs::path> pictures;
-    for (const auto& e : fs::directory_iterator(staging.path()))
+    for (const auto& e : fs::directory_iterator(staging->path()))
         if (e.is_regular_file() && e.path().extension() == ".png") pictures.push_back(e.path());
     std::sort(pictures.begin(), pictures.end());
     for (const fs::path& p : pictures) {

@@ -10,6 +10,7 @@
 #include <cerrno>
 #include <climits>
 #include <cstring>
+#include <system_error>
 #include <vector>
 
 #include "simdbvh/kernels/error.h"
@@ -82,7 +83,9 @@ void remove_temp_files() noexcept {
 }
 
 StagingDir::StagingDir(const std::filesystem::path& parent) {
-    const std::filesystem::path where = parent.empty() ? std::filesystem::temp_directory_path() : parent;
+    std::error_code ec;
+    const std::filesystem::path where = parent.empty() ? std::filesystem::temp_directory_path(ec) : parent;
+    if (ec) throw Error("no temporary folder for a staging folder ($TMPDIR, /tmp): " + ec.message());
     const std::string tmpl = (where / "simdbvh-staging.XXXXXX").string();
     std::vector<char> buf(tmpl.begin(), tmpl.end());
     buf.push_back('\0');
