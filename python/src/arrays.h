@@ -18,6 +18,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "interrupt.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/kernels/hit.h"
 #include "simdbvh/kernels/isa.h"
@@ -275,18 +276,24 @@ inline std::vector<Ray> make_rays(const py::handle& origins, const py::handle& d
 // least kIsaCalibrationRays (bvh8.h), so a first chunk can still calibrate.
 inline constexpr std::size_t kRayChunk = 16384;
 
+// Rays per chunk of a brute-force trace: each ray tests every triangle, so
+// interrupts are checked after a few hundred rays.
+inline constexpr std::size_t kBruteChunk = 256;
+
 // Calls chunk(rays, hits, begin) for consecutive chunks of at most kChunk
 // rays (rays[k] is ray begin + k; hits has the same length, for the caller to
-// fill and read), spread over `threads`. Call without the GIL; chunk must not
-// touch Python objects. Each thread reuses one buffer pair across its chunks.
+// fill and read), spread over `threads`; none after `interrupt` stops. Call
+// without the GIL; chunk must not touch Python objects. Each thread reuses one
+// buffer pair across its chunks.
 template <class HitT = Hit, std::size_t kChunk = kRayChunk, class Chunk>
-void for_ray_chunks(const RayArrays& in, int threads, Chunk&& chunk) {
+void for_ray_chunks(const RayArrays& in, int threads, Interrupt& interrupt, Chunk&& chunk) {
     ParallelOptions po;
     po.grain = kChunk;
     parallel_for(in.size(), threads, [&](std::size_t b, std::size_t e) {
         thread_local std::vector<Ray> rays;
         thread_local std::vector<HitT> hits;
         for (std::size_t c = b; c < e; c += kChunk) {
+            if (interrupt.stop()) return;
             const std::size_t m = std::min(kChunk, e - c);
             rays.resize(m);
             hits.resize(m);
@@ -308,13 +315,14 @@ inline constexpr std::size_t kRayBatch = std::size_t(1) << 20;
 // kRayBatch rays, the Ray records built from the views (over `threads`),
 // trace(rays, hits) once on the calling thread (the library spreads the batch
 // over the threads), then write(hits, begin) over `threads` for ranges of the
-// batch (hits[k] is ray begin + k). Call without the GIL; trace and write must
-// not touch Python objects.
+// batch (hits[k] is ray begin + k); none after `interrupt` stops (checked
+// between batches). Call without the GIL; trace and write must not touch
+// Python objects.
 template <class HitT = Hit, class Trace, class Write>
-void for_ray_batches(const RayArrays& in, int threads, Trace&& trace, Write&& write) {
+void for_ray_batches(const RayArrays& in, int threads, Interrupt& interrupt, Trace&& trace, Write&& write) {
     thread_local std::vector<Ray> rays_kept;
     thread_local std::vector<HitT> hits_kept;
-    for (std::size_t c = 0; c < in.size(); c += kRayBatch) {
+    for (std::size_t c = 0; c < in.size() && !interrupt.stop(); c += kRayBatch) {
         const std::size_t m = std::min(kRayBatch, in.size() - c);
         rays_kept.resize(m);
         hits_kept.resize(m);

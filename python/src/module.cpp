@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "arrays.h"
+#include "point_blocks.h"
 #include "rw_lock.h"
 #include "simdbvh/bvh2/closest_point.h"
 #include "simdbvh/bvh2/crossings.h"
@@ -31,6 +32,13 @@ namespace simdbvh::python {
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
+
+// At most this many points (or rays) per library call of a batched point
+// query or crossing count when interrupts are checked between the calls
+// (for_blocks: blocks of about a quarter of a second; each call spreads its
+// block over the threads and ends when its last chunk does; point blocks are
+// runs of the batch's Morton order, point_blocks.h).
+constexpr std::size_t kPointBlock = std::size_t(1) << 20;
 
 InsideOptions::Rule parse_rule(const std::string& r) {
     if (r == "winding") return InsideOptions::Rule::winding;
@@ -81,6 +89,7 @@ public:
         std::vector<Hit> all(points || normals ? n : 0);  // the rows below need every hit
         py::array_t<float> pts = empty_points(points ? n : 0), nrm = empty_points(normals ? n : 0);
         const int nthreads = check_threads(threads);
+        Interrupt interrupt;
         {
             py::gil_scoped_release nogil;
             const std::shared_lock<RwLock> hold(lock_);
@@ -114,12 +123,13 @@ public:
                         opts.reorder = Reorder::on;
                         opts.threads = nthreads;
                         for_ray_batches(
-                            rays, nthreads, [&](std::span<const Ray> r, std::span<Hit> h) { trace(r, h, opts); },
-                            write);
+                            rays, nthreads, interrupt,
+                            [&](std::span<const Ray> r, std::span<Hit> h) { trace(r, h, opts); }, write);
                     } else {
                         // Chunks spread over the threads, each traced on one, converted just before.
                         opts.reorder = Reorder::off;
-                        for_ray_chunks(rays, nthreads, [&](std::span<const Ray> r, std::span<Hit> h, std::size_t b) {
+                        for_ray_chunks(rays, nthreads, interrupt,
+                                       [&](std::span<const Ray> r, std::span<Hit> h, std::size_t b) {
                             trace(r, h, opts);
                             write(h, b);
                         });
@@ -128,23 +138,26 @@ public:
                 if (bvh4_) wide(*bvh4_);
                 else if (bvh8_) wide(*bvh8_);
                 else wide(*bvh16_);
+            } else if (method_ == "bvh2") {
+                // The chunks are spread over the threads; each traces on one.
+                for_ray_chunks(rays, nthreads, interrupt, [&](std::span<const Ray> r, std::span<Hit> h, std::size_t b) {
+                    if (any) simdbvh::occluded(bvh2(), r, h);
+                    else simdbvh::intersect(bvh2(), r, h);
+                    write(h, b);
+                });
             } else {
-                for_ray_chunks(rays, nthreads, [&](std::span<const Ray> r, std::span<Hit> h, std::size_t b) {
-                    // The chunks are spread over the threads; each traces on one.
-                    if (method_ == "bvh2") {
-                        if (any) simdbvh::occluded(bvh2(), r, h);
-                        else simdbvh::intersect(bvh2(), r, h);
-                    } else {
-                        for (std::size_t i = 0; i < r.size(); ++i)
-                            h[i] = any ? brute_force_occluded(mesh_, r[i]) : brute_force_intersect(mesh_, r[i]);
-                    }
+                for_ray_chunks<Hit, kBruteChunk>(rays, nthreads, interrupt,
+                                                 [&](std::span<const Ray> r, std::span<Hit> h, std::size_t b) {
+                    for (std::size_t i = 0; i < r.size(); ++i)
+                        h[i] = any ? brute_force_occluded(mesh_, r[i]) : brute_force_intersect(mesh_, r[i]);
                     write(h, b);
                 });
             }
             // The rows read the vertices: under the same hold as the trace.
-            if (points) hit_points(all, pts.mutable_data());
-            if (normals) hit_normals(all, nrm.mutable_data());
+            if (points && !interrupt.stop()) hit_points(all, pts.mutable_data());
+            if (normals && !interrupt.stop()) hit_normals(all, nrm.mutable_data());
         }
+        interrupt.raise_if_stopped();
         py::dict out("hit"_a = hit, "t"_a = t, "prim"_a = prim, "u"_a = u, "v"_a = v);
         if (points) out["points"] = pts;
         if (normals) out["normals"] = nrm;
@@ -185,27 +198,38 @@ public:
         });
     }
 
-    // Without the GIL, holding lock_: the closest points of p.
-    void closest_points(const F32& p, float max_distance, int threads, std::vector<ClosestPoint>& res) const {
+    // Without the GIL, holding lock_: the closest points of p, in blocks (interrupts checked between them).
+    void closest_points(const F32& p, float max_distance, int threads, std::vector<ClosestPoint>& res,
+                        Interrupt& interrupt) const {
         const auto n = std::size_t(p.shape(0));
         PointQueryOptions o;
         o.max_distance = max_distance;
         o.threads = threads;
         if (method_ == "brute") {
-            for (std::size_t i = 0; i < n; ++i) res[i] = brute_force_closest_point(mesh_, vec3s(p)[i], o);
-        } else {
-            with_tree([&](const auto& t) { closest_point(t, std::span<const Vec3>(vec3s(p), n), res, o); });
+            for_blocks(n, kPointBlock, interrupt, [&](std::size_t b, std::size_t e) {
+                for (std::size_t i = b; i < e; ++i) res[i] = brute_force_closest_point(mesh_, vec3s(p)[i], o);
+            });
+            return;
         }
+        for_point_blocks(std::span<const Vec3>(vec3s(p), n), std::span<ClosestPoint>(res), kPointBlock, interrupt,
+                         [&](std::span<const Vec3> in, std::span<ClosestPoint> out) {
+            with_tree([&](const auto& t) { closest_point(t, in, out, o); });
+        });
     }
 
-    // Without the GIL, holding lock_: the sides of p.
-    void classify(const F32& p, const InsideOptions& o, std::vector<PointSide>& res) const {
+    // Without the GIL, holding lock_: the sides of p, in blocks (interrupts checked between them).
+    void classify(const F32& p, const InsideOptions& o, std::vector<PointSide>& res, Interrupt& interrupt) const {
         const auto n = std::size_t(p.shape(0));
         if (method_ == "brute") {
-            for (std::size_t i = 0; i < n; ++i) res[i] = brute_force_classify_point(mesh_, vec3s(p)[i], o);
-        } else {
-            with_tree([&](const auto& t) { classify_points(t, std::span<const Vec3>(vec3s(p), n), res, o); });
+            for_blocks(n, kPointBlock, interrupt, [&](std::size_t b, std::size_t e) {
+                for (std::size_t i = b; i < e; ++i) res[i] = brute_force_classify_point(mesh_, vec3s(p)[i], o);
+            });
+            return;
         }
+        for_point_blocks(std::span<const Vec3>(vec3s(p), n), std::span<PointSide>(res), kPointBlock, interrupt,
+                         [&](std::span<const Vec3> in, std::span<PointSide> out) {
+            with_tree([&](const auto& t) { classify_points(t, in, out, o); });
+        });
     }
 
     py::dict closest(const py::handle& points, const py::handle& max_distance, int threads) const {
@@ -214,11 +238,13 @@ public:
         const int nthreads = check_threads(threads);
         const auto n = std::size_t(p.shape(0));
         std::vector<ClosestPoint> res(n);
+        Interrupt interrupt;
         {
             py::gil_scoped_release nogil;
             const std::shared_lock<RwLock> hold(lock_);
-            closest_points(p, max_d, nthreads, res);
+            closest_points(p, max_d, nthreads, res, interrupt);
         }
+        interrupt.raise_if_stopped();
         auto dist = empty_array<float>(n), u = empty_array<float>(n), v = empty_array<float>(n);
         auto prim = empty_array<std::int64_t>(n);
         auto pts = empty_points(n);
@@ -255,9 +281,13 @@ public:
         const InsideOptions o = inside_options(rule, threads, ray);
         const F32 p = as_points(points, "points");
         std::vector<PointSide> res(std::size_t(p.shape(0)));
-        py::gil_scoped_release nogil;
-        const std::shared_lock<RwLock> hold(lock_);
-        classify(p, o, res);
+        Interrupt interrupt;
+        {
+            py::gil_scoped_release nogil;
+            const std::shared_lock<RwLock> hold(lock_);
+            classify(p, o, res, interrupt);
+        }
+        interrupt.raise_if_stopped();
         return res;
     }
 
@@ -284,12 +314,14 @@ public:
         const auto n = std::size_t(p.shape(0));
         std::vector<ClosestPoint> near(n);
         std::vector<PointSide> res(n);
+        Interrupt interrupt;
         {
             py::gil_scoped_release nogil;
             const std::shared_lock<RwLock> hold(lock_);  // both answers for the same vertices
-            closest_points(p, kInf, o.threads, near);
-            classify(p, o, res);
+            closest_points(p, kInf, o.threads, near, interrupt);
+            classify(p, o, res, interrupt);
         }
+        interrupt.raise_if_stopped();
         auto out = empty_array<float>(n);
         for (std::size_t i = 0; i < n; ++i) {
             const float v = near[i].distance;
@@ -303,15 +335,21 @@ public:
         const std::vector<Ray> rays = make_rays(o, d, tmin, tmax);
         std::vector<CrossingCount> res(rays.size());
         const int nthreads = check_threads(threads);
+        Interrupt interrupt;
         {
             py::gil_scoped_release nogil;
             const std::shared_lock<RwLock> hold(lock_);
-            if (method_ == "brute") {
-                for (std::size_t i = 0; i < rays.size(); ++i) res[i] = brute_force_count_crossings(mesh_, rays[i]);
-            } else {
-                count_crossings(bvh2(), rays, res, nthreads);
-            }
+            const bool brute = method_ == "brute";
+            for_blocks(rays.size(), kPointBlock, interrupt, [&](std::size_t b, std::size_t e) {
+                if (brute) {
+                    for (std::size_t i = b; i < e; ++i) res[i] = brute_force_count_crossings(mesh_, rays[i]);
+                } else {
+                    count_crossings(bvh2(), std::span<const Ray>(rays.data() + b, e - b),
+                                    std::span<CrossingCount>(res.data() + b, e - b), nthreads);
+                }
+            });
         }
+        interrupt.raise_if_stopped();
         auto w = empty_array<std::int32_t>(res.size());
         auto c = empty_array<std::uint32_t>(res.size());
         for (std::size_t i = 0; i < res.size(); ++i) {
@@ -326,13 +364,17 @@ public:
         if (max_hits < 1) throw Error("max_hits must be >= 1");
         const std::vector<Ray> rays = make_rays(o, d, tmin, tmax);
         std::vector<AllHits> res(rays.size());
+        Interrupt interrupt;
         {
             py::gil_scoped_release nogil;
             const std::shared_lock<RwLock> hold(lock_);
-            for (std::size_t i = 0; i < rays.size(); ++i)
-                res[i] = method_ == "brute" ? brute_force_intersect_all(mesh_, rays[i], max_hits)
-                                            : intersect_all(bvh2(), rays[i], max_hits);
+            for_blocks(rays.size(), kPointBlock, interrupt, [&](std::size_t b, std::size_t e) {
+                for (std::size_t i = b; i < e; ++i)
+                    res[i] = method_ == "brute" ? brute_force_intersect_all(mesh_, rays[i], max_hits)
+                                                : intersect_all(bvh2(), rays[i], max_hits);
+            });
         }
+        interrupt.raise_if_stopped();
         std::size_t total = 0;
         for (const AllHits& a : res) total += a.hits.size();
         auto ray = empty_array<std::int64_t>(total), prim = empty_array<std::int64_t>(total);
@@ -428,8 +470,14 @@ PYBIND11_MODULE(_simdbvh, m) {
         "Array arguments (anything numpy.asarray reads): coordinates, bounds and transforms take real numbers of any "
         "integer or floating dtype (converted to float32); faces and geometry indices take integers of any integer "
         "dtype. Bool, complex, string and object arrays are refused (simdbvh.Error naming the argument), never "
-        "cast, and a conversion without memory for its copy raises simdbvh.Error naming the argument.";
+        "cast, and a conversion without memory for its copy raises simdbvh.Error naming the argument.\n\n"
+        "Interrupts: a query called from Python's main thread runs the signal handlers between its pieces (chunks "
+        "of 16,384 rays, 256 for brute force, 32,768 for scenes; sorted batches of 2^20 rays; for point queries and "
+        "crossing counts that would run over a second, blocks of about a quarter of a second), at most every 0.1 s, so Ctrl-C raises KeyboardInterrupt out of a long "
+        "query and its results are dropped. Python runs handlers on the main thread only: a query on another "
+        "thread runs to its end.";
     py::register_exception<Error>(m, "Error", PyExc_ValueError);
+    g_main_thread_ident = py::module_::import("threading").attr("main_thread")().attr("ident").cast<unsigned long>();
 
     py::class_<Mesh>(m, "Mesh", "A triangle mesh: float32 vertices (n, 3), int faces (m, 3).")
         .def(py::init(&mesh_from_arrays), py::arg("vertices"), py::arg("faces"),
@@ -470,7 +518,8 @@ PYBIND11_MODULE(_simdbvh, m) {
                     "Threads: every query releases the GIL, and queries on one BVH from many threads run side by "
                     "side. refit is serialised with them by the object: it waits for the running queries and holds "
                     "back new ones until it is done, so each query answers for the vertices before or after a refit, "
-                    "never a mix.")
+                    "never a mix. A query on Python's main thread stops for Ctrl-C (KeyboardInterrupt) between its pieces "
+                    "(see the module's docstring).")
         .def(py::init<Mesh, const std::string&, const std::optional<std::string>&>(), py::arg("mesh"),
              py::arg("method") = "bvh8", py::arg("isa") = py::none(),
              "method: 'bvh8' (default), 'bvh4' or 'bvh16' (SIMD wide trees), 'bvh2' or 'brute'; isa: 'scalar', 'avx2', 'avx512' or None (chosen by speed: the faster SIMD path measured once per process on the first batch of 8192 rays or more, or SIMDBVH_ISA when set). "

@@ -177,9 +177,11 @@ public:
         bool* phit = hit.mutable_data();
         float *pt = t.mutable_data(), *pu = u.mutable_data(), *pv = v.mutable_data(), *pn = nrm.mutable_data();
         std::int64_t *pprim = prim.mutable_data(), *pgeom = geom.mutable_data(), *pinst = inst.mutable_data();
+        const int nthreads = check_threads(threads);
+        Interrupt interrupt;
         {
             py::gil_scoped_release nogil;
-            for_ray_chunks<SceneHit, kSceneChunkRays>(rays, check_threads(threads),
+            for_ray_chunks<SceneHit, kSceneChunkRays>(rays, nthreads, interrupt,
                                      [&](std::span<const Ray> r, std::span<SceneHit> hs, std::size_t b) {
                 trace(r, hs, false);
                 for (std::size_t k = 0; k < hs.size(); ++k) {
@@ -207,6 +209,7 @@ public:
                 }
             });
         }
+        interrupt.raise_if_stopped();
         py::dict out("hit"_a = hit, "t"_a = t, "u"_a = u, "v"_a = v, "prim"_a = prim, "geom"_a = geom, "inst"_a = inst);
         if (normals) out["normals"] = nrm;
         return out;
@@ -217,14 +220,17 @@ public:
         const RayArrays rays(o, d, tmin, tmax);
         auto out = empty_array<bool>(rays.size());
         bool* p = out.mutable_data();
+        const int nthreads = check_threads(threads);
+        Interrupt interrupt;
         {
             py::gil_scoped_release nogil;
-            for_ray_chunks<SceneHit, kSceneChunkRays>(rays, check_threads(threads),
+            for_ray_chunks<SceneHit, kSceneChunkRays>(rays, nthreads, interrupt,
                                      [&](std::span<const Ray> r, std::span<SceneHit> hs, std::size_t b) {
                 trace(r, hs, true);
                 for (std::size_t k = 0; k < hs.size(); ++k) p[b + k] = hs[k].hit();
             });
         }
+        interrupt.raise_if_stopped();
         return out;
     }
 
@@ -310,7 +316,8 @@ void bind_scene(py::module_& m) {
                       "Several geometries (triangle meshes, sphere sets, box sets) placed by instances (a geometry "
                       "and a 3x4 affine transform, object -> world), plus unbounded planes; a bottom-level tree per "
                       "geometry and a top-level BVH2 over the instances. Every method returns the same bits as "
-                      "method='brute'.")
+                      "method='brute'. Queries release the GIL; on Python's main thread they stop for Ctrl-C "
+                      "(KeyboardInterrupt) between chunks of 32,768 rays.")
         .def(py::init([](const py::object& meshes, const py::object& spheres, const py::object& boxes,
                          const py::object& instances, const py::object& planes, const std::string& method,
                          const std::optional<std::string>& isa) {
