@@ -448,6 +448,56 @@ def test_a_scene_name_with_a_nul_byte_is_refused(tmp_path):
     assert simdbvh.load_scene(str(tmp_path / "s.json")).num_geometries == 1
 
 
+SPECIAL_FILES_SCRIPT = r"""
+import json, os, resource, sys
+import simdbvh
+vm = next(int(l.split()[1]) for l in open("/proc/self/status") if l.startswith("VmSize:")) * 1024
+resource.setrlimit(resource.RLIMIT_AS, (vm + (1500 << 20), resource.getrlimit(resource.RLIMIT_AS)[1]))
+out = {}
+for name in sys.argv[1:]:
+    for load in (simdbvh.load_scene, simdbvh.load) if not name.endswith(".json") else (simdbvh.load_scene,):
+        try:
+            load(name)
+            out[f"{load.__name__} {name}"] = "accepted"
+        except simdbvh.Error as e:
+            out[f"{load.__name__} {name}"] = str(e)
+        except MemoryError:
+            out[f"{load.__name__} {name}"] = "MemoryError"
+print(json.dumps(out))
+"""
+
+
+def test_special_files_named_as_scenes_are_refused(tmp_path):
+    """A FIFO, a folder and /dev/zero (through a symlink) named x.json or x.obj: simdbvh.Error at once, naming the
+    file (the JSON loader blocked on the FIFO, read /dev/zero until memory ran out and called a folder 'not valid
+    JSON'; the C++ loader reads regular files only). In a child process with a timeout and an address-space limit,
+    so a hang or a runaway read fails this test instead of stopping the run."""
+    import json
+    import sys
+    fifo, folder, zero, null = (tmp_path / n for n in ("fifo.json", "folder.json", "zero.json", "null.json"))
+    os.mkfifo(fifo)
+    folder.mkdir()
+    zero.symlink_to("/dev/zero")
+    null.symlink_to("/dev/null")
+    obj_fifo, obj_folder = tmp_path / "fifo.obj", tmp_path / "folder.ply"
+    os.mkfifo(obj_fifo)
+    obj_folder.mkdir()
+    names = [str(p) for p in (fifo, folder, zero, null, obj_fifo, obj_folder)]
+    try:
+        r = subprocess.run([sys.executable, "-c", SPECIAL_FILES_SCRIPT, *names], capture_output=True, text=True,
+                           timeout=30, env=dict(os.environ))
+    except subprocess.TimeoutExpired:
+        pytest.fail("a load hung on a FIFO or a device")
+    assert r.returncode == 0, r.stdout + r.stderr
+    got = json.loads(r.stdout)
+    assert len(got) == 8, got
+    for name in names:
+        for load in ("load_scene", "load") if not name.endswith(".json") else ("load_scene",):
+            msg = got[f"{load} {name}"]
+            want = "is a directory" if "folder" in name else "is not a regular file"
+            assert msg.startswith(f"{name}: {want}"), f"{load}({name!r}): {msg}"
+
+
 # --- the GIL -----------------------------------------------------------------------------------------
 
 
