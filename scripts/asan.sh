@@ -21,16 +21,18 @@
 # ASAN_SAMPLE (sixth, the default: every sixth test; fifth; quarter; third; half:
 # every second; all: the whole suite).
 # Sampling, not skipping: the instrumented suite took 462 s of CI's 2,360 s
-# (stop 27), 268 s for half of it (stop 29), so by default ctest runs every
-# third test (-I start,,3, which takes every third case of every test
-# binary), starting at the first, second or third by HEAD's commit count
-# modulo 3: consecutive commits on main ran the three thirds. Stop 33's CI
-# took 1,840 s (ASan 818 s, the sampled tests 199 s of it), so the default is
-# now a quarter (-I start,,4, by the commit count modulo 4). Stop 36's CI took
-# 1,664-1,780 s (ASan 732-850 s, 182 sampled tests), near the 30-minute cap, so
-# the default is now a fifth (-I start,,5): every test runs under ASan every
-# fifth commit on main. Stop 43's CI took 1,944 s on an Intel Xeon (tests 780 s,
-# ASan 855 s of which the fifth's tests 149 s): the default is now a sixth.
+# (2026-11-26, commit 988721b), 268 s for half of it (commit 43390b7), so by
+# default ctest ran every third test (-I start,,3, which takes every third
+# case of every test binary), starting at the first, second or third by
+# HEAD's commit count modulo 3: consecutive commits on main ran the three
+# thirds. CI then took 1,840 s (ASan 818 s, the sampled tests 199 s of it;
+# 2026-11-27, commit 5703ff3), so the default became a quarter (-I start,,4,
+# by the commit count modulo 4). CI then took 1,664-1,780 s (ASan 732-850 s,
+# 182 sampled tests; 2026-11-27, commit 6c0eb88), near the 30-minute cap, so
+# the default became a fifth (-I start,,5): every test ran under ASan every
+# fifth commit on main. CI then took 1,944 s on an Intel Xeon (tests 780 s,
+# ASan 855 s of which the fifth's tests 149 s; 2026-11-28, commit 5bae8c4):
+# the default is now a sixth.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 cd "$root"

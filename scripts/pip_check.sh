@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# The README's pip install, checked: a virtual environment with Debian's
-# site packages (numpy, pybind11, setuptools), `pip install --no-build-isolation
-# --no-index .` (offline), then `import simdbvh` from another folder and one
-# query against a known answer.
+# The pip install of docs/python.md#building-and-installing, checked: a
+# virtual environment with Debian's site packages (numpy, pybind11,
+# setuptools), `pip install --no-build-isolation --no-index .` (offline), then
+# `import simdbvh` from another folder and one query against a known answer.
 # SIMDBVH_CMAKE_BUILD_DIR (CI sets it to build/release, .ci/run): setup.py then
 # packages the simdbvh_python module of that already configured and built tree
 # (`cmake --build <dir> --target simdbvh_python`, a no-op when up to date)

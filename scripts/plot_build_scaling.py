@@ -1,5 +1,6 @@
 #!/usr/bin/python3
-"""Build charts from simdbvh_bench_build's Google Benchmark JSON (issue 12).
+"""Build charts from simdbvh_bench_build's Google Benchmark JSON, against the build targets
+(docs/results.md#the-targets).
 
 usage: plot_build_scaling.py OUT_DIR RUN.json [RUN.json ...]
 
@@ -9,11 +10,11 @@ build_scaling.png:
   1. build ms against triangles, log-log: ours (Bvh8::build(mesh)) and Embree 3
      medium, one thread and all cores, one line per scene family (soup-N,
      icosphere-N);
-  2. ns per triangle against triangles (the linearity issue 12 asks for);
+  2. ns per triangle against triangles (the linearity the build targets ask for);
   3. the time split of Bvh8::build(mesh): the BVH2 (the rest) and collapse + pack
      (the collapse_pack_ms counter), one thread, per scene of >= 100,000 triangles;
   4. peak resident bytes per triangle above the mesh during the build, ours and
-     Embree's, against issue 12's bound, same scenes (smaller builds stay within
+     Embree's, against the build targets' memory bound, same scenes (smaller builds stay within
      the pages already resident).
 It prints the same figures as a markdown table on stdout.
 """
@@ -107,7 +108,7 @@ def main(out_dir, files):
     fin = [rows[(s, "bvh8", "t1")].get("final_B_per_tri", float("nan")) for s in split]
     mesh = [rows[(s, "bvh8", "t1")].get("mesh_B_per_tri", float("nan")) for s in split]
     axes[3].bar([x + w for x in range(len(split))], [0.5 * m + 1.5 * f for m, f in zip(mesh, fin)], w,
-                label="issue 12's bound: 1.5 (mesh + BVH8) - mesh", color="0.7")
+                label="the target's bound: 1.5 (mesh + BVH8) - mesh", color="0.7")
     axes[3].set_xticks(range(len(split)), split, rotation=35, ha="right", fontsize=7)
     axes[3].set_ylabel("bytes per triangle")
     axes[3].set_title("Peak resident memory during the build, 1 thread")

@@ -141,8 +141,8 @@ void BM_Build(benchmark::State& st, Row row, std::string scene, bool all, std::s
     // Its peak resident memory above what was resident before it (the mesh and
     // anything earlier rows keep), as bytes per triangle: peak_B_per_tri. With
     // the mesh's own bytes (mesh_B_per_tri) and, for Bvh8::build(mesh), the
-    // finished tree's (final_B_per_tri), issue 12's bound reads
-    // mesh + peak <= 1.5 x (mesh + final).
+    // finished tree's (final_B_per_tri), the build target's memory bound
+    // (docs/results.md#the-targets) reads mesh + peak <= 1.5 x (mesh + final).
     static std::map<std::string, double> cold, peak;
     if (!cold.count(key)) {
         const bool reset = reset_peak();
@@ -165,7 +165,7 @@ void BM_Build(benchmark::State& st, Row row, std::string scene, bool all, std::s
     st.counters["threads"] = threads;
     st.counters["Mtri/s"] = benchmark::Counter(double(mesh->size()) * 1e-6, benchmark::Counter::kIsIterationInvariantRate);
     if (t.sah > 0) st.counters["sah"] = t.sah;
-    // Issue 12's split: the collapse + pack inside this Bvh8::build(mesh), and its share.
+    // The collapse + pack inside this Bvh8::build(mesh), and its share (the build target: at most 15%).
     if (t.collapse_ms > 0) {
         st.counters["collapse_pack_ms"] = t.collapse_ms;
         st.counters["collapse_pack_share"] = t.collapse_ms / t.ms;

@@ -1,4 +1,4 @@
-// Closest point queries on the BVH2 (issue 15): points/s for the two point
+// Closest point queries on the BVH2: points/s for the two point
 // sets of closest_point_fixture.h, one thread, Morton order.
 #include "closest_point_fixture.h"
 

@@ -1,4 +1,4 @@
-// Exact inside/outside on the BVH2 (issue 15): points/s for the point set of
+// Exact inside/outside on the BVH2: points/s for the point set of
 // inside_fixture.h (the wide trees' rows use the same).
 #include "inside_fixture.h"
 

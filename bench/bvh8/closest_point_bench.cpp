@@ -1,4 +1,4 @@
-// Closest point queries on the wide trees (issue 15): points/s on BVH4/8/16
+// Closest point queries on the wide trees: points/s on BVH4/8/16
 // for the two point sets of closest_point_fixture.h (the BVH2's rows use the
 // same), one thread, Morton order.
 #include "closest_point_fixture.h"

@@ -1,4 +1,4 @@
-// Exact inside/outside on the wide trees (issue 15): points/s on BVH4/8/16 for
+// Exact inside/outside on the wide trees: points/s on BVH4/8/16 for
 // the point set of inside_fixture.h (the BVH2's row uses the same).
 #include "inside_fixture.h"
 #include "simdbvh/bvh8/inside.h"

@@ -1,5 +1,5 @@
 #pragma once
-// Exact inside/outside rows (issue 15), shared by the BVH2's and the wide
+// Exact inside/outside rows, shared by the BVH2's and the wide
 // trees' benches: 100,000 query points uniform in the scene's bounds grown by
 // 10%, one +z ray per point, one thread, an untimed warm-up first.
 #include <benchmark/benchmark.h>

@@ -13,7 +13,8 @@
 // d, -0 negative, as the traversal's), then the Morton code of its origin's
 // cell of a 64^3 grid within that cell (origins outside the bounds are
 // clamped to them, non-finite coordinates go to cell 0). Measured against the
-// other keys tried in the README (stop 51).
+// other keys tried: docs/performance_log.md#trace-speed, "Sorted batches"
+// (2026-11-29, commit d5554f3).
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -32,7 +33,7 @@ namespace simdbvh::bvh8::detail {
 // 0.94-0.95x / 0.97-1.01x, 32,768 (211 per cell) 0.96x / 1.00-1.03x, 100,000
 // (645 per cell) 1.04-1.06x / 1.12-1.15x, 262,144 1.16-1.17x / 1.26-1.31x;
 // the terrain's (269 cells): 100,000 (372 per cell) 1.05-1.06x / 1.18-1.20x,
-// 262,144 1.19-1.24x / 1.29-1.36x (stop 51, AMD EPYC Zen 4). The denser the
+// 262,144 1.19-1.24x / 1.29-1.36x (2026-11-29, commit d5554f3, AMD EPYC Zen 4). The denser the
 // bounces, the more of each stream of 32 stays together.
 inline constexpr std::size_t kReorderMinRays = 16384;
 inline constexpr std::size_t kReorderRaysPerCell = 300;

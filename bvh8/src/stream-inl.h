@@ -22,8 +22,8 @@
 //   BVH16 11.1-11.5 -> 11.4-12.2, terrain level; the 1000 x 1000 camera,
 //   terrain 2-6% slower, dragon level.
 //
-// Streams replaced packets of 8 (stop 36: one child box against 8 rays per
-// batch), which they beat everywhere measured: in-process A/B, AVX-512, BVH8,
+// Streams replaced packets of 8 (commit bec07d3: one child box against 8 rays
+// per batch), which they beat everywhere measured: in-process A/B, AVX-512, BVH8,
 // Mrays/s, packets of 8 -> streams: 1000 x 1000 camera, closest hits, terrain
 // 13.5 -> 18.7, dragon 18.1 -> 24.1; any hits, terrain 10.7-11.2 -> 15.0-15.9,
 // dragon 13.9-14.7 -> 17.7-18.9; the benches' 100,000 primary rays (316 x 316

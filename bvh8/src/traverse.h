@@ -32,8 +32,9 @@ inline constexpr int kInFlight = SIMDBVH_BVH8_IN_FLIGHT;
 // later one (BM_Bvh8InFlight). Sphere trees: 1000 spheres 1.11-1.26x, 20000
 // (about 0.6 MB) 1.0-1.2x, 200000 (about 6 MB) 0.63-0.66x on incoherent rays.
 // (Those were measured with the RayState loop; one ray in flight now runs
-// trace_one, 0-15% faster again: README, stop 47.) Stop 48, trace_one, AMD
-// Zen 4 (L2 1 MiB, L3 32 MiB), AVX-512 BVH8, 262,144 rays, one thread, 1
+// trace_one, 0-15% faster again: docs/performance_log.md#trace-speed,
+// "Instructions per visit", commit d669a90.) With trace_one (2026-11-29,
+// commit 2838c6c), AMD Zen 4 (L2 1 MiB, L3 32 MiB), AVX-512 BVH8, 262,144 rays, one thread, 1
 // against 8 in flight: dragon-res3 (47,794 triangles, 2.8 MiB) primary
 // 1.00x, incoherent 1.06-1.10x, diffuse 1.20-1.26x; dragon-res2 (202,520,
 // 11.9 MiB) primary 0.94-1.18x, incoherent 0.64-0.66x, diffuse 1.03-1.06x.
@@ -57,7 +58,7 @@ struct Traversal {
     [[gnu::flatten]] static void occluded(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits,
                                           const TraceOptions& o);
     // The stream path (stream-inl.h), a function of its own (inlined into
-    // the loops above, stop 36's packet path ran 15% slower). False: not taken (scalar kernels,
+    // the loops above, the packets of 8 of commit bec07d3 ran 15% slower). False: not taken (scalar kernels,
     // TraceOptions::packets off, quantized nodes, an empty tree).
     [[gnu::flatten, gnu::noinline]] static bool intersect_streams(const BvhN<N>& bvh, std::span<const Ray> rays,
                                                                   std::span<Hit> hits, const TraceOptions& o);

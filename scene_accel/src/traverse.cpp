@@ -175,12 +175,13 @@ void collect_tree(const SceneBvhN<N>& s, std::span<const Ray> world, const std::
     // 16, 8 rays per vector against each box): the leaves a ray reaches
     // in the wide tree are exactly those whose grown boxes it hits (below),
     // with the same entries. When collect_boxes tested 8 rays per vector
-    // against every box (stop 41, ns per ray, tree walk -> boxes), it won on
-    // incoherent rays (instances-100 67 -> 53) and lost on a camera's, which
-    // the walk culls well (instances-100 31 -> 44), so coherent chunks took it
-    // only up to 32 leaves; since stop 54's unions it wins on both
-    // (instances-48 and -100 primary rays +4-9% over the walk, Mrays/s in
-    // the README's scene section).
+    // against every box (ns per ray, tree walk -> boxes, 2026-11-28, commit
+    // 348b986), it won on incoherent rays (instances-100 67 -> 53) and lost on
+    // a camera's, which the walk culls well (instances-100 31 -> 44), so
+    // coherent chunks took it only up to 32 leaves; under unions (commit
+    // 21301c7) it wins on both (instances-48 and -100 primary rays +4-9% over
+    // the walk, Mrays/s: docs/performance_log.md#scenes, "Rounds by geometry
+    // and the top level under unions", commit ca13fea).
     std::vector<std::uint32_t>& leaf_ids = x.leaf_ids;
     leaf_ids.clear();
     for (const std::uint32_t c : w.children)
@@ -424,7 +425,7 @@ void trace_span(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Scen
     // groups a chunk's rays by geometry, and a bottom level traces each group
     // as one batch, so larger chunks give larger groups (fewer calls, more
     // rays in flight per call). Grouped by instance (one call per instance
-    // and round, as before stop 54), rays per group (incoherent rays, 2048 ->
+    // and round, as before commit f3ad2f6), rays per group (incoherent rays, 2048 ->
     // 32768 rays per chunk): instances-100 5.1 -> 48, instances-1000 1.6 ->
     // 8.3; by geometry, every ray of a round in one call (their instances'
     // object spaces side by side): Mrays/s (AMD Zen 4, one pinned thread,

@@ -1,5 +1,5 @@
-// The bad-input rules (docs/accuracy.md, "Bad input and robustness"; the
-// README's "Bad input") through the simdbvh executable (SIMDBVH_CLI): each
+// The bad-input rules (docs/accuracy.md, "Bad input and robustness";
+// docs/cli.md#bad-input) through the simdbvh executable (SIMDBVH_CLI): each
 // row's message and exit status. The loaders' own messages are checked in
 // tests/scene (load_errors_test); here: what a user of the CLI sees.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Issue 10 through the CLI: a bad SIMDBVH_ISA has one "simdbvh: " prefix,
+// Bad input through the CLI (docs/cli.md#bad-input): a bad SIMDBVH_ISA has one "simdbvh: " prefix,
 // /dev/zero is not a ray file, out of memory names the mesh file.
 #include <gtest/gtest.h>
 #include <zlib.h>

@@ -1,4 +1,4 @@
-// Issue 10 item 4: rays with tiny or huge (finite, non-zero) directions. 1/d
+// Rays with tiny or huge (finite, non-zero) directions. 1/d
 // overflowed for |d| < 2^-128 while the slab distances stayed finite, so the
 // BVHs culled boxes the brute force's triangles lay in; huge directions picked
 // other triangles. Every path must agree with the brute force bit for bit at
@@ -92,7 +92,7 @@ std::size_t count_hits(const std::vector<Hit>& hits) {
     return n;
 }
 
-// The issue's scales: 1e-37 and 1e-38 lost hits in the BVHs, 3.4e38 changed
+// The scales that failed: 1e-37 and 1e-38 lost hits in the BVHs, 3.4e38 changed
 // the BVH2's triangle, and everything in between must hold too.
 TEST(DirectionScale, EveryPathAgreesWithBruteForceAtEveryScale) {
     const Fixture& f = fixture();

@@ -1,5 +1,5 @@
-// Issue 10 item 1 through the CLI: `simdbvh info` on finite meshes whose boxes
-// overflow float areas (the issue's crash.obj, coordinates up to +-3e38)
+// Through the CLI: `simdbvh info` on finite meshes whose boxes overflow float
+// areas (crash.obj, a triangle spanning 2e19, and coordinates up to +-3e38)
 // exits 0 with finite SAH costs (it used to die with SIGSEGV, exit 139).
 #include <gtest/gtest.h>
 

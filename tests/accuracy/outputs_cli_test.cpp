@@ -1,9 +1,9 @@
-// What the simdbvh executable (SIMDBVH_CLI) does to its outputs (issue 10):
-// symlinks, modes, hard links and FIFOs survive a write; outputs are checked
-// before the work, never equal an input or each other, and are written all or
-// nothing; killed runs and stale temporary names leave nothing behind; sizes
-// too large for memory and empty diffuse sets are clear errors; --version and
-// <command> --help.
+// What the simdbvh executable (SIMDBVH_CLI) does to its outputs
+// (docs/cli.md#bad-input): symlinks, modes, hard links and FIFOs survive a
+// write; outputs are checked before the work, never equal an input or each
+// other, and are written all or nothing; killed runs and stale temporary names
+// leave nothing behind; sizes too large for memory and empty diffuse sets are
+// clear errors; --version and <command> --help.
 #include <gtest/gtest.h>
 
 #include <fcntl.h>
@@ -53,7 +53,7 @@ protected:
     test::TempDir dir_;
 };
 
-// Item 2: --out replaces whatever is at the path.
+// --out replaces whatever is at the path.
 TEST_F(Outputs, SymlinkStaysASymlinkAndItsTargetIsWritten) {
     test::write_text(dir_ / "real.bin", "old");
     fs::create_symlink("real.bin", dir_ / "link.bin");
@@ -127,7 +127,7 @@ TEST_F(Outputs, BadOutIsFoundBeforeTheWork) {
     EXPECT_NE(g.output.find("does not exist"), std::string::npos) << g.output;
 }
 
-// Item 5: SIGTERM while the output's temporary file is being written leaves neither it nor the output.
+// SIGTERM while the output's temporary file is being written leaves neither it nor the output.
 TEST_F(Outputs, SigtermRemovesTheTemporaryFile) {
     const char* cli = std::getenv("SIMDBVH_CLI");
     const std::string out = p("big.bin");
@@ -184,7 +184,7 @@ TEST_F(Outputs, StaleTemporaryNameDoesNotBlock) {
     EXPECT_EQ(temps().size(), 1u);
 }
 
-// Item 9: sizes the options allow but memory does not are named, not a bare std::bad_alloc.
+// Sizes the options allow but memory does not are named, not a bare std::bad_alloc.
 TEST_F(Outputs, TooManyRaysNamesTheOption) {
     SIMDBVH_SKIP_ADDRESS_LIMIT_UNDER_SANITIZER();
     const CliRun r = run_cli("gen-rays --scene icosphere-2 --kind incoherent --count 2147483648 --out " + p("r.bin"),
@@ -206,7 +206,7 @@ TEST_F(Outputs, TooLargeImageNamesTheOptions) {
     EXPECT_FALSE(fs::exists(dir_ / "i.png"));
 }
 
-// Item 10: an output is never an input or another output; several outputs are all or nothing.
+// An output is never an input or another output; several outputs are all or nothing.
 TEST_F(Outputs, MeshOutAndOutMustDiffer) {
     const CliRun r = run_cli("gen-rays --kind watertight --mesh-out " + p("x") + " --out " + p("x"));
     EXPECT_EQ(r.status, 2) << r.output;
@@ -237,7 +237,7 @@ TEST_F(Outputs, TraceRefusesToReplaceItsInputs) {
     EXPECT_EQ(test::read_bytes(dir_ / "tri.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
 }
 
-// Item 11: diffuse rays need primary hits; an empty mesh has none, and 0 of N rays is an error.
+// Diffuse rays need primary hits; an empty mesh has none, and 0 of N rays is an error.
 TEST_F(Outputs, DiffuseRaysOnAnEmptyMeshAreAnError) {
     test::write_text(dir_ / "empty.off", "OFF\n0 0 0\n");
     const CliRun r = run_cli("gen-rays --scene " + p("empty.off") + " --kind diffuse --count 100 --out " + p("d.bin"));
@@ -247,7 +247,7 @@ TEST_F(Outputs, DiffuseRaysOnAnEmptyMeshAreAnError) {
     EXPECT_FALSE(fs::exists(dir_ / "d.bin"));
 }
 
-// Item 15: --version and every command's --help / -h on stdout, exit 0.
+// --version and every command's --help / -h on stdout, exit 0.
 std::pair<int, std::string> run_stdout(const std::string& args) {
     const std::string cmd = std::string(std::getenv("SIMDBVH_CLI")) + " " + args + " 2>/dev/null";
     FILE* f = popen(cmd.c_str(), "r");

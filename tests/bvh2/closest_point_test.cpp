@@ -1,4 +1,4 @@
-// Closest point queries (issue 15): the per-triangle Voronoi regions against
+// Closest point queries: the per-triangle Voronoi regions against
 // hand-computed answers, the unit cube against its analytic distance, and the
 // BVH2 bit-identical to the brute force (ties to the lower id, max_distance,
 // threads, bad points).

@@ -1,4 +1,4 @@
-// Crossing counts and all hits (issue 15): every crossing of a closed mesh is
+// Crossing counts and all hits: every crossing of a closed mesh is
 // counted exactly once, including rays aimed exactly at vertices and along
 // edges, on every ray; the BVH2 equals the brute force.
 #include <gtest/gtest.h>

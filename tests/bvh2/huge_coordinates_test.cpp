@@ -1,4 +1,4 @@
-// Issue 10 item 1: finite meshes whose boxes overflow float areas (a triangle
+// Finite meshes whose boxes overflow float areas (a triangle
 // spanning 2e19, coordinates up to +-3e38) build with every builder, keep a
 // finite SAH cost, let the SAH separate the huge triangle from the small ones,
 // and trace bit for bit like brute force.

@@ -1,4 +1,4 @@
-// Exact inside/outside (issue 15): the predicates against 128-bit integer
+// Exact inside/outside: the predicates against 128-bit integer
 // arithmetic, mesh closure, and points whose +z rays run exactly through
 // vertices, along edges and along the diagonals of a cube and an octahedron,
 // against answers derived by hand (docs/exact_crossings.md).

@@ -1,4 +1,4 @@
-// Issue 10 item 1: the BVH8 of a finite mesh whose boxes overflow float areas
+// The BVH8 of a finite mesh whose boxes overflow float areas
 // (a triangle spanning 2e19, coordinates up to +-3e38) builds with every
 // builder and collapse (the SAH collapse used to read from[n][-1] and recurse
 // until the stack overflowed), keeps a finite cost, and traces bit for bit

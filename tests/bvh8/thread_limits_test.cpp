@@ -1,4 +1,4 @@
-// Issue 10 item 3: a worker thread that cannot start (a process limit,
+// A worker thread that cannot start (a process limit,
 // RLIMIT_NPROC, or an address-space limit, RLIMIT_AS) never terminates the
 // process: parallel_for, the threaded BVH2 build (std::async subtrees and
 // binning) and threaded BVH2/BVH8 traces finish with the threads that started

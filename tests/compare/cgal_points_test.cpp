@@ -1,4 +1,4 @@
-// The exact inside test and the closest point against CGAL (issue 15):
+// The exact inside test and the closest point against CGAL:
 // Side_of_triangle_mesh and an AABB tree with exact predicates, on procedural
 // closed meshes and the cached real scenes, for random points, points on
 // dyadic grids (rays through vertices and along edges), the mesh's vertices

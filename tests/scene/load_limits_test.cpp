@@ -1,6 +1,7 @@
-// Issue 10 (items 6-8, 11, 12): reads bounded by what the header declares,
-// non-regular files refused, gzip trailing data, counts checked before
-// reserving, 32-bit index overflow, clear messages (BOM, short faces, 1e300).
+// The loaders' limits (docs/cli.md#bad-input): reads bounded by what the
+// header declares, non-regular files refused, gzip trailing data, counts
+// checked before reserving, 32-bit index overflow, clear messages (BOM, short
+// faces, 1e300).
 #include <gtest/gtest.h>
 #include <unistd.h>
 #include <zlib.h>
@@ -78,7 +79,7 @@ std::string binary_ply_head(const std::string& coord, std::uint64_t faces) {
 
 }  // namespace
 
-// Item 6: a zero-filled .ply.gz (1 GiB decompressed) fails at its first line, fast.
+// A zero-filled .ply.gz (1 GiB decompressed) fails at its first line, fast.
 TEST(LoadLimits, ZeroFilledPlyGzFailsFastAtTheMagic) {
     test::TempDir dir;
     const auto file = dir / "zeros.ply.gz";
@@ -89,7 +90,7 @@ TEST(LoadLimits, ZeroFilledPlyGzFailsFastAtTheMagic) {
     EXPECT_NE(msg.find("not a PLY file"), std::string::npos) << msg;
 }
 
-// Item 6: the same for every format (text formats: NUL; binary STL: its header's size).
+// The same for every format (text formats: NUL; binary STL: its header's size).
 TEST(LoadLimits, ZeroFilledBombsOfEveryFormatFailFast) {
     test::TempDir dir;
     for (const char* name : {"z.obj.gz", "z.off.gz", "z.stl.gz"}) {
@@ -100,7 +101,7 @@ TEST(LoadLimits, ZeroFilledBombsOfEveryFormatFailFast) {
     }
 }
 
-// Item 6: a valid binary PLY header followed by far more data than its counts allow.
+// A valid binary PLY header followed by far more data than its counts allow.
 TEST(LoadLimits, DataBeyondWhatTheHeaderDeclaresStopsEarly) {
     test::TempDir dir;
     const auto file = dir / "big.ply.gz";
@@ -110,7 +111,7 @@ TEST(LoadLimits, DataBeyondWhatTheHeaderDeclaresStopsEarly) {
     EXPECT_NE(msg.find("header's element counts allow"), std::string::npos) << msg;
 }
 
-// Item 6: devices are refused (a symlink to /dev/zero read forever); a symlink to a file is fine.
+// Devices are refused (a symlink to /dev/zero read forever); a symlink to a file is fine.
 TEST(LoadLimits, NonRegularFilesAreRefusedSymlinksToFilesAreFine) {
     test::TempDir dir;
     std::filesystem::create_symlink("/dev/zero", dir / "zero.ply");
@@ -122,7 +123,7 @@ TEST(LoadLimits, NonRegularFilesAreRefusedSymlinksToFilesAreFine) {
     EXPECT_EQ(load_mesh(dir / "link.ply").size(), 1u);
 }
 
-// Item 11: garbage after the gzip stream is an error; concatenated members are legal gzip.
+// Garbage after the gzip stream is an error; concatenated members are legal gzip.
 TEST(LoadLimits, GzipTrailingDataRejectedMembersAccepted) {
     test::TempDir dir;
     const std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
@@ -134,7 +135,7 @@ TEST(LoadLimits, GzipTrailingDataRejectedMembersAccepted) {
     EXPECT_EQ(load_mesh(dir / "two.obj.gz").size(), 2u);
 }
 
-// Item 7: a face needs at least 3 indices, so 1e6 faces cannot fit in ~1 MB (was: 1 byte each, then reserve).
+// A face needs at least 3 indices, so 1e6 faces cannot fit in ~1 MB (was: 1 byte each, then reserve).
 TEST(LoadLimits, PlyFaceCountCheckedWithThreeIndicesPerFace) {
     test::TempDir dir;
     std::string ply = binary_ply_head("float", 1000000) + std::string(36 + 1000000, '\0');
@@ -143,7 +144,7 @@ TEST(LoadLimits, PlyFaceCountCheckedWithThreeIndicesPerFace) {
     EXPECT_NE(msg.find("count 1000000 needs at least 13 bytes"), std::string::npos) << msg;
 }
 
-// Item 8: 3 n vertex indices must fit uint32; rejected before allocating.
+// 3 n vertex indices must fit uint32; rejected before allocating.
 TEST(LoadLimits, SoupTooLargeForIndicesRejectedBeforeAllocating) {
     const std::size_t n = 0xFFFFFFFFull / 3 + 1;
     try {
@@ -167,7 +168,7 @@ TEST(LoadLimits, BinaryStlTooLargeForIndicesRejectedFromTheHeader) {
     EXPECT_NE(msg.find("32-bit"), std::string::npos) << msg;
 }
 
-// Item 11: /dev/zero as a ray file was 0 rays.
+// /dev/zero as a ray file is refused (it was read as 0 rays).
 TEST(LoadLimits, RayFileMustBeARegularFile) {
     try {
         simdbvh::scene::read_rays("/dev/zero");
@@ -177,7 +178,7 @@ TEST(LoadLimits, RayFileMustBeARegularFile) {
     }
 }
 
-// Item 12: a UTF-8 BOM is accepted on PLY and ASCII STL, as on OBJ and OFF.
+// A UTF-8 BOM is accepted on PLY and ASCII STL, as on OBJ and OFF.
 TEST(LoadLimits, Utf8BomAcceptedOnPlyAndAsciiStl) {
     test::TempDir dir;
     const std::string bom = "\xEF\xBB\xBF";

@@ -586,10 +586,11 @@ TEST(SceneBuild, ChildCornersAreNoLargerAndStatsCount) {
     EXPECT_EQ(s.stats().primitives, 320u + 40u + 41u);
 }
 
-// Issue 14's memory bound: at most 128 bytes per instance beyond the bottom
-// levels (here 1,000 instances of one icosphere). The top BVH2's leaves of one
-// instance carry the instance id in `first` (no id array), and top_instance()
-// names every instance exactly once over the leaves.
+// The scene targets' memory bound (docs/results.md#the-targets): at most 128
+// bytes per instance beyond the bottom levels (here 1,000 instances of one
+// icosphere). The top BVH2's leaves of one instance carry the instance id in
+// `first` (no id array), and top_instance() names every instance exactly once
+// over the leaves.
 TEST(SceneBuild, AtMost128BytesPerInstance) {
     const SceneDesc d = scene::instances_scene(scene::icosphere(2), 1000);
     const SceneBvhN<8> s = SceneBvhN<8>::build(d);

@@ -1,5 +1,5 @@
 #pragma once
-// Finite meshes whose boxes overflow float areas (issue 10 item 1), the rays
+// Finite meshes whose boxes overflow float areas, the rays
 // that probe them, and an OBJ writer for the CLI tests.
 #include <filesystem>
 #include <vector>
@@ -9,8 +9,9 @@
 
 namespace test {
 
-// The issue's repro: one triangle (-1e19,-1e19,0) (1e19,-1e19,0) (0,1e19,0)
-// (prim 0) and 8 small triangles near the origin at z = 1 (prims 1..8).
+// The mesh that crashed the SAH collapse (SIGSEGV): one triangle
+// (-1e19,-1e19,0) (1e19,-1e19,0) (0,1e19,0) (prim 0) and 8 small triangles
+// near the origin at z = 1 (prims 1..8).
 simdbvh::Mesh huge_triangle_mesh();
 // Coordinates up to +-3e38 (box extents beyond FLT_MAX): clusters of
 // triangles of size 1e37 at the 8 corners plus the huge_triangle_mesh().

@@ -3,7 +3,7 @@
 // blocks in index order, and every ray tested against every block with the
 // 8-wide kernels of the chosen ISA (kernels/batch.h), split over threads by
 // rays. For meshes and ray counts too small for a tree to pay back its build
-// (issue 16). Closest hits are bit-identical to brute_force_intersect (bvh2.h)
+// (Accel's automatic choice, accel.h). Closest hits are bit-identical to brute_force_intersect (bvh2.h)
 // and to every tree: same watertight test, same tie rule (equal t: lower id).
 // Any hit: the first hit in block and lane order (a genuine hit in [tmin, tmax]).
 #include <span>

@@ -1,9 +1,10 @@
 #pragma once
-// The cost model behind Accel's automatic choice (issue 16): the time to
+// The cost model behind Accel's automatic choice (--method auto): the time to
 // answer a batch of rays with one method, build included, predicted from the
 // triangle count and the ray count by a small formula per method whose
 // coefficients were fitted to `simdbvh bench --sweep` on one machine, one set
-// per ISA (src/cost_model_fit.cpp holds them and names the command).
+// per ISA (src/cost_model_fit.cpp holds them and names the command; the sweep:
+// docs/results.md#where-brute-force-the-bvh2-and-the-wide-trees-win---method-auto).
 //
 //   time_ms = build_ms * (1 - build_par + build_par / build_threads) + call_ms
 //           + rays * (ray0 + ray1 * f(n)) / threads + rays * ray2 * h(n)

@@ -1,5 +1,5 @@
 #pragma once
-// CGAL references for the point queries (issue 15), when the build found CGAL
+// CGAL references for the point queries, when the build found CGAL
 // (Debian libcgal-dev): Side_of_triangle_mesh for inside/outside and an AABB
 // tree for the closest point, both with the exact-predicates kernel
 // (Exact_predicates_inexact_constructions_kernel: exact predicates, distances

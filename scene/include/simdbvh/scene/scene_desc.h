@@ -1,6 +1,6 @@
 #pragma once
 // Scene descriptions (simdbvh/scene_accel/scene.h) from names and files: the
-// built-in scenes and the strict JSON scene format (README, "Scene files").
+// built-in scenes and the strict JSON scene format (docs/scenes.md#scene-files-json).
 #include <cstdint>
 #include <filesystem>
 #include <optional>
