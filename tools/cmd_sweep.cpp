@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // simdbvh bench --sweep: where brute force, the BVH2 and the wide trees each
-// win, the cost model fitted to it and auto's check (issue 16).
+// win, the cost model fitted to it and auto's check.
 // Config (here) -> run (sweep_run.cpp, sweep_fit.cpp) -> report (sweep_report.cpp).
 #include <algorithm>
 

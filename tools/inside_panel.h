@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// simdbvh accuracy, the inside/outside panel (issue 15): "where methods
+// simdbvh accuracy, the inside/outside panel (docs/open3d.md): "where methods
 // fail". Closed meshes and point families built to break parity counting
 // (rays through vertices and along edges of an integer-coordinate mesh,
 // points just off the surface, uniform points), each point's side from CGAL's

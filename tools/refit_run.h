@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// simdbvh bench, the refit sequence (issue 12): the bench scene twisted a
+// simdbvh bench, the refit sequence (docs/results.md, "Refit"): the bench scene twisted a
 // little more each frame; per frame, our BVH8 refit against a BVH8 rebuild and
 // Embree's refit (RTC_BUILD_QUALITY_REFIT) against Embree's rebuild (medium),
 // in ms and in Mrays/s after each, one thread (our refit also on all cores).

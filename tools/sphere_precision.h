@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// The sphere precision study (issue 14): how far from the surface the hit point
+// The sphere precision study (docs/results.md, "Scenes"): how far from the surface the hit point
 // of a ray aimed at a unit sphere lands, and how often the ray misses, as the
 // sphere gets further from the ray origin (in radii), for the textbook float
 // quadratic, the library's hit_sphere (Haines et al. 2019) and Embree's

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// simdbvh bench --sweep (issue 16): time to answer (build + trace) for every
+// simdbvh bench --sweep (the data behind --method auto's cost model): time to answer (build + trace) for every
 // method over a grid of scene sizes and ray counts, one thread and all cores,
 // primary and incoherent rays; the cost model fitted to the grid's fit scenes
 // and checked on held-out points (sweep_fit.cpp); the report in

@@ -59,7 +59,7 @@ public:
             isa_auto_ = true;
         }
         py::gil_scoped_release nogil;
-        // The wide trees build straight from the mesh (Bvh8::build(mesh), the build issue 12 measures), not from a
+        // The wide trees build straight from the mesh (Bvh8::build(mesh), the build docs/results.md measures), not from a
         // BVH2 built first and kept: docs/open3d.md has the dragon's build through this module both ways.
         if (method_ == "bvh4") bvh4_ = Bvh4::build(mesh_);
         else if (method_ == "bvh8") bvh8_ = Bvh8::build(mesh_);

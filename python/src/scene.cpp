@@ -380,8 +380,8 @@ void bind_scene(py::module_& m) {
         }
         return Scene(std::move(desc), method, isa);
     }, py::arg("name"), py::arg("method") = "bvh8", py::arg("isa") = py::none(),
-          "A scene from a built-in name (room, spheres-N, instances-N: N dragons), a .json scene file (README, "
-          "'Scene files') or any mesh simdbvh.load() takes (one geometry, one identity instance). Raises "
+          "A scene from a built-in name (room, spheres-N, instances-N: N dragons), a .json scene file (docs/scenes.md, "
+          "'Scene files (JSON)') or any mesh simdbvh.load() takes (one geometry, one identity instance). Raises "
           "simdbvh.Error for a missing file, bad JSON, an uncached mesh, a mesh with no triangles or a name containing a "
           "NUL byte.");
 }
