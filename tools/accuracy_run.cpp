@@ -140,7 +140,11 @@ std::vector<Variant> accuracy_variants(bool with_embree) {
 }
 
 AccuracyResults run_accuracy(const AccuracyConfig& c) {
-    const std::vector<Variant> methods = accuracy_variants(c.embree);
+    std::vector<Variant> methods = accuracy_variants(c.embree);
+    if (!c.only.empty())
+        std::erase_if(methods, [&](const Variant& v) {
+            return std::find(c.only.begin(), c.only.end(), v.name) == c.only.end();
+        });
     const double min_seconds = c.quick ? 0.01 : 0.05;
     AccuracyResults out;
     for (scene::Family fam : c.which) {

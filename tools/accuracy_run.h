@@ -22,6 +22,9 @@ struct AccuracyConfig {
     int threads = 2;  // the double reference only; traces run on one thread
     scene::FamilyOptions families;
     std::vector<scene::Family> which;
+    // Only these variants (accuracy_variants names), in that list's order; empty: every variant. The first
+    // variant run is the default path the others are compared with bit for bit, so keep it first.
+    std::vector<std::string> only;
     std::string json_file, report_dir;  // empty: not written
     std::string command;                // the command line, for the report
 };

@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <sstream>
 
 #include "bench_pictures.h"
@@ -50,6 +51,10 @@ Json json_record(const Record& r) {
                   {"t_error", r.tally.t_error}}}};
 }
 
+std::uint64_t hard_disagreements(const compare::Tally& t) {
+    return t.leak + t.false_hit + t.wrong_triangle + t.t_error;
+}
+
 Json bench_json(const BenchConfig& c, const Mesh& mesh, const BenchResults& res) {
     Json j{{"scene", c.scene},
            {"triangles", mesh.size()},
@@ -67,6 +72,30 @@ Json bench_json(const BenchConfig& c, const Mesh& mesh, const BenchResults& res)
     for (const auto& [s, n] : res.width_scene_sizes) j["width_scenes"].push_back({{"scene", s}, {"triangles", n}});
     for (const Record& r : res.widths) j["widths"].push_back(json_record(r));
     j["refit"] = refit_json(res.refit);
+    // Per method: the hard families' disagreements (ties at equal t excluded, as in the agreement table).
+    Json hard{{"families", Json::array()}, {"methods", Json::array()}};
+    for (scene::Family f : kHardFamilies) hard["families"].push_back(std::string(scene::name(f)));
+    std::map<std::string, Json> per_method;
+    std::vector<std::string> order;
+    for (const auto& [fam, rows] : res.hard)
+        for (const AccuracyRow& a : rows) {
+            if (!per_method.count(a.method)) {
+                order.push_back(a.method);
+                const std::string lab = bench_label_of(a.method);
+                per_method[a.method] = Json{{"method", a.method},
+                                            {"bench_label", lab.empty() ? Json() : Json(lab)},
+                                            {"rays", 0},
+                                            {"disagreements", 0},
+                                            {"per_family", Json::object()}};
+            }
+            Json& m = per_method[a.method];
+            const std::uint64_t d = hard_disagreements(a.tally);
+            m["rays"] = m["rays"].get<std::uint64_t>() + a.rays;
+            m["disagreements"] = m["disagreements"].get<std::uint64_t>() + d;
+            m["per_family"][fam] = Json{{"rays", a.rays}, {"disagreements", d}};
+        }
+    for (const std::string& name : order) hard["methods"].push_back(per_method[name]);
+    j["hard_families"] = hard;
     return j;
 }
 
@@ -117,6 +146,9 @@ void bench_markdown(const BenchConfig& c, const Mesh& mesh, const BenchResults& 
           "classified against the double-precision reference.\n\n";
     if (charts)
         md << "## Charts\n\n![Mrays/s](mrays.png)\n\n![speed against accuracy](speed_accuracy.png)\n\n"
+              "Speed against accuracy: the x axis counts disagreements with the double reference on the hard "
+              "accuracy families (`simdbvh accuracy --quick --family watertight,grazing,offsets,direction-scale`; "
+              "ties excluded), where the bench's own rays agree everywhere.\n\n"
               "![BVH8 over BVH2](speedup.png)\n\n![build](build.png)\n\n";
     md << "## Pictures (" << p.width << "x" << p.height << " primary rays)\n\n"
        << "| BVH8 render | BVH2 nodes visited | BVH8 nodes visited |\n|---|---|---|\n"
@@ -145,6 +177,31 @@ std::string results_block(const BenchConfig& c, const Mesh& mesh, const BenchRes
     block << "![render](" << link << "render_bvh8.png) ![BVH2 nodes](" << link << "heat_bvh2.png) "
           << "![BVH8 nodes](" << link << "heat_bvh8.png)\n";
     return block.str();
+}
+
+// The headline: per ray kind and query, one thread, our fastest row against Embree medium.
+void print_summary(const BenchConfig& c, const BenchResults& res) {
+    std::cout << "\nsummary (" << c.scene << ", 1 thread, Mrays/s):\n";
+    for (const char* query : {"closest", "any"})
+        for (const char* kind : {"primary", "incoherent", "diffuse"}) {
+            const Record* best = nullptr;
+            const Record* embree = nullptr;
+            for (const Record& r : res.records) {
+                if (r.threads != 1 || r.ray_kind != kind || r.query != query) continue;
+                if (label(r) == "embree/medium/default") embree = &r;
+                else if (r.method != "brute" && r.method.rfind("embree", 0) != 0 &&
+                         (!best || r.mrays_per_s > best->mrays_per_s))
+                    best = &r;
+            }
+            if (!best) continue;
+            std::cout << "  " << query << " " << kind << ": " << label(*best) << " " << fmt("%.1f", best->mrays_per_s);
+            if (embree && embree->mrays_per_s > 0)
+                std::cout << ", embree " << fmt("%.1f", embree->mrays_per_s) << " (x"
+                          << fmt("%.2f", best->mrays_per_s / embree->mrays_per_s) << ")";
+            std::cout << "\n";
+        }
+    if (!c.report_dir.empty()) std::cout << "report: " << c.report_dir << "/report.md\n";
+    else std::cout << "report: " << c.json_file << " (--no-report)\n";
 }
 
 const char* kCharts[] = {"mrays.png", "speed_accuracy.png", "speedup.png", "build.png", "widths.png", "refit.png"};
@@ -195,6 +252,7 @@ void report_bench(const BenchConfig& c, const Mesh& mesh, const BenchResults& re
     std::cout << "\nwrote " << c.json_file << "\n";
     if (!c.report_dir.empty()) std::cout << "wrote " << c.report_dir << "/report.md\n";
     for (const ResultsDoc& d : c.docs) std::cout << "wrote the results block of " << d.file.string() << "\n";
+    print_summary(c, res);
 }
 
 }  // namespace simdbvh::cli

@@ -241,3 +241,32 @@ BenchResults run_bench(const BenchConfig& c, const Mesh& mesh, const std::vector
 }
 
 }  // namespace simdbvh::cli
+
+namespace simdbvh::cli {
+
+std::map<std::string, std::vector<AccuracyRow>> run_hard_families(int threads) {
+    AccuracyConfig ac;
+    ac.quick = true;
+    ac.inside = false;
+    ac.open3d = false;
+    ac.threads = threads;
+    ac.families.quick = true;
+    ac.which.assign(std::begin(kHardFamilies), std::end(kHardFamilies));
+    // Our default paths (the bvh2 first: the bit-for-bit baseline) and Embree's two.
+    ac.only.push_back("bvh2/watertight/conservative");
+    for (Isa isa : supported_isas()) ac.only.push_back("bvh8/" + std::string(name(isa)) + "/watertight/conservative");
+    ac.only.push_back("embree/default");
+    ac.only.push_back("embree/robust");
+    return run_accuracy(ac).families;
+}
+
+std::string bench_label_of(const std::string& variant) {
+    const std::string tail = "/watertight/conservative";
+    if (variant.size() > tail.size() && variant.ends_with(tail)) return variant.substr(0, variant.size() - tail.size());
+    // accuracy_variants' Embree rows use the default (medium) build quality.
+    if (variant == "embree/default") return "embree/medium/default";
+    if (variant == "embree/robust") return "embree/medium/robust";
+    return {};
+}
+
+}  // namespace simdbvh::cli

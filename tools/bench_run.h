@@ -3,10 +3,12 @@
 // simdbvh bench, the run: every method on one scene (and the tree methods on
 // the width scenes): builds cold and warm, Mrays/s per ray kind, query and
 // thread count, traversal counters, agreement with brute force on a sample.
+#include <map>
 #include <string>
 #include <vector>
 
 #include "accuracy.h"
+#include "accuracy_run.h"
 #include "refit_run.h"
 #include "results_doc.h"
 #include "simdbvh/mesh.h"
@@ -47,6 +49,9 @@ struct BenchResults {
     std::vector<Record> widths;   // bvh2 and bvhN per ISA, one thread, on c.scene and every width scene
     std::vector<std::pair<std::string, std::size_t>> width_scene_sizes;  // (scene, triangles)
     std::vector<RefitFrame> refit;  // the refit sequence on c.scene
+    // The hard accuracy families (quick cases, `simdbvh accuracy --quick --family ...`) for our default
+    // paths and Embree's: family -> one row per method, summed over the family's cases.
+    std::map<std::string, std::vector<AccuracyRow>> hard;
 };
 
 struct NamedMesh {
@@ -55,6 +60,15 @@ struct NamedMesh {
 };
 
 // `mesh` is c.scene; `width_meshes` the width scenes (loaded up front, so a bad one fails before the run).
+// The families whose disagreements the speed-against-accuracy chart shows (the bench's own rays agree).
+inline constexpr scene::Family kHardFamilies[] = {scene::Family::watertight, scene::Family::grazing,
+                                                  scene::Family::offsets, scene::Family::direction_scale};
+// Runs them on one thread per trace (the reference on `threads`).
+std::map<std::string, std::vector<AccuracyRow>> run_hard_families(int threads);
+// The bench label ("bvh2", "bvh8/avx2", "embree/medium/default") an accuracy variant's row measures; empty
+// when no bench row runs that variant.
+std::string bench_label_of(const std::string& variant);
+
 BenchResults run_bench(const BenchConfig& c, const Mesh& mesh, const std::vector<NamedMesh>& width_meshes);
 
 }  // namespace simdbvh::cli

@@ -9,7 +9,10 @@
 // Config (here) -> run (bench_run.cpp, scene_desc_bench_run.cpp) -> report
 // (bench_report.cpp, scene_desc_bench_report.cpp).
 #include <algorithm>
+#include <iostream>
 #include <sstream>
+
+#include <unistd.h>
 
 #include "bench_report.h"
 #include "common.h"
@@ -79,6 +82,11 @@ BenchConfig parse_bench(const std::vector<std::string>& args) {
     return c;
 }
 
+// On a terminal, which step of the main job runs.
+void bench_step(int i, int n, const std::string& what) {
+    if (::isatty(2)) std::cerr << "[" << i << "/" << n << "] " << what << "\n" << std::flush;
+}
+
 }  // namespace
 
 int cmd_bench(const std::vector<std::string>& args) {
@@ -97,8 +105,13 @@ int cmd_bench(const std::vector<std::string>& args) {
     const Mesh mesh = load_scene_with_progress(c.scene);
     std::vector<NamedMesh> width_meshes;
     for (const std::string& s : c.width_scenes) width_meshes.push_back({s, load_scene_with_progress(s)});
+    bench_step(1, 4, "trace speed and agreement, " + c.scene);
     BenchResults res = run_bench(c, mesh, width_meshes);
+    bench_step(2, 4, "refit sequence, " + c.scene);
     res.refit = run_refit(c, mesh);
+    bench_step(3, 4, "hard accuracy families (watertight, grazing, offsets, direction-scale)");
+    res.hard = run_hard_families(c.threads_all);
+    bench_step(4, 4, "report");
     report_bench(c, mesh, res);
     return 0;
 }

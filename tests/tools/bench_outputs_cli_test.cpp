@@ -19,6 +19,8 @@
 #include <thread>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "support/cli.h"
 #include "support/scene.h"
 
@@ -174,6 +176,52 @@ TEST_F(BenchOutputs, SigintMidwayLeavesTheOldReport) {
     EXPECT_EQ(listing(dir_ / "out"), std::set<std::string>{"report.md"});
     EXPECT_EQ(test::read_bytes(dir_ / "out/report.md"), "old");
     EXPECT_TRUE(fs::is_empty(dir_ / "tmp"));
+}
+
+}  // namespace
+
+namespace {
+
+// The main job ends with the headline per ray kind and query and where the report is; its JSON carries, per
+// method, the disagreements on the hard accuracy families (the speed-against-accuracy chart's x axis).
+TEST_F(BenchOutputs, MainJobPrintsTheSummaryAndTheHardFamilyDisagreements) {
+    const CliRun r = run_cli("bench" + kQuick + " --no-report --json " + p("b.json"));
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("summary (icosphere-1, 1 thread, Mrays/s):"), std::string::npos) << r.output;
+    for (const char* line : {"  closest primary: ", "  closest diffuse: ", "  any incoherent: "})
+        EXPECT_NE(r.output.find(line), std::string::npos) << line << "\n" << r.output;
+    EXPECT_NE(r.output.find(", embree "), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("report: " + p("b.json")), std::string::npos) << r.output;
+
+    const nlohmann::json j = nlohmann::json::parse(test::read_bytes(dir_ / "b.json"));
+    ASSERT_TRUE(j.contains("hard_families")) << j.dump();
+    const auto& hard = j["hard_families"];
+    const std::vector<std::string> fams{"watertight", "grazing", "offsets", "direction-scale"};
+    EXPECT_EQ(hard["families"].get<std::vector<std::string>>(), fams);
+    std::set<std::string> labels;
+    for (const auto& m : hard["methods"]) {
+        const std::string name = m["method"];
+        std::uint64_t sum = 0;
+        for (const std::string& f : fams) {
+            ASSERT_TRUE(m["per_family"].contains(f)) << name << " " << f;
+            EXPECT_GT(m["per_family"][f]["rays"].get<std::uint64_t>(), 0u) << name << " " << f;
+            sum += m["per_family"][f]["disagreements"].get<std::uint64_t>();
+        }
+        EXPECT_EQ(m["disagreements"].get<std::uint64_t>(), sum) << name;
+        if (!m["bench_label"].is_null()) labels.insert(m["bench_label"]);
+        // Embree disagrees with the reference on directions scaled by 2^127 (an independent fact: the point of the chart).
+        if (name == "embree/default") {
+            EXPECT_GT(m["per_family"]["direction-scale"]["disagreements"].get<std::uint64_t>(), 0u);
+        }
+    }
+    for (const char* l : {"bvh2", "embree/medium/default", "embree/medium/robust"}) EXPECT_TRUE(labels.count(l)) << l;
+    // Every labelled method is a row of the bench.
+    std::set<std::string> rows;
+    for (const auto& rec : j["records"]) {
+        const std::string m = rec["method"];
+        rows.insert(rec["width"].get<int>() >= 4 ? m + "/" + rec["isa"].get<std::string>() : m);
+    }
+    for (const std::string& l : labels) EXPECT_TRUE(rows.count(l)) << l;
 }
 
 }  // namespace
