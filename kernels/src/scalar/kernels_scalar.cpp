@@ -15,6 +15,10 @@ namespace simd::detail {
 bool watertight_exact(const PreparedRay& r, const Tri8& b, int lane, float tmax, float* t, float* u, float* v) {
     return intersect_watertight(r, b.v0(lane), b.v1(lane), b.v2(lane), tmax, t, u, v);
 }
+// Declared in simd/tri8-inl.h: the side of the origin of a lane whose t lies in the band of 0.
+bool plane_in_front(float ox, float oy, float oz, float dx, float dy, float dz, const Tri8& b, int lane) {
+    return simdbvh::detail::plane_t({ox, oy, oz}, {dx, dy, dz}, b.v0(lane), b.v1(lane), b.v2(lane)) >= 0.0;
+}
 }  // namespace simd::detail
 
 namespace kernels {

@@ -6,6 +6,7 @@
 // Closest hit: lanes are tested against [tmin, best.t]; the winner is the lane
 // minimum by (t, prim) under closer() (hit.h), which equals looping the scalar
 // test over lanes 0..7 while shrinking tmax. Any hit: the lowest lane that hits.
+#include <algorithm>
 #include <cstdint>
 
 #include "simd/ray-inl.h"
@@ -19,14 +20,21 @@ namespace detail {
 // (non-AVX) scalar translation unit: called for lanes where an edge function
 // is exactly 0 (the double-precision path), so no ISA-flagged copy of it exists.
 bool watertight_exact(const PreparedRay& r, const Tri8& b, int lane, float tmax, float* t, float* u, float* v);
+// simdbvh::detail::plane_t(origin, direction, lane's vertices) >= 0, compiled
+// there too: for lanes whose float t lies in the band of tmin = 0 (triangle.h,
+// detail::accept_t).
+bool plane_in_front(float ox, float oy, float oz, float dx, float dy, float dz, const Tri8& b, int lane);
 }  // namespace detail
 
 // Per-lane results of one block: bit i of `hits` = lane i hits (float path);
-// bit i of `exact` = lane i must be decided by detail::watertight_exact.
+// bit i of `exact` = lane i must be decided by detail::watertight_exact; bit i
+// of `near` (a subset of `hits`) = lane i's t lies in the band of tmin = 0 and
+// its side of the origin is decided by detail::plane_in_front.
 template <class Arch>
 struct Tri8Lanes {
     std::uint32_t hits = 0;
     std::uint32_t exact = 0;
+    std::uint32_t near = 0;
     Batch<Arch> t, u_num, v_num, den;  // u = u_num / den, v = v_num / den (den = 1: already divided)
 };
 
@@ -59,18 +67,18 @@ SIMDBVH_FORCE_INLINE Tri8Lanes<Arch> watertight_lanes(const RayPack<Arch>& r, co
     const B det = eu + ev + ew;
     const B az = r.sz * akz, bz = r.sz * bkz, cz = r.sz * ckz;
     const B tt = (eu * az + ev * bz + ew * cz) / det;
-    // With tmin = 0, lanes whose t lies within the band of 0 are decided by the
-    // scalar test (detail::accept_t in triangle.h: the side of the origin in double).
+    // With tmin = 0, lanes whose t lies within the band of 0 take the side of
+    // the origin from the plane in double (detail::accept_t in triangle.h).
     if (r.tmin == 0.0f) {
         const B band =
             B(simdbvh::detail::kTminBand) * xsimd::max(xsimd::max(xsimd::abs(az), xsimd::abs(bz)), xsimd::abs(cz));
-        const std::uint32_t near_tmin = cand & bits<Arch>((det != zero) & (xsimd::abs(tt) <= band));
-        out.exact |= near_tmin;
-        cand &= ~near_tmin;
+        const std::uint32_t in_band = cand & bits<Arch>(xsimd::abs(tt) <= band);
+        out.near = in_band & bits<Arch>((det != zero) & (tt <= tmax));
+        cand &= ~in_band;
     }
     // det != 0 (ordered): a NaN det also fails here; the reference rejects it at the t test.
     cand &= bits<Arch>((det != zero) & (tt >= r.tmin) & (tt <= tmax));
-    out.hits = cand;
+    out.hits = cand | out.near;
     out.t = tt;
     out.u_num = ev;
     out.v_num = ew;
@@ -126,6 +134,10 @@ SIMDBVH_FORCE_INLINE bool lane_result(const RayPack<Arch>& r, const Tri8& b, con
             return detail::watertight_exact(pr, b, i, tmax, ot, ou, ov);
         }
         *ot = t[i];
+        if ((l.near >> i) & 1u) {
+            if (!detail::plane_in_front(r.ox, r.oy, r.oz, r.dx, r.dy, r.dz, b, i)) return false;
+            *ot = std::max(t[i], 0.0f) + 0.0f;  // as accept_t: -0 becomes +0
+        }
         *ou = un[i] / den[i];
         *ov = vn[i] / den[i];
     } else {

@@ -79,12 +79,12 @@ inline float tmin_band(const PreparedRay& r, const ShearedTriangle& s) {
 
 // The t at which the ray meets the plane of (v0, v1, v2), in double (the
 // differences of floats are exact there; the products carry 2^-53 errors).
-inline double plane_t(const PreparedRay& r, const Vec3& v0, const Vec3& v1, const Vec3& v2) {
+inline double plane_t(const Vec3& org, const Vec3& dir, const Vec3& v0, const Vec3& v1, const Vec3& v2) {
     const double e1x = double(v1.x) - v0.x, e1y = double(v1.y) - v0.y, e1z = double(v1.z) - v0.z;
     const double e2x = double(v2.x) - v0.x, e2y = double(v2.y) - v0.y, e2z = double(v2.z) - v0.z;
     const double nx = e1y * e2z - e1z * e2y, ny = e1z * e2x - e1x * e2z, nz = e1x * e2y - e1y * e2x;
-    const double px = double(v0.x) - r.org.x, py = double(v0.y) - r.org.y, pz = double(v0.z) - r.org.z;
-    return (nx * px + ny * py + nz * pz) / (nx * r.dir.x + ny * r.dir.y + nz * r.dir.z);
+    const double px = double(v0.x) - org.x, py = double(v0.y) - org.y, pz = double(v0.z) - org.z;
+    return (nx * px + ny * py + nz * pz) / (nx * dir.x + ny * dir.y + nz * dir.z);
 }
 
 // Whether a hit at float t lies in [tmin, tmax]; with tmin = 0 near 0 (see
@@ -92,7 +92,7 @@ inline double plane_t(const PreparedRay& r, const Vec3& v0, const Vec3& v1, cons
 inline bool accept_t(const PreparedRay& r, const ShearedTriangle& s, const Vec3& v0, const Vec3& v1, const Vec3& v2,
                      float tmax, float* t) {
     if (r.tmin == 0.0f && std::fabs(*t) <= tmin_band(r, s)) {
-        if (!(*t <= tmax) || !(plane_t(r, v0, v1, v2) >= 0.0)) return false;
+        if (!(*t <= tmax) || !(plane_t(r.org, r.dir, v0, v1, v2) >= 0.0)) return false;
         *t = std::max(*t, 0.0f) + 0.0f;  // + 0: -0 becomes +0
         return true;
     }
