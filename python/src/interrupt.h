@@ -83,9 +83,23 @@ inline constexpr std::chrono::milliseconds kBlockTime{250};
 // a cheap query) and stopped at most this late.
 inline constexpr std::chrono::milliseconds kWholeTime{1000};
 
+// The tests' handle on the timing (simdbvh._set_block_times): kBlockTime and
+// kWholeTime times this factor, so that a test can force blocks on any
+// machine instead of guessing a query long enough; and the library calls
+// for_blocks and for_point_blocks made, so that it can see them.
+inline std::atomic<double> g_block_time_scale{1.0};
+inline std::atomic<std::size_t> g_block_calls{0};
+
+inline double block_seconds() {
+    return std::chrono::duration<double>(kBlockTime).count() * g_block_time_scale.load(std::memory_order_relaxed);
+}
+inline double whole_seconds() {
+    return std::chrono::duration<double>(kWholeTime).count() * g_block_time_scale.load(std::memory_order_relaxed);
+}
+
 // Whether `items` more at `seconds_per_item` come within kWholeTime.
 inline bool fits_whole(double seconds_per_item, std::size_t items) {
-    return seconds_per_item * double(items) < std::chrono::duration<double>(kWholeTime).count();
+    return seconds_per_item * double(items) < whole_seconds();
 }
 
 // Calls f(begin, end) on the calling thread for consecutive blocks of [0, n)
@@ -107,16 +121,20 @@ void for_blocks(std::size_t n, std::size_t max_block, Interrupt& interrupt, F&& 
     for (std::size_t b = 0; b < n && !interrupt.stop();) {
         const std::size_t e = std::min(n, b + block);
         const auto t0 = std::chrono::steady_clock::now();
+        g_block_calls.fetch_add(1, std::memory_order_relaxed);
         f(b, e);
         const double per_item =
             std::max(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 1e-7) /
             double(e - b);
         b = e;
         if (b < n && fits_whole(per_item, n - b)) {
-            if (!interrupt.stop()) f(b, n);
+            if (!interrupt.stop()) {
+                g_block_calls.fetch_add(1, std::memory_order_relaxed);
+                f(b, n);
+            }
             return;
         }
-        const double fit = std::chrono::duration<double>(kBlockTime).count() / per_item;
+        const double fit = block_seconds() / per_item;
         block = std::size_t(std::clamp(fit, 1.0, double(std::min(8 * block, max_block))));
     }
 }

@@ -478,6 +478,18 @@ PYBIND11_MODULE(_simdbvh, m) {
         "thread runs to its end.";
     py::register_exception<Error>(m, "Error", PyExc_ValueError);
     g_main_thread_ident = py::module_::import("threading").attr("main_thread")().attr("ident").cast<unsigned long>();
+    m.def(
+        "_set_block_times",
+        [](double scale) {
+            if (!(scale >= 0.0 && scale <= 1e6)) throw Error("_set_block_times: scale must be in [0, 1e6]");
+            return g_block_time_scale.exchange(scale);
+        },
+        py::arg("scale"),
+        "For tests: scales the time per interruptible block and the work done without blocks (1 = as shipped, 0 = "
+        "the smallest blocks); returns the previous scale.");
+    m.def(
+        "_block_calls", [] { return g_block_calls.load(); },
+        "For tests: the library calls the interruptible blocks have made so far in this process.");
 
     py::class_<Mesh>(m, "Mesh", "A triangle mesh: float32 vertices (n, 3), int faces (m, 3).")
         .def(py::init(&mesh_from_arrays), py::arg("vertices"), py::arg("faces"),

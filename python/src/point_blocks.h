@@ -81,6 +81,7 @@ void for_point_blocks(std::span<const Vec3> points, std::span<Out> out, std::siz
         return;
     }
     const auto t0 = std::chrono::steady_clock::now();
+    g_block_calls.fetch_add(1, std::memory_order_relaxed);
     query(points.first(first), out.first(first));
     const double per_point =
         std::max(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 1e-7) / double(first);
@@ -88,6 +89,7 @@ void for_point_blocks(std::span<const Vec3> points, std::span<Out> out, std::siz
     const std::span<Out> rest_out = out.subspan(first);
     if (interrupt.stop()) return;
     if (fits_whole(per_point, rest.size())) {
+        g_block_calls.fetch_add(1, std::memory_order_relaxed);
         query(rest, rest_out);
         return;
     }

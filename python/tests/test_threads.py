@@ -222,22 +222,29 @@ def test_a_signal_handler_that_does_not_raise_lets_the_query_finish():
 
 
 def test_point_queries_in_blocks_answer_as_one_call():
-    """On the main thread a point query that would take over a second runs in blocks of its Morton order (so that
+    """On the main thread a point query that would run over a second runs in blocks of its Morton order (so that
     Ctrl-C can stop it between them), scattered back to the caller's positions: the same bits as the one library
-    call the same query makes from another thread (run alongside), for closest points and sides."""
+    call the same query makes from another thread, for closest points and sides. The block times
+    are scaled to nothing, so that the query runs in blocks on any machine (a timed precondition failed on a fast
+    one), and the test sees the blocks' library calls."""
     rng = np.random.default_rng(11)
-    t = 6000  # big random triangles over the unit cube: each point visits nearly all of them
+    t = 2000  # big random triangles over the unit cube: each point visits nearly all of them
     mesh = simdbvh.Mesh(rng.uniform(0, 1, (3 * t, 3)), np.arange(3 * t).reshape(t, 3))
     bvh = simdbvh.BVH(mesh, method="bvh8")
-    p = rng.uniform(0.2, 0.8, (8000, 3))
-    for query in (lambda: bvh.closest_point(p), lambda: bvh.sides(p[:5000])):
-        other = []
-        worker = threading.Thread(target=lambda: other.append(query()))
-        worker.start()
-        start = time.perf_counter()
-        got = query()
-        took = time.perf_counter() - start
-        worker.join()
-        assert took > 1.0, f"the query must take over a second for this test to mean anything ({took:.2f} s)"
-        assert same(got, other[0])
-    assert 0 < (got == 1).sum() < 5000
+    p = rng.uniform(0.2, 0.8, (3000, 3))
+    old = simdbvh._simdbvh._set_block_times(0.0)
+    try:
+        for query in (lambda: bvh.closest_point(p), lambda: bvh.sides(p[:2000])):
+            other = []
+            worker = threading.Thread(target=lambda: other.append(query()))
+            worker.start()
+            worker.join()
+            before = simdbvh._simdbvh._block_calls()
+            got = query()
+            calls = simdbvh._simdbvh._block_calls() - before
+            # the first 256 points, then blocks that start at 256 and grow at most 8x each time
+            assert calls >= 3, f"the query ran in {calls} library calls: not in blocks"
+            assert same(got, other[0])
+    finally:
+        assert simdbvh._simdbvh._set_block_times(old) == 0.0
+    assert 0 < (got == 1).sum() < 2000
