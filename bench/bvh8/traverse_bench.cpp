@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "isa_choice.h"
+#include "simdbvh/scene/rays.h"
 #include "traversal_fixture.h"
 
 namespace {
@@ -224,6 +226,62 @@ void BM_Bvh8Auto(benchmark::State& st, RayKind kind, bool any) {
 SIMDBVH_AUTO_BENCH(primary);
 SIMDBVH_AUTO_BENCH(incoherent);
 SIMDBVH_AUTO_BENCH(diffuse);
+
+// A 256 x 256 camera's 65,536 primary rays in image order, BVH8 built from
+// the mesh (Bvh8::build(mesh), the tree a user builds), threads 1 and 2:
+// with each ISA given (BM_Bvh8Camera64k), without one after the choice is
+// made (BM_Bvh8Camera64kAuto: the chosen ISA's speed), and without one on
+// the batch that calibrates (BM_Bvh8Camera64kCalibrating: the choice
+// forgotten before each iteration, untimed; the tree and rays are as warm as
+// in the others, so it shows what the calibration costs its batch).
+struct Camera64k {
+    simdbvh::Bvh8 bvh;
+    std::vector<simdbvh::Ray> rays;
+};
+const Camera64k& camera64k() {
+    static const Camera64k c = [] {
+        const auto& s = bench::traversal_scene();
+        return Camera64k{simdbvh::Bvh8::build(s.mesh),
+                         simdbvh::scene::generate_rays(s.mesh, RayKind::primary, 65536, /*seed=*/1)};
+    }();
+    return c;
+}
+enum class Camera64kIsa { given, chosen, calibrating };
+void run_camera64k(benchmark::State& st, Camera64kIsa mode, Isa isa) {
+    if (mode == Camera64kIsa::given && !simdbvh::supported(isa)) return st.SkipWithError("CPU lacks the ISA");
+    const Camera64k& c = camera64k();
+    std::vector<simdbvh::Hit> hits(c.rays.size());
+    simdbvh::TraceOptions o;
+    o.threads = int(st.range(0));
+    auto pass = [&] {
+        if (mode == Camera64kIsa::given) simdbvh::intersect(c.bvh, c.rays, hits, o, isa);
+        else simdbvh::intersect(c.bvh, c.rays, hits, o);
+    };
+    pass();  // warm-up (and, without an ISA, the choice)
+    for (auto _ : st) {
+        if (mode == Camera64kIsa::calibrating) {
+            st.PauseTiming();
+            simdbvh::bvh8::detail::forget_choice(8, false);
+            st.ResumeTiming();
+        }
+        pass();
+        benchmark::DoNotOptimize(hits.data());
+    }
+    st.counters["rays/s"] = benchmark::Counter(double(c.rays.size()), benchmark::Counter::kIsIterationInvariantRate);
+    const simdbvh::TraversalIsaChoice ch = simdbvh::traversal_isa_choice(8, false);
+    std::ostringstream label;
+    label << "bvh8 camera 256x256 threads " << o.threads << " ";
+    if (mode == Camera64kIsa::given) label << simdbvh::name(isa) << " given";
+    else label << (mode == Camera64kIsa::chosen ? "auto->" : "calibrating->") << simdbvh::name(ch.isa);
+    st.SetLabel(label.str());
+}
+void BM_Bvh8Camera64k(benchmark::State& st, Isa isa) { run_camera64k(st, Camera64kIsa::given, isa); }
+void BM_Bvh8Camera64kAuto(benchmark::State& st) { run_camera64k(st, Camera64kIsa::chosen, Isa::scalar); }
+void BM_Bvh8Camera64kCalibrating(benchmark::State& st) { run_camera64k(st, Camera64kIsa::calibrating, Isa::scalar); }
+BENCHMARK_CAPTURE(BM_Bvh8Camera64k, avx2, Isa::avx2)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Bvh8Camera64k, avx512, Isa::avx512)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Bvh8Camera64kAuto)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Bvh8Camera64kCalibrating)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 SIMDBVH_WIDE_BENCH(BM_Bvh8, scalar, sah);
 SIMDBVH_WIDE_BENCH(BM_Bvh8, avx2, sah);

@@ -2,6 +2,7 @@
 // an ISA for them (explicitly, or by speed: isa_choice.h).
 #include <algorithm>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -48,12 +49,45 @@ bool reordered(std::span<const Ray> rays, const Aabb& bounds, Reorder r) {
     return reordered(rays.size(), r, [&] { return bvh8::detail::scattered(rays, bounds); });
 }
 
+template <int N, bool kAnyHit>
+TraceFn<N> fn_of(Isa isa) {
+    require(isa);
+    switch (isa) {
+    case Isa::avx512: return entry<bvh8::avx512::Kernels, N, kAnyHit>();
+    case Isa::avx2: return entry<bvh8::avx2::Kernels, N, kAnyHit>();
+    case Isa::scalar: return entry<bvh8::scalar::Kernels, N, kAnyHit>();
+    }
+    throw Error("unknown ISA");
+}
+
+// [0, n) without the calibration's groups (none: all of it), in pieces of at
+// most `piece` rays starting where a group ends (the groups start and end at
+// multiples of 32: the pieces keep the streams of 32 of the batch).
+std::vector<bvh8::detail::Range> pieces(std::size_t n, const std::vector<bvh8::detail::Range>& groups,
+                                        std::size_t piece) {
+    std::vector<bvh8::detail::Range> out;
+    auto add = [&](std::size_t b, std::size_t e) {
+        for (; b < e; b += piece) out.push_back({b, std::min(e, b + piece)});
+    };
+    std::size_t at = 0;
+    for (const bvh8::detail::Range& g : groups) {
+        add(at, g.begin);
+        at = g.end;
+    }
+    add(at, n);
+    return out;
+}
+
 // The batch traced in its sorted order (ray_order.h), segment by segment:
 // blocks of the sorted rays gathered, traced (on o.threads threads, a block
-// per chunk) and their hits scattered back to the caller's positions.
-template <int N>
-void trace_sorted(TraceFn<N> fn, const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits,
-                  const TraceOptions& o) {
+// per chunk) and their hits scattered back to the caller's positions. With a
+// calibration (cal: claimed), its groups are positions of the first
+// segment's sorted order, traced by the calibration as one more chunk (each
+// ray once, as it is traced), and every block with the ISA of the moment
+// (current_isa); without, every block with `isa`.
+template <int N, bool kAnyHit>
+void trace_sorted(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o, Isa isa,
+                  bvh8::detail::Calibration* cal) {
     using namespace bvh8::detail;
     auto& sorted_pool = detail::ScratchPool<Sorted>::of_this_thread();
     auto& gathered_pool = detail::ScratchPool<Gathered>::of_this_thread();
@@ -61,76 +95,103 @@ void trace_sorted(TraceFn<N> fn, const BvhN<N>& bvh, std::span<const Ray> rays, 
     std::vector<std::uint64_t>& order = sorted->order;
     TraceOptions one = o;
     one.threads = 1;
+    const TraceFn<N> fixed = cal ? nullptr : fn_of<N, kAnyHit>(isa);
     for (std::size_t s = 0; s < rays.size(); s += kReorderSegment) {
         const std::size_t n = std::min(kReorderSegment, rays.size() - s);
         const std::span<const Ray> seg = rays.subspan(s, n);
         const std::span<Hit> out = hits.subspan(s, n);
         sort_rays(seg, bvh.bounds(), order, sorted->work);
+        // Sorted positions [lo, hi) gathered, traced with fn, scattered back.
+        auto trace = [&](Gathered& g, TraceFn<N> fn, std::size_t lo, std::size_t hi) {
+            g.rays.resize(hi - lo);
+            g.hits.resize(hi - lo);
+            for (std::size_t i = lo; i < hi; ++i) g.rays[i - lo] = seg[order_index(order[i])];
+            fn(bvh, g.rays, g.hits, one);
+            for (std::size_t i = lo; i < hi; ++i) out[order_index(order[i])] = g.hits[i - lo];
+        };
+        const bool calibrating = cal && s == 0;
+        const std::vector<Range> items =
+            pieces(n, calibrating ? cal->groups() : std::vector<Range>{}, kReorderBlock);
         auto blocks = [&](std::size_t b, std::size_t e) {
             std::unique_ptr<Gathered> taken = gathered_pool.take();
             Gathered& g = *taken;
             for (std::size_t k = b; k < e; ++k) {
-                const std::size_t lo = k * kReorderBlock, hi = std::min(n, lo + kReorderBlock);
-                g.rays.resize(hi - lo);
-                g.hits.resize(hi - lo);
-                for (std::size_t i = lo; i < hi; ++i) g.rays[i - lo] = seg[order_index(order[i])];
-                fn(bvh, g.rays, g.hits, one);
-                for (std::size_t i = lo; i < hi; ++i) out[order_index(order[i])] = g.hits[i - lo];
+                if (calibrating && k == 0) {
+                    cal->run([&](Isa i, std::size_t lo, std::size_t hi) { trace(g, fn_of<N, kAnyHit>(i), lo, hi); });
+                    continue;
+                }
+                const Range r = items[k - (calibrating ? 1 : 0)];
+                trace(g, cal ? fn_of<N, kAnyHit>(current_isa(N, kAnyHit)) : fixed, r.begin, r.end);
             }
             gathered_pool.give(std::move(taken));
         };
-        const std::size_t count = (n + kReorderBlock - 1) / kReorderBlock;
+        // The calibration first (then one thread traces the rest with its
+        // choice; with more, the others trace meanwhile).
+        const std::size_t count = items.size() + (calibrating ? 1 : 0);
         if (o.stats || o.threads <= 1) blocks(0, count);
         else parallel_for(count, o.threads, blocks, {.grain = 1});
     }
     sorted_pool.give(std::move(sorted));
 }
 
-template <int N, bool kAnyHit>
-void run(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o, Isa isa) {
+void check(std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o) {
     if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
     if (o.in_flight != 0 && o.in_flight != 1 && o.in_flight != bvh8::detail::kInFlight)
         throw Error("TraceOptions::in_flight must be 0 (by tree size), 1 or " +
                     std::to_string(bvh8::detail::kInFlight) + ", got " + std::to_string(o.in_flight));
-    require(isa);
-    TraceFn<N> fn = nullptr;
-    switch (isa) {
-    case Isa::avx512: fn = entry<bvh8::avx512::Kernels, N, kAnyHit>(); break;
-    case Isa::avx2: fn = entry<bvh8::avx2::Kernels, N, kAnyHit>(); break;
-    case Isa::scalar: fn = entry<bvh8::scalar::Kernels, N, kAnyHit>(); break;
-    }
-    if (!fn) throw Error("unknown ISA");
-    if (reordered(rays, bvh.bounds(), o.reorder)) return trace_sorted<N>(fn, bvh, rays, hits, o);
+}
+
+// `sorted`: reordered() of the batch, decided by the caller.
+template <int N, bool kAnyHit>
+void run(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o, Isa isa,
+         bool sorted) {
+    const TraceFn<N> fn = fn_of<N, kAnyHit>(isa);
+    if (sorted) return trace_sorted<N, kAnyHit>(bvh, rays, hits, o, isa, nullptr);
     if (o.stats || o.threads <= 1) return fn(bvh, rays, hits, o);  // stats: one thread (unsynchronized counters)
     parallel_for(rays.size(), o.threads, [&](std::size_t b, std::size_t e) {
         fn(bvh, rays.subspan(b, e - b), hits.subspan(b, e - b), o);
     });
 }
 
-// Without an explicit ISA: the calibrated choice (isa_choice.h), the
-// calibration itself tracing the batch's leading rays with every candidate.
+template <int N, bool kAnyHit>
+void run(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o, Isa isa) {
+    check(rays, hits, o);
+    require(isa);
+    run<N, kAnyHit>(bvh, rays, hits, o, isa, reordered(rays, bvh.bounds(), o.reorder));
+}
+
+// Without an explicit ISA: the calibrated choice (isa_choice.h). The batch
+// that calibrates traces the calibration's rays as it times them (each once,
+// by one candidate: hits never depend on the ISA) and the rays around them
+// in the same parallel call, the calibration one of its chunks: on two
+// threads the other thread traces meanwhile (with the best detected ISA until
+// the choice is stored). A sorted batch calibrates on its sorted order (the
+// first segment's), inside trace_sorted.
 template <int N, bool kAnyHit>
 void run_auto(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o) {
-    if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
-    const bool calibrated =
-        !o.stats && bvh8::detail::calibrate(N, kAnyHit, rays.size(), [&](Isa isa, std::size_t b, std::size_t e) {
-            TraceOptions one = o;
-            one.threads = 1;
-            run<N, kAnyHit>(bvh, rays.subspan(b, e - b), hits.subspan(b, e - b), one, isa);
-        });
-    const Isa isa = bvh8::detail::current_isa(N, kAnyHit);
-    // A sorted batch is sorted whole (the calibration's rays traced again: the
-    // same hits); sorted in the pieces between the calibration's chunks, each
-    // a fifth as dense, the dragon's 2^20 bounces ran 3.55 Mrays/s instead of 4.05
-    // (BVH16, `simdbvh trace`, whose one batch calibrates).
-    if (!calibrated || reordered(rays, bvh.bounds(), o.reorder)) return run<N, kAnyHit>(bvh, rays, hits, o, isa);
-    std::size_t b = 0;  // the rays between the calibration's chunks
-    for (std::size_t c = 0; c <= bvh8::detail::kCalibrationChunks; ++c) {
-        const std::size_t e =
-            c < bvh8::detail::kCalibrationChunks ? bvh8::detail::calibration_chunk(c, rays.size()).begin : rays.size();
-        if (e > b) run<N, kAnyHit>(bvh, rays.subspan(b, e - b), hits.subspan(b, e - b), o, isa);
-        if (c < bvh8::detail::kCalibrationChunks) b = bvh8::detail::calibration_chunk(c, rays.size()).end;
-    }
+    check(rays, hits, o);
+    const bool sorted = reordered(rays, bvh.bounds(), o.reorder);
+    std::optional<bvh8::detail::Calibration> cal;
+    if (!o.stats) cal.emplace(N, kAnyHit, sorted ? std::min(rays.size(), bvh8::detail::kReorderSegment) : rays.size());
+    if (!cal || !*cal) return run<N, kAnyHit>(bvh, rays, hits, o, bvh8::detail::current_isa(N, kAnyHit), sorted);
+    if (sorted) return trace_sorted<N, kAnyHit>(bvh, rays, hits, o, Isa::scalar, &*cal);
+    // The rays around the calibration's groups, whole on one thread, on more in
+    // pieces of parallel_for's default grain (as with an ISA given).
+    TraceOptions one = o;
+    one.threads = 1;
+    const std::vector<bvh8::detail::Range> items =
+        pieces(rays.size(), cal->groups(), o.threads > 1 ? ParallelOptions{}.grain : rays.size());
+    auto trace = [&](Isa isa, std::size_t b, std::size_t e) {
+        fn_of<N, kAnyHit>(isa)(bvh, rays.subspan(b, e - b), hits.subspan(b, e - b), one);
+    };
+    auto body = [&](std::size_t b, std::size_t e) {
+        for (std::size_t k = b; k < e; ++k) {
+            if (k == 0) cal->run(trace);
+            else trace(bvh8::detail::current_isa(N, kAnyHit), items[k - 1].begin, items[k - 1].end);
+        }
+    };
+    if (o.threads <= 1) body(0, items.size() + 1);
+    else parallel_for(items.size() + 1, o.threads, body, {.grain = 1});
 }
 
 }  // namespace

@@ -2,14 +2,26 @@
 // a batch below kIsaCalibrationRays does not calibrate; the first large batch
 // calibrates its (width, query) slot only, picks a SIMD ISA the CPU has,
 // reports a measured time per ISA, and its hits are bit-identical to every
-// explicit path; a forced ISA is obeyed and never calibrated. ctest runs each
-// test in its own process, so each starts with no choice made.
+// explicit path; a forced ISA is obeyed and never calibrated. The calibration
+// traces few rays again (at most 1/64 of the batch, in blocks aligned to the
+// streams of 32), keeps the faster candidate, and the batch that runs it is
+// one parallel call. ctest runs each test in its
+// own process, so each starts with no choice made; each test uses its own
+// (width, query) slots.
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <chrono>
 #include <cstring>
+#include <functional>
+#include <initializer_list>
+#include <utility>
+#include <vector>
 
+#include "isa_choice.h"
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/kernels/error.h"
+#include "simdbvh/kernels/parallel.h"
 #include "simdbvh/scene/rays.h"
 #include "simdbvh/scene/scenes.h"
 
@@ -82,9 +94,9 @@ TEST(IsaChoice, FirstLargeBatchCalibratesItsSlotOnly) {
     expect_same_as_every_isa(s, again);
 }
 
-// A batch traced sorted (TraceOptions::reorder) that calibrates is traced whole
-// after the calibration's chunks, the calibration's rays again: every ray's
-// hit is every explicit path's.
+// A batch traced sorted (TraceOptions::reorder) that calibrates does so on
+// its sorted order: every ray's hit, traced in the calibration or after it,
+// is every explicit path's.
 TEST(IsaChoice, FirstLargeSortedBatchCalibratesAndTracesEveryRay) {
     if (forced_isa()) GTEST_SKIP() << "SIMDBVH_ISA forces an ISA";
     if (simd_isas() < 2) GTEST_SKIP() << "this CPU has fewer than two SIMD ISAs: nothing to choose";
@@ -95,6 +107,137 @@ TEST(IsaChoice, FirstLargeSortedBatchCalibratesAndTracesEveryRay) {
     intersect(s.bvh, s.rays, hits, sorted);
     EXPECT_TRUE(traversal_isa_choice(8, false).calibrated);
     expect_same_as_every_isa(s, hits);
+}
+
+// Whether another test of this process (the binary run without ctest)
+// calibrated one of these slots already: then they cannot be checked again.
+bool calibrated_before(std::initializer_list<std::pair<int, bool>> slots) {
+    for (const auto& [width, any] : slots)
+        if (traversal_isa_choice(width, any).calibrated) return true;
+    return false;
+}
+#define SIMDBVH_SKIP_UNLESS_FRESH(...)                                                                  \
+    if (calibrated_before({__VA_ARGS__}))                                                              \
+    GTEST_SKIP() << "another test of this process calibrated these slots: run each test in its own (ctest)"
+
+struct Traced {
+    Isa isa;
+    std::size_t begin, end;
+};
+
+// The calibration's own rays: few traced more than once (each candidate is
+// timed on rays the widest ISA traced just before, and those traces' hits
+// are thrown away: work the batch pays for): at most 1/64 of the batch, 320
+// rays below 36,864; every trace starts and ends where the batch's streams
+// of 32 do, every candidate is timed on as many rays.
+TEST(IsaChoice, CalibrationTracesFewRaysAgainInAlignedBlocks) {
+    if (forced_isa()) GTEST_SKIP() << "SIMDBVH_ISA forces an ISA";
+    if (simd_isas() < 2) GTEST_SKIP() << "this CPU has fewer than two SIMD ISAs: nothing to choose";
+    SIMDBVH_SKIP_UNLESS_FRESH({16, true}, {4, true}, {8, true});
+    for (const std::size_t rays : {std::size_t(65536), kIsaCalibrationRays, std::size_t(1000003)}) {
+        SCOPED_TRACE(rays);
+        std::vector<Traced> traced;
+        const int width = rays == 65536 ? 16 : (rays == kIsaCalibrationRays ? 4 : 8);
+        ASSERT_TRUE(bvh8::detail::calibrate(width, true, rays, [&](Isa isa, std::size_t b, std::size_t e) {
+            traced.push_back({isa, b, e});
+        }));
+        std::vector<std::uint8_t> times(rays, 0);
+        std::size_t total = 0, distinct = 0, per_isa[3] = {0, 0, 0};
+        for (const Traced& t : traced) {
+            ASSERT_LT(t.begin, t.end);
+            ASSERT_LE(t.end, rays);
+            EXPECT_EQ(t.begin % 32, 0u) << "a trace starting inside a stream of 32";
+            EXPECT_EQ(t.end % 32, 0u) << "a trace ending inside a stream of 32";
+            EXPECT_NE(t.isa, Isa::scalar);
+            for (std::size_t i = t.begin; i < t.end; ++i) distinct += times[i]++ == 0;
+            total += t.end - t.begin;
+            per_isa[int(t.isa)] += t.end - t.begin;
+        }
+        EXPECT_LE(total - distinct, rays < 36864 ? std::size_t(320) : rays / 64) << "rays traced again";
+        EXPECT_GE(distinct, 32u * (1 + 2 * std::size_t(simd_isas())));
+        const Isa widest = detected_isa();
+        for (Isa isa : supported_isas()) {
+            if (isa != Isa::scalar && isa != widest) {
+                EXPECT_GT(per_isa[int(isa)], 0u) << name(isa);
+                EXPECT_EQ(per_isa[int(widest)], per_isa[int(isa)] + distinct) << name(isa);
+            }
+        }
+        EXPECT_TRUE(traversal_isa_choice(width, true).calibrated);
+    }
+}
+
+// A candidate that takes twice the time per ray on every block loses, the
+// widest or not (the trace below spins; the times differ by 2x, far past the
+// 3% margin and any noise of a shared machine that the median leaves).
+TEST(IsaChoice, CalibrationKeepsTheFasterCandidate) {
+    if (forced_isa()) GTEST_SKIP() << "SIMDBVH_ISA forces an ISA";
+    if (simd_isas() < 2) GTEST_SKIP() << "this CPU has fewer than two SIMD ISAs: nothing to choose";
+    SIMDBVH_SKIP_UNLESS_FRESH({4, false}, {8, false});
+    std::vector<Isa> cands;
+    for (Isa isa : supported_isas())
+        if (isa != Isa::scalar) cands.push_back(isa);
+    auto spin = [](std::size_t rays, int ns_per_ray) {
+        const auto until = std::chrono::steady_clock::now() + std::chrono::nanoseconds(rays * ns_per_ray);
+        while (std::chrono::steady_clock::now() < until) {
+        }
+    };
+    for (const bool fast_widest : {true, false}) {
+        const Isa fast = fast_widest ? cands.back() : cands.front();
+        const int width = fast_widest ? 4 : 8;
+        ASSERT_TRUE(bvh8::detail::calibrate(width, false, 65536, [&](Isa isa, std::size_t b, std::size_t e) {
+            spin(e - b, isa == fast ? 100 : 200);
+        }));
+        const TraversalIsaChoice c = traversal_isa_choice(width, false);
+        EXPECT_TRUE(c.calibrated);
+        EXPECT_EQ(c.isa, fast);
+        EXPECT_EQ(bvh8::detail::current_isa(width, false), fast);
+        EXPECT_GT(c.ns_per_ray[int(cands.front())], 0.0);
+        EXPECT_GT(c.ns_per_ray[int(cands.back())], 0.0);
+    }
+}
+
+// The batch that calibrates, on two threads, is one parallel call as a batch
+// with the ISA given is (counted on a host executor): not a one-thread
+// calibration followed by a parallel call per piece between its chunks
+// (each a start of threads). Its hits are every explicit path's, sorted or not.
+TEST(IsaChoice, CalibratingBatchIsOneParallelCall) {
+    if (forced_isa()) GTEST_SKIP() << "SIMDBVH_ISA forces an ISA";
+    if (simd_isas() < 2) GTEST_SKIP() << "this CPU has fewer than two SIMD ISAs: nothing to choose";
+    SIMDBVH_SKIP_UNLESS_FRESH({16, false}, {16, true});
+    const Mesh mesh = scene::icosphere(5);
+    const Bvh16 bvh = Bvh16::build(mesh);
+    std::atomic<int> calls{0};
+    set_executor([&](std::size_t chunks, const std::function<void(std::size_t)>& run) {
+        calls.fetch_add(1);
+        for (std::size_t c = 0; c < chunks; ++c) run(c);
+    });
+    TraceOptions two;
+    two.threads = 2;
+    for (const Reorder order : {Reorder::off, Reorder::on}) {
+        SCOPED_TRACE(order == Reorder::on ? "sorted" : "caller's order");
+        const bool any = order == Reorder::on;  // each its own slot: both calibrate
+        two.reorder = order;
+        const std::vector<Ray> rays = scene::generate_rays(mesh, scene::RayKind::primary, 65536, 1);
+        std::vector<Hit> want(rays.size());
+        any ? occluded(bvh, rays, want, two, detected_isa()) : intersect(bvh, rays, want, two, detected_isa());
+        const int given = calls.exchange(0);
+        std::vector<Hit> got(rays.size(), Hit{.t = -1.0f, .u = -1.0f, .v = -1.0f, .prim = 7});  // not a result
+        any ? occluded(bvh, rays, got, two) : intersect(bvh, rays, got, two);
+        EXPECT_TRUE(traversal_isa_choice(16, any).calibrated);
+        EXPECT_EQ(calls.exchange(0), given) << "parallel calls of the calibrating batch";
+        std::size_t hits = 0;
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            if (any) {  // any hit: some real hit (the sentinel's t = -1 is none)
+                ASSERT_EQ(got[i].hit(), want[i].hit()) << "ray " << i;
+                if (got[i].hit()) ASSERT_GE(got[i].t, 0.0f) << "ray " << i << " not traced";
+            } else {
+                ASSERT_TRUE(same_bits(got[i], want[i])) << "ray " << i;
+            }
+            hits += want[i].hit();
+        }
+        EXPECT_GT(hits, rays.size() / 10);
+    }
+    set_executor({});
 }
 
 TEST(IsaChoice, ForcedIsaIsObeyedAndNeverCalibrated) {

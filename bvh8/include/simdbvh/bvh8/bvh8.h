@@ -131,11 +131,14 @@ using Bvh16 = BvhN<16>;
 // throws simdbvh::Error). Without it, the ISA is chosen by speed: the forced
 // one when SIMDBVH_ISA or set_active_isa() sets it (forced_isa()); otherwise,
 // once per process and per (width, query), the first batch of at least
-// kIsaCalibrationRays rays traces its first rays with every SIMD ISA the CPU
-// has (the same rays with each, so the results are those of any path), in
-// chunks of 512 timed per ISA, and keeps the widest ISA unless another one's
-// median per-chunk time ratio to it is below 0.97; before that, the best
-// detected ISA. traversal_isa_choice() reports it.
+// kIsaCalibrationRays rays times every SIMD ISA the CPU has on its own rays:
+// small groups spread over the batch, each traced with the widest ISA (its
+// hits: the results are those of any path), then again with every ISA,
+// timed, the tree's nodes for those rays in the cache (where the ISAs
+// differ); at most 1/64 of the batch is traced again (320 rays below 36,864).
+// It keeps the widest ISA unless another one's median time ratio to it is
+// below 0.97 and that one is faster in all but an eighth of the comparisons;
+// before that, the best detected ISA. traversal_isa_choice() reports it.
 template <int N>
 void intersect(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& opts,
                Isa isa);
@@ -159,8 +162,9 @@ Hit occluded(const BvhN<N>& bvh, const Ray& ray, const TraceOptions& opts = {});
 inline constexpr std::size_t kIsaCalibrationRays = 8192;
 
 // The ISA the overloads without `isa` use now for this width (4, 8, 16) and
-// query, and why. ns_per_ray[int(isa)]: the calibration's median chunk time
-// per ray and ISA (0 for an ISA not measured).
+// query, and why. ns_per_ray[int(isa)]: the calibration's median time per
+// ray and ISA, on rays whose nodes are in the cache (less than a batch's own
+// time per ray; 0 for an ISA not measured).
 struct TraversalIsaChoice {
     Isa isa = Isa::scalar;
     bool forced = false;      // SIMDBVH_ISA or set_active_isa()
