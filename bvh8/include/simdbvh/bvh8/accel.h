@@ -1,8 +1,10 @@
 #pragma once
-// Accel: no more method than a scene needs (issue 16). Builds the method the
+// Accel: no more method than a scene needs. Builds the method the
 // cost model (cost_model.h) predicts answers `expected_rays` rays fastest,
 // build included: brute force (scalar or 8-wide SIMD), the BVH2 or a wide BVH
-// (4, 8, 16), and forwards intersect/occluded to it. Hits are those of the
+// (4, 8, 16), and forwards intersect/occluded to it. A tree is the one its
+// class builds from the mesh with the same options (Bvh2::build(mesh, build),
+// BvhN::build(mesh, build, wide)), byte for byte. Hits are those of the
 // chosen method, bit for bit (and every method agrees with brute force).
 #include <span>
 #include <variant>
@@ -33,6 +35,11 @@ public:
     AccelMethod method() const { return choice_.method; }
     Isa isa() const { return isa_; }
     double build_ms() const { return build_ms_; }
+    // The tree built, when it is a T (Bvh2, Bvh4, Bvh8, Bvh16, BruteForce8), else null.
+    template <class T>
+    const T* get() const {
+        return std::get_if<T>(&impl_);
+    }
 
     friend void intersect(const Accel& a, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& opts);
     friend void occluded(const Accel& a, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& opts);
