@@ -13,6 +13,9 @@
 namespace simdbvh {
 
 namespace {
+// The error of the wide widths' fitted build terms relative to each other, as
+// a fraction of BVH8's build (choose()): 5.7% and 7.7% measured, rounded up.
+constexpr double kWidthBuildError = 0.08;
 constexpr std::string_view kNames[kAccelMethodCount] = {"brute", "brute8", "bvh2", "bvh4", "bvh8", "bvh16"};
 }
 
@@ -80,6 +83,23 @@ AccelChoice choose(const CostModel& model, std::size_t triangles, std::size_t ra
             c.method = m;
             break;
         }
+    // Among the wide trees, BVH8 unless another width is predicted faster by
+    // more than kWidthBuildError of BVH8's build. The widths share their BVH2
+    // topology; their build terms, fitted apart on one machine, put BVH4's
+    // build 3.4% below BVH8's and BVH16's 0.5% above (the AVX-512 set), where
+    // an Intel Xeon (AVX-512) measured +2.3% and +8.2% (the dragon, one thread,
+    // 9 paired rounds): so for 65,536 rays on the dragon the model chose BVH4,
+    // which traced every ray set slowest there (1.16-1.34x BVH8's time) and
+    // built slower, 377 ms in all against BVH8's 345 (camera rays). Past that
+    // error the trace terms decide (BVH16 for ten million rays).
+    if (c.method == AccelMethod::bvh4 || c.method == AccelMethod::bvh16) {
+        // BVH8's build as predicted for these threads: its time without rays or the call.
+        const double build8 = predict_ms(model, AccelMethod::bvh8, triangles, 0, threads) -
+                              model.cost[std::size_t(AccelMethod::bvh8)].call;
+        if (c.predicted_ms[std::size_t(AccelMethod::bvh8)] - c.predicted_ms[std::size_t(c.method)] <=
+            kWidthBuildError * build8)
+            c.method = AccelMethod::bvh8;
+    }
     return c;
 }
 

@@ -79,7 +79,10 @@ struct AccelChoice {
     std::array<double, kAccelMethodCount> predicted_ms{};  // indexed by AccelMethod
 };
 
-// The method with the smallest predicted time (ties: the earlier in kAccelMethods).
+// The method with the smallest predicted time (ties: the earlier in
+// kAccelMethods), except that a wide tree is BVH8 unless another width is
+// predicted faster by more than 8% of BVH8's build (the widths' build terms
+// are not known that closely; cost_model.cpp).
 AccelChoice choose(const CostModel& model, std::size_t triangles, std::size_t rays, int threads = 1);
 // "bvh8: predicted 12.3 ms for 1000000 rays on 871414 triangles (1 thread, avx512 model); brute 1.2e+06 ms, ..."
 std::string describe(const AccelChoice& c);
