@@ -1,12 +1,12 @@
 # simdbvh_bench_traversal: BVH2, BVH4/8/16 (per ISA) and Embree traversal side by side,
-# from bench/bvh2/*_bench.cpp, bench/bvh8/*_bench.cpp and bench/compare/*_bench.cpp. Included by
+# from bench/bvh2/*_bench.cpp, bench/bvh8/*_bench.cpp and bench/reference/*_bench.cpp. Included by
 # bench/CMakeLists.txt.
 file(GLOB _traversal_bench_srcs CONFIGURE_DEPENDS ${CMAKE_CURRENT_LIST_DIR}/bvh2/*_bench.cpp
-     ${CMAKE_CURRENT_LIST_DIR}/bvh8/*_bench.cpp ${CMAKE_CURRENT_LIST_DIR}/compare/*_bench.cpp)
+     ${CMAKE_CURRENT_LIST_DIR}/bvh8/*_bench.cpp ${CMAKE_CURRENT_LIST_DIR}/reference/*_bench.cpp)
 if(_traversal_bench_srcs)
   add_executable(simdbvh_bench_traversal ${_traversal_bench_srcs} ${CMAKE_CURRENT_LIST_DIR}/bvh8/traversal_fixture.cpp)
   # bvh8/src: isa_choice.h (the calibrating batch's benchmark forgets the choice).
   target_include_directories(simdbvh_bench_traversal PRIVATE ${CMAKE_CURRENT_LIST_DIR}/bvh8
                              ${CMAKE_CURRENT_LIST_DIR}/../bvh8/src)
-  target_link_libraries(simdbvh_bench_traversal PRIVATE simdbvh_scene simdbvh_bvh8 simdbvh_compare benchmark::benchmark)
+  target_link_libraries(simdbvh_bench_traversal PRIVATE simdbvh_workloads simdbvh_bvh8 simdbvh_reference benchmark::benchmark)
 endif()

@@ -1,4 +1,4 @@
-// libFuzzer target: scene::load_mesh on every format, plain and gzip.
+// libFuzzer target: io::load_mesh on every format, plain and gzip.
 // Input: byte 0 selects the case, the rest is the file.
 //   bits 0-1: extension .ply .obj .stl .off
 //   bits 2-3: 0 plain; 1 gzip-compress the rest (fuzzes the parsers behind
@@ -13,7 +13,7 @@
 
 #include "fuzz_util.h"
 #include "simdbvh/kernels/error.h"
-#include "simdbvh/scene/load.h"
+#include "simdbvh/io/load.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     if (size < 1) return 0;
@@ -40,11 +40,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
     if (mode != 0) name += ".gz";
     const auto path = simdbvh::fuzz::write_input(name, body, n);
-    simdbvh::scene::LoadOptions opts;
+    simdbvh::io::LoadOptions opts;
     opts.drop_invalid = (sel >> 4) & 1;
     try {
-        simdbvh::scene::LoadReport report;
-        const simdbvh::Mesh m = simdbvh::scene::load_mesh(path, opts, &report);
+        simdbvh::io::LoadReport report;
+        const simdbvh::Mesh m = simdbvh::io::load_mesh(path, opts, &report);
         simdbvh::validate(m);  // what the loader returns must be a valid mesh
     } catch (const simdbvh::Error&) {
     }

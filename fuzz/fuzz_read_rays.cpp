@@ -5,17 +5,17 @@
 
 #include "fuzz_util.h"
 #include "simdbvh/kernels/error.h"
-#include "simdbvh/scene/rays.h"
+#include "simdbvh/io/ray_files.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const auto path = simdbvh::fuzz::write_input("in.bin", data, size);
     try {
-        const auto rays = simdbvh::scene::read_rays(path);
+        const auto rays = simdbvh::io::read_rays(path);
         if (rays.size() * 32 != size) std::abort();
     } catch (const simdbvh::Error&) {
     }
     try {
-        const auto hits = simdbvh::scene::read_hits(path);
+        const auto hits = simdbvh::io::read_hits(path);
         if (hits.size() * 16 != size) std::abort();
     } catch (const simdbvh::Error&) {
     }

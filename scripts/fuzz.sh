@@ -3,7 +3,7 @@
 # (docs/accuracy.md). Configures a Clang build in build/fuzz (fuzz/ as the top
 # level), builds fuzz_load_mesh and fuzz_read_rays, and runs each for SECONDS
 # (default 60) over a working copy of fuzz/corpus/<target>, JOBS (default 2) at a time.
-# The targets link simdbvh_scene_io (the loaders and the ray/hit file readers)
+# The targets link simdbvh_io (the loaders and the ray/hit file readers)
 # and simdbvh_kernels only, so the instrumented build compiles those 22 files
 # and not the BVH libraries or the rest of the scene code, which the fuzzed
 # readers never call. CI's fuzz stage (30 s per target, 2 cores, builds of

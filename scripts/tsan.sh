@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # ThreadSanitizer: many threads tracing one BVH2/BVH8, also sorted batches (tests/bvh8/concurrent_test.cpp), and one scene
-# (tests/scene_accel/scene_concurrent_test.cpp)
+# (tests/scene/scene_concurrent_test.cpp)
 # and the parallel build, under the tsan preset (AVX-512 objects uninstrumented on a
 # CPU without AVX-512, cmake/SimdbvhIsa.cmake). Builds only the test targets needed.
 set -euo pipefail

@@ -5,8 +5,8 @@ namespace simdbvh::cli {
 Tally classify_sample(const Mesh& mesh, std::span<const Ray> rays, std::span<const Hit> reference,
                       std::span<const Hit> hits, bool any_hit) {
     if (any_hit)
-        return compare::compare_occluded(mesh, rays, compare::occluded_flags(reference), compare::occluded_flags(hits)).b;
-    return compare::compare_methods(mesh, rays, reference, hits).b;
+        return reference::compare_occluded(mesh, rays, reference::occluded_flags(reference), reference::occluded_flags(hits)).b;
+    return reference::compare_methods(mesh, rays, reference, hits).b;
 }
 
 }  // namespace simdbvh::cli

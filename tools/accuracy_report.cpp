@@ -24,7 +24,7 @@ Table family_table() {
 }
 
 void family_row(Table& t, const AccuracyRow& r) {
-    const compare::Tally& y = r.tally;
+    const reference::Tally& y = r.tally;
     t.row({r.method, count(r.rays), fmt("%.2f", r.mrays()), count(y.agree), count(y.tie), count(y.leak),
            count(y.false_hit), count(y.wrong_triangle), count(y.t_error), count(y.marginal),
            fmt("%.1f", y.disagreements_per_million()), count(r.expect_violations), count(r.self_hits),
@@ -33,7 +33,7 @@ void family_row(Table& t, const AccuracyRow& r) {
 }
 
 Json json_row(const AccuracyRow& r, const char* level) {
-    const compare::Tally& t = r.tally;
+    const reference::Tally& t = r.tally;
     return Json{{"level", level},
                 {"family", r.family},
                 {"case", r.case_name},
@@ -69,8 +69,8 @@ void write_markdown_tables(const AccuracyConfig& c, const AccuracyResults& res, 
           "self-hits: surface-start rays hitting their starting triangle; != default: rays not bit-identical to "
           "bvh2/watertight/conservative. BVH8 always uses the conservative box test. In the JSON, non-finite "
           "numbers are null.\n";
-    for (scene::Family fam : c.which) {
-        const std::string fname(scene::name(fam));
+    for (workloads::Family fam : c.which) {
+        const std::string fname(workloads::name(fam));
         Table t = family_table();
         const auto it = res.families.find(fname);
         if (it != res.families.end())

@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "common.h"
-#include "simdbvh/compare/reference.h"
+#include "simdbvh/reference/reference.h"
 #include "simdbvh/kernels/parallel.h"
 
 namespace simdbvh::cli {
@@ -27,16 +27,16 @@ double time_trace(Tracer& tr, std::span<const Ray> rays, std::span<Hit> hits, do
 }
 
 // The family's own expectations and the classification against the reference.
-void check_hits(const scene::FamilyCase& c, const std::vector<compare::Reference>& refs, const std::vector<Hit>& hits,
+void check_hits(const workloads::FamilyCase& c, const std::vector<reference::Reference>& refs, const std::vector<Hit>& hits,
                 AccuracyRow& r) {
     for (std::size_t i = 0; i < hits.size(); ++i) {
         const Hit& h = hits[i];
-        r.tally.add(compare::classify(refs[i], h));
+        r.tally.add(reference::classify(refs[i], h));
         if (h.hit() && (std::isnan(h.t) || std::isnan(h.u) || std::isnan(h.v))) ++r.nan_outputs;
-        const scene::RayExpect& e = c.expect[i];
-        if (e.kind == scene::Expect::hit && !h.hit()) ++r.expect_violations;
-        if (e.kind == scene::Expect::miss && h.hit()) ++r.expect_violations;
-        if (e.kind == scene::Expect::no_self_hit && h.hit() && h.prim == e.source) ++r.self_hits;
+        const workloads::RayExpect& e = c.expect[i];
+        if (e.kind == workloads::Expect::hit && !h.hit()) ++r.expect_violations;
+        if (e.kind == workloads::Expect::miss && h.hit()) ++r.expect_violations;
+        if (e.kind == workloads::Expect::no_self_hit && h.hit() && h.prim == e.source) ++r.self_hits;
         if (h.hit() && refs[i].hit()) {
             const double want = !std::isnan(e.t) ? e.t : refs[i].t;
             if (want > 0) r.max_rel_t_error = std::max(r.max_rel_t_error, std::fabs(double(h.t) - want) / want);
@@ -44,10 +44,10 @@ void check_hits(const scene::FamilyCase& c, const std::vector<compare::Reference
     }
 }
 
-AccuracyRow run_case(const scene::FamilyCase& c, const std::vector<compare::Reference>& refs, const Variant& v,
+AccuracyRow run_case(const workloads::FamilyCase& c, const std::vector<reference::Reference>& refs, const Variant& v,
                      std::vector<Hit>& default_hits, double min_seconds) {
     AccuracyRow r;
-    r.family = std::string(scene::name(c.family));
+    r.family = std::string(workloads::name(c.family));
     r.case_name = c.name;
     r.method = v.name;
     r.offset = c.offset;
@@ -147,20 +147,20 @@ AccuracyResults run_accuracy(const AccuracyConfig& c) {
         });
     const double min_seconds = c.quick ? 0.01 : 0.05;
     AccuracyResults out;
-    for (scene::Family fam : c.which) {
-        const std::string fname(scene::name(fam));
+    for (workloads::Family fam : c.which) {
+        const std::string fname(workloads::name(fam));
         progress("family " + fname + " ...", true);
         std::vector<AccuracyRow> sum;
-        for (const scene::FamilyCase& fc : scene::make_family(fam, c.families)) {
-            std::vector<compare::Reference> refs(fc.rays.size());
+        for (const workloads::FamilyCase& fc : workloads::make_family(fam, c.families)) {
+            std::vector<reference::Reference> refs(fc.rays.size());
             parallel_for(fc.rays.size(), c.threads, [&](std::size_t b, std::size_t e) {
-                for (std::size_t i = b; i < e; ++i) refs[i] = compare::reference_intersect(fc.mesh, fc.rays[i]);
+                for (std::size_t i = b; i < e; ++i) refs[i] = reference::reference_intersect(fc.mesh, fc.rays[i]);
             });
             std::vector<Hit> default_hits;
             for (std::size_t m = 0; m < methods.size(); ++m) {
                 AccuracyRow r = run_case(fc, refs, methods[m], default_hits, min_seconds);
                 add_into(sum, m, methods.size(), r, fname, 0.0);
-                if (fam == scene::Family::offsets) add_into(out.offsets[fc.offset], m, methods.size(), r, fname, fc.offset);
+                if (fam == workloads::Family::offsets) add_into(out.offsets[fc.offset], m, methods.size(), r, fname, fc.offset);
                 out.cases.push_back(std::move(r));
             }
         }

@@ -9,8 +9,8 @@
 
 #include "inside_panel.h"
 #include "methods.h"
-#include "simdbvh/compare/classify.h"
-#include "simdbvh/scene/families.h"
+#include "simdbvh/reference/classify.h"
+#include "simdbvh/workloads/families.h"
 
 namespace simdbvh::cli {
 
@@ -20,8 +20,8 @@ struct AccuracyConfig {
     bool open3d = true;  // Open3D's rows in the inside/outside panel (--no-open3d leaves them out)
     bool inside = true;  // the inside/outside panel (default without --family; --inside adds it)
     int threads = 2;  // the double reference only; traces run on one thread
-    scene::FamilyOptions families;
-    std::vector<scene::Family> which;
+    workloads::FamilyOptions families;
+    std::vector<workloads::Family> which;
     // Only these variants (accuracy_variants names), in that list's order; empty: every variant. The first
     // variant run is the default path the others are compared with bit for bit, so keep it first.
     std::vector<std::string> only;
@@ -40,7 +40,7 @@ struct AccuracyRow {  // one method on one case (or summed over a family's cases
     double offset = 0;
     std::size_t rays = 0, triangles = 0;
     double seconds = 0;  // trace time for `rays` rays (one thread)
-    compare::Tally tally;
+    reference::Tally tally;
     std::uint64_t expect_violations = 0;     // must-hit missed, must-miss hit
     std::uint64_t self_hits = 0;             // surface-start: hit the starting triangle
     std::uint64_t nan_outputs = 0;           // a hit with a NaN t, u or v

@@ -6,7 +6,7 @@
 
 #include "image.h"
 #include "methods.h"
-#include "simdbvh/scene/rays.h"
+#include "simdbvh/workloads/rays.h"
 
 namespace simdbvh::cli {
 
@@ -31,7 +31,7 @@ Pictures render_pictures(const Mesh& mesh, bool quick, int threads) {
     p.width = quick ? 320 : 640;
     p.height = quick ? 240 : 480;
     const int w = p.width, h = p.height;
-    const auto rays = scene::primary_rays(scene::default_camera(mesh.bounds(), w, h));
+    const auto rays = workloads::primary_rays(workloads::default_camera(mesh.bounds(), w, h));
     MethodSpec b8;
     b8.method = "bvh8";
     b8.isa = active_isa();

@@ -9,7 +9,7 @@
 #include "bench_pictures.h"
 #include "bench_tables.h"
 #include "common.h"
-#include "simdbvh/compare/embree.h"
+#include "simdbvh/reference/embree.h"
 #include "simdbvh/kernels/error.h"
 
 namespace simdbvh::cli {
@@ -51,7 +51,7 @@ Json json_record(const Record& r) {
                   {"t_error", r.tally.t_error}}}};
 }
 
-std::uint64_t hard_disagreements(const compare::Tally& t) {
+std::uint64_t hard_disagreements(const reference::Tally& t) {
     return t.leak + t.false_hit + t.wrong_triangle + t.t_error;
 }
 
@@ -74,7 +74,7 @@ Json bench_json(const BenchConfig& c, const Mesh& mesh, const BenchResults& res)
     j["refit"] = refit_json(res.refit);
     // Per method: the hard families' disagreements (ties at equal t excluded, as in the agreement table).
     Json hard{{"families", Json::array()}, {"methods", Json::array()}};
-    for (scene::Family f : kHardFamilies) hard["families"].push_back(std::string(scene::name(f)));
+    for (workloads::Family f : kHardFamilies) hard["families"].push_back(std::string(workloads::name(f)));
     std::map<std::string, Json> per_method;
     std::vector<std::string> order;
     for (const auto& [fam, rows] : res.hard)
@@ -127,7 +127,7 @@ void bench_markdown(const BenchConfig& c, const Mesh& mesh, const BenchResults& 
     const std::vector<Record>& recs = res.records;
     md << "# simdbvh bench report\n\nScene **" << c.scene << "** (" << mesh.size() << " triangles)"
        << (c.scene_why.empty() ? "" : ": " + c.scene_why) << ".\n\nMachine: " << c.machine << "\n\nCommand: `"
-       << c.command << "`\n\nEmbree " << compare::EmbreeScene::version()
+       << c.command << "`\n\nEmbree " << reference::EmbreeScene::version()
        << " (Debian libembree3): the one-thread rows use a device configured with `threads=1`, the all-core rows "
           "`threads="
        << c.threads_all << "`; rays are traced with rtcIntersect1/rtcOccluded1 from our own threads.\n\n"

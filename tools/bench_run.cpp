@@ -10,13 +10,13 @@
 
 #include "common.h"
 #include "methods.h"
-#include "simdbvh/scene/rays.h"
+#include "simdbvh/workloads/rays.h"
 
 namespace simdbvh::cli {
 
 namespace {
 
-using scene::RayKind;
+using workloads::RayKind;
 constexpr RayKind kKinds[] = {RayKind::primary, RayKind::incoherent, RayKind::diffuse};
 
 // The rays of one scene and the brute-force reference on the first `sample` of each kind.
@@ -28,8 +28,8 @@ struct BenchRays {
 BenchRays make_rays(const BenchConfig& c, const Mesh& mesh) {
     BenchRays b;
     for (RayKind k : kKinds) {
-        progress("generating " + std::to_string(c.rays) + " " + std::string(scene::name(k)) + " rays", true);
-        b.rays.push_back(scene::generate_rays(mesh, k, c.rays, 42));
+        progress("generating " + std::to_string(c.rays) + " " + std::string(workloads::name(k)) + " rays", true);
+        b.rays.push_back(workloads::generate_rays(mesh, k, c.rays, 42));
     }
     progress("brute-force reference on " + std::to_string(c.sample) + " rays per kind (" +
                  std::to_string(c.threads_all) + " threads)",
@@ -191,7 +191,7 @@ private:
         rec.isa = t.ran_isa(base, any);
         rec.builder = base.builder_name();
         rec.width = base.method == "bvh2" ? 2 : base.width();
-        rec.ray_kind = std::string(scene::name(kKinds[k]));
+        rec.ray_kind = std::string(workloads::name(kKinds[k]));
         rec.query = any ? "any" : "closest";
         rec.threads = threads;
         rec.build_ms = one.cold_ms;

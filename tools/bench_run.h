@@ -61,8 +61,8 @@ struct NamedMesh {
 
 // `mesh` is c.scene; `width_meshes` the width scenes (loaded up front, so a bad one fails before the run).
 // The families whose disagreements the speed-against-accuracy chart shows (the bench's own rays agree).
-inline constexpr scene::Family kHardFamilies[] = {scene::Family::watertight, scene::Family::grazing,
-                                                  scene::Family::offsets, scene::Family::direction_scale};
+inline constexpr workloads::Family kHardFamilies[] = {workloads::Family::watertight, workloads::Family::grazing,
+                                                  workloads::Family::offsets, workloads::Family::direction_scale};
 // Runs them on one thread per trace (the reference on `threads`).
 std::map<std::string, std::vector<AccuracyRow>> run_hard_families(int threads);
 // The bench label ("bvh2", "bvh8/avx2", "embree/medium/default") an accuracy variant's row measures; empty

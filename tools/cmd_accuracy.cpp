@@ -16,13 +16,13 @@ namespace simdbvh::cli {
 
 namespace {
 
-std::vector<scene::Family> parse_families(const Options& o) {
-    if (!o.has("family")) return {std::begin(scene::kAllFamilies), std::end(scene::kAllFamilies)};
-    std::vector<scene::Family> fams;
+std::vector<workloads::Family> parse_families(const Options& o) {
+    if (!o.has("family")) return {std::begin(workloads::kAllFamilies), std::end(workloads::kAllFamilies)};
+    std::vector<workloads::Family> fams;
     std::stringstream ss(o.get("family"));
     std::string f;
     while (std::getline(ss, f, ',')) {
-        const auto p = scene::parse_family(f);
+        const auto p = workloads::parse_family(f);
         if (!p)
             throw UsageError("unknown --family '" + f + "' (watertight, offsets, axis-aligned, surface-start, grazing, "
                              "needles, degenerate, random, direction-scale)");
@@ -53,7 +53,7 @@ AccuracyConfig parse_accuracy(const std::vector<std::string>& args) {
         for (const char* f : {"accuracy.md", "accuracy.json", "speed_vs_accuracy.png", "offsets.png", "inside_outside.png"})
             outputs.emplace_back("--report", (std::filesystem::path(c.report_dir) / f).string());
     // The random family's scene: --scene, else dragon-res4 when cached (family_random.cpp).
-    const bool random = std::find(c.which.begin(), c.which.end(), scene::Family::random) != c.which.end();
+    const bool random = std::find(c.which.begin(), c.which.end(), workloads::Family::random) != c.which.end();
     Inputs inputs;
     if (!c.families.random_scene.empty()) inputs.scenes.emplace_back("--scene", c.families.random_scene);
     else if (random) inputs.scenes.emplace_back("the random family's scene", "dragon-res4");

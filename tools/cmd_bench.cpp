@@ -21,7 +21,7 @@
 #include "report.h"
 #include "scene_cmds.h"
 #include "scene_desc_bench_report.h"
-#include "simdbvh/scene/scene_desc.h"
+#include "simdbvh/workloads/scene_desc.h"
 #include "simdbvh/kernels/parallel.h"
 #include "simdbvh/kernels/topology.h"
 
@@ -95,7 +95,7 @@ int cmd_bench(const std::vector<std::string>& args) {
     if (is_scene_desc(c.scene)) {  // room, instances-N, spheres-N, FILE.json: the scene bench
         progress("scene: " + c.scene + " (scene description)", true);
         progress("machine: " + c.machine, true);
-        const SceneDesc desc = scene::load_scene_desc(c.scene);
+        const SceneDesc desc = workloads::load_scene_desc(c.scene);
         report_scene_desc_bench(c, run_scene_desc_bench(c, desc));
         return 0;
     }

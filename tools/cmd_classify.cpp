@@ -10,11 +10,11 @@
 #include "options.h"
 #include "outputs.h"
 #include "report.h"
-#include "simdbvh/compare/classify.h"
-#include "simdbvh/compare/reference.h"
+#include "simdbvh/reference/classify.h"
+#include "simdbvh/reference/reference.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/kernels/parallel.h"
-#include "simdbvh/scene/rays.h"
+#include "simdbvh/io/ray_files.h"
 
 namespace simdbvh::cli {
 
@@ -33,8 +33,8 @@ int cmd_classify(const std::vector<std::string>& args) {
     if (!json.empty())
         check_outputs({{"--json", json}},
                       {.files = {{"--rays", rays_file}, {"--hits", hits_file}}, .scenes = {{"--scene", scene_name}}});
-    const std::vector<Ray> rays = scene::read_rays(rays_file);
-    const std::vector<Hit> hits = scene::read_hits(hits_file);
+    const std::vector<Ray> rays = io::read_rays(rays_file);
+    const std::vector<Hit> hits = io::read_hits(hits_file);
     if (hits.size() != rays.size())
         throw Error(hits_file + ": " + std::to_string(hits.size()) + " hits for " + std::to_string(rays.size()) +
                     " rays in " + rays_file);
@@ -46,17 +46,17 @@ int cmd_classify(const std::vector<std::string>& args) {
     if (double(rays.size()) * double(mesh.size()) > kMaxRayTriangles)
         throw Error("classify: " + std::to_string(rays.size()) + " rays x " + std::to_string(mesh.size()) +
                     " triangles is too much for the O(triangles) reference (at most 2e10); sample the rays");
-    compare::Tally total;
+    reference::Tally total;
     std::mutex m;
     ParallelOptions po;
     po.grain = 256;
     parallel_for(rays.size(), threads, [&](std::size_t b, std::size_t e) {
-        compare::Tally t;
-        for (std::size_t i = b; i < e; ++i) t.add(compare::classify(compare::reference_intersect(mesh, rays[i]), hits[i]));
+        reference::Tally t;
+        for (std::size_t i = b; i < e; ++i) t.add(reference::classify(reference::reference_intersect(mesh, rays[i]), hits[i]));
         const std::lock_guard<std::mutex> lock(m);
         total += t;
     }, po);
-    std::cout << "rays " << rays.size() << "  triangles " << mesh.size() << "\n" << compare::to_string(total) << "\n";
+    std::cout << "rays " << rays.size() << "  triangles " << mesh.size() << "\n" << reference::to_string(total) << "\n";
     if (!json.empty()) {
         Report r;
         r.json["command"] = command_line("classify", args);

@@ -14,8 +14,9 @@
 #include "simdbvh/bvh8/closest_point.h"
 #include "simdbvh/bvh8/inside.h"
 #include "simdbvh/kernels/error.h"
-#include "simdbvh/scene/output.h"
-#include "simdbvh/scene/points.h"
+#include "simdbvh/io/output.h"
+#include "simdbvh/workloads/points.h"
+#include "simdbvh/io/point_files.h"
 
 namespace simdbvh::cli {
 
@@ -42,8 +43,8 @@ int cmd_gen_points(const std::vector<std::string>& args) {
     check_memory("--count " + std::to_string(count), std::uint64_t(count) * 24);
     const Mesh mesh = load_scene_with_progress(scene_name);
     if (mesh.size() == 0) throw Error(scene_name + ": has no triangles: no bounds to place query points in");
-    const auto points = scene::random_points(mesh.bounds(), count, seed);
-    scene::write_file_atomic(out, scene::encode_points(points));
+    const auto points = workloads::random_points(mesh.bounds(), count, seed);
+    io::write_file_atomic(out, io::encode_points(points));
     std::cout << "wrote " << count << " points (uniform in the bounds grown by 10% per side, seed " << seed << ") to "
               << out << "\n";
     return 0;
@@ -65,7 +66,7 @@ int cmd_distance(const std::vector<std::string>& args) {
     PointQueryStats stats;
     if (o.has("stats")) q.stats = &stats;
     check_outputs({{"--out", out}}, {.files = {{"--points", points_file}}, .scenes = {{"--scene", scene_name}}});
-    const auto points = scene::read_points(points_file);  // a bad points file fails before the build
+    const auto points = io::read_points(points_file);  // a bad points file fails before the build
     check_memory("--points " + points_file, std::uint64_t(points.size()) * (sizeof(ClosestPoint) + 20));
     InsideOptions io;
     io.threads = q.threads;
@@ -95,7 +96,7 @@ int cmd_distance(const std::vector<std::string>& args) {
         }
     }
     const double query_s = seconds_since(t1);
-    scene::write_file_atomic(out, scene::encode_distances(results));
+    io::write_file_atomic(out, io::encode_distances(results));
     std::size_t found = 0;
     double sum = 0, worst = 0;
     for (const ClosestPoint& c : results)

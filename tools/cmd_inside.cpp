@@ -9,8 +9,8 @@
 #include "simdbvh/bvh2/inside.h"
 #include "simdbvh/bvh8/inside.h"
 #include "simdbvh/kernels/error.h"
-#include "simdbvh/scene/output.h"
-#include "simdbvh/scene/points.h"
+#include "simdbvh/io/output.h"
+#include "simdbvh/io/point_files.h"
 
 namespace simdbvh::cli {
 
@@ -27,7 +27,7 @@ int cmd_inside(const std::vector<std::string>& args) {
     io.rule = parse_rule(o);
     io.ray = parse_ray(o);
     check_outputs({{"--out", out}}, {.files = {{"--points", points_file}}, .scenes = {{"--scene", scene_name}}});
-    const auto points = scene::read_points(points_file);
+    const auto points = io::read_points(points_file);
     check_memory("--points " + points_file, std::uint64_t(points.size()) * (sizeof(PointSide) + 1));
     const Mesh mesh = load_scene_with_progress(scene_name);
     report_closure(scene_name, mesh);
@@ -39,7 +39,7 @@ int cmd_inside(const std::vector<std::string>& args) {
     const auto t1 = std::chrono::steady_clock::now();
     pt.visit([&](const auto& t) { classify_points(t, points, sides, io); });
     const double query_s = seconds_since(t1);
-    scene::write_file_atomic(out, scene::encode_sides(sides));
+    io::write_file_atomic(out, io::encode_sides(sides));
     std::size_t count[3] = {0, 0, 0};
     for (const PointSide& s : sides) count[int(s.side)]++;
     std::cout << "method " << tree << "  threads " << io.threads << "  rule " << o.get("rule", "winding") << "  ray "

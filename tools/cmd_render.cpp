@@ -7,14 +7,14 @@
 #include "outputs.h"
 #include "scene_cmds.h"
 #include "simdbvh/kernels/error.h"
-#include "simdbvh/scene/rays.h"
+#include "simdbvh/workloads/rays.h"
 
 namespace simdbvh::cli {
 
 namespace {
 
 void render(const Mesh& mesh, Tracer& tracer, int w, int h, bool heat, const std::string& out) {
-    const auto rays = scene::primary_rays(scene::default_camera(mesh.bounds(), w, h));
+    const auto rays = workloads::primary_rays(workloads::default_camera(mesh.bounds(), w, h));
     std::vector<Hit> hits(rays.size());
     if (heat) {
         std::vector<std::uint32_t> counts(rays.size());

@@ -9,21 +9,24 @@
 #include "scene_cmds.h"
 #include "trace_crossings.h"
 #include "simdbvh/kernels/error.h"
-#include "simdbvh/scene/families.h"
-#include "simdbvh/scene/load.h"
-#include "simdbvh/scene/rays.h"
+#include "simdbvh/workloads/families.h"
+#include "simdbvh/io/write_ply.h"
+#include "simdbvh/io/load.h"
+#include "simdbvh/workloads/rays.h"
+#include "simdbvh/io/ray_files.h"
+#include "simdbvh/io/output.h"
 
 namespace simdbvh::cli {
 
 namespace {
 
 // gen-rays --kind <family>: the family's own mesh and rays (one case).
-int gen_family_rays(const Options& o, scene::Family fam) {
+int gen_family_rays(const Options& o, workloads::Family fam) {
     const std::string kind_s = o.require("kind");
-    if (o.has("scene") && fam != scene::Family::random)
+    if (o.has("scene") && fam != workloads::Family::random)
         throw UsageError("--kind " + kind_s + " generates its own scene (write it with --mesh-out); --scene is for "
                          "primary, incoherent, diffuse and random");
-    scene::FamilyOptions fo;
+    workloads::FamilyOptions fo;
     fo.quick = o.has("quick");
     fo.seed = std::uint64_t(o.get_int("seed", 1, 0, (1LL << 62)));
     fo.random_scene = o.get("scene");
@@ -34,12 +37,12 @@ int gen_family_rays(const Options& o, scene::Family fam) {
     // The random family's scene: --scene, else dragon-res4 when cached (family_random.cpp).
     Inputs inputs;
     if (o.has("scene")) inputs.scenes.emplace_back("--scene", o.get("scene"));
-    else if (fam == scene::Family::random) inputs.scenes.emplace_back("--kind random's scene", "dragon-res4");
+    else if (fam == workloads::Family::random) inputs.scenes.emplace_back("--kind random's scene", "dragon-res4");
     check_outputs(outputs, inputs);
     progress("generating the " + kind_s + " family ...");
-    auto cases = scene::make_family(fam, fo);
+    auto cases = workloads::make_family(fam, fo);
     const std::string want = o.get("case", cases.front().name);
-    const scene::FamilyCase* c = nullptr;
+    const workloads::FamilyCase* c = nullptr;
     std::string names;
     for (const auto& fc : cases) {
         names += (names.empty() ? "" : ", ") + fc.name;
@@ -49,15 +52,15 @@ int gen_family_rays(const Options& o, scene::Family fam) {
     std::vector<Ray> rays = c->rays;
     if (o.has("count")) rays.resize(std::min(rays.size(), std::size_t(o.get_int("count", 0, 1, 1LL << 31))));
     // Both files or neither: the mesh is not left behind when the rays cannot be written.
-    const auto ray_bytes = scene::encode_rays(rays);
+    const auto ray_bytes = io::encode_rays(rays);
     std::vector<unsigned char> mesh_bytes;
-    std::vector<scene::OutputFile> files;
+    std::vector<io::OutputFile> files;
     if (o.has("mesh-out")) {
-        mesh_bytes = scene::encode_ply(c->mesh);
+        mesh_bytes = io::encode_ply(c->mesh);
         files.push_back({o.get("mesh-out"), mesh_bytes});
     }
     files.push_back({out, ray_bytes});
-    scene::write_files_atomic(files);
+    io::write_files_atomic(files);
     std::cout << "wrote " << rays.size() << " rays of case " << c->name << " (seed " << fo.seed << ") to " << out;
     if (o.has("mesh-out")) std::cout << " and its " << c->mesh.size() << "-triangle mesh to " << o.get("mesh-out");
     std::cout << "\ncases: " << names << "\n";
@@ -69,8 +72,8 @@ int gen_family_rays(const Options& o, scene::Family fam) {
 // are always valid and load as usual.
 Mesh load_for_trace(const std::string& name, bool drop_invalid) {
     if (!drop_invalid || !std::filesystem::is_regular_file(name)) return load_scene_with_progress(name);
-    scene::LoadReport report;
-    Mesh m = scene::load_mesh(name, scene::LoadOptions{.drop_invalid = true}, &report);
+    io::LoadReport report;
+    Mesh m = io::load_mesh(name, io::LoadOptions{.drop_invalid = true}, &report);
     std::cout << "dropped " << report.dropped_triangles << " triangles with non-finite vertices from " << name << "\n";
     return m;
 }
@@ -80,11 +83,11 @@ Mesh load_for_trace(const std::string& name, bool drop_invalid) {
 int cmd_gen_rays(const std::vector<std::string>& args) {
     const Options o("gen-rays", args, {"scene", "kind", "count", "seed", "out", "mesh-out", "case"}, {"quick"});
     const std::string kind_s = o.require("kind");
-    if (const auto fam = scene::parse_family(kind_s)) return gen_family_rays(o, *fam);
+    if (const auto fam = workloads::parse_family(kind_s)) return gen_family_rays(o, *fam);
     if (o.has("mesh-out") || o.has("case") || o.has("quick"))
         throw UsageError("--mesh-out, --case and --quick apply to ray families only (--kind watertight, ...)");
     const std::string scene_name = o.require("scene");
-    const auto kind = scene::parse_ray_kind(kind_s);
+    const auto kind = workloads::parse_ray_kind(kind_s);
     if (!kind)
         throw UsageError("unknown --kind '" + kind_s +
                          "' (primary, incoherent, diffuse, or a family: watertight, offsets, axis-aligned, "
@@ -96,14 +99,14 @@ int cmd_gen_rays(const std::vector<std::string>& args) {
     check_outputs({{"--out", out}}, {.scenes = {{"--scene", scene_name}}});
     // Rays and their encoded bytes; diffuse rays also hold the primary rays and hits.
     const std::string count_opt = "--count " + std::to_string(count);
-    const std::uint64_t per_ray = *kind == scene::RayKind::diffuse ? 32 + 32 + 16 + 32 : 32 + 32;
+    const std::uint64_t per_ray = *kind == workloads::RayKind::diffuse ? 32 + 32 + 16 + 32 : 32 + 32;
     check_memory(count_opt, std::uint64_t(count) * per_ray);
-    if (is_scene_desc(scene_name) && *kind == scene::RayKind::diffuse)
+    if (is_scene_desc(scene_name) && *kind == workloads::RayKind::diffuse)
         throw UsageError("--kind diffuse needs a mesh scene (scenes: primary or incoherent, aimed at their bounds)");
     const Mesh mesh = is_scene_desc(scene_name) ? scene_bounds_proxy(scene_name) : load_scene_with_progress(scene_name);
     progress("generating " + std::to_string(count) + " " + kind_s + " rays ...");
     try {
-        const auto rays = scene::generate_rays(mesh, *kind, count, seed);
+        const auto rays = workloads::generate_rays(mesh, *kind, count, seed);
         // Diffuse rays bounce off primary hits: none when the camera sees no triangle. The user asked for
         // `count` rays, so an empty (or short) file is an error, not a success.
         if (rays.size() < count)
@@ -118,7 +121,7 @@ int cmd_gen_rays(const std::vector<std::string>& args) {
                             " has a zero or non-finite direction or origin (the scene's coordinates are beyond what "
                             "float rays can aim at); nothing written");
         }
-        scene::write_file_atomic(out, scene::encode_rays(rays));
+        io::write_file_atomic(out, io::encode_rays(rays));
     } catch (const std::bad_alloc&) {
         throw Error(count_opt + ": out of memory (needs about " + format_bytes(std::uint64_t(count) * per_ray) +
                     "); ask for fewer rays");
@@ -153,7 +156,7 @@ int cmd_trace(const std::vector<std::string>& args) {
     if (o.has("instance-bounds")) throw UsageError("--instance-bounds applies to scenes (room, instances-N, *.json)");
     check_outputs({{"--out", out}}, {.files = {{"--rays", rays_file}}, .scenes = {{"--scene", scene_name}}});
     // Read the rays first: a bad ray file fails before any expensive work.
-    const auto rays = scene::read_rays(rays_file);
+    const auto rays = io::read_rays(rays_file);
     const Mesh mesh = load_for_trace(scene_name, o.has("drop-invalid"));
     if (crossings) {
         CrossingQuery q;
@@ -172,7 +175,7 @@ int cmd_trace(const std::vector<std::string>& args) {
     const auto t0 = std::chrono::steady_clock::now();
     tracer->trace(rays, hits, any, o.has("stats") ? &stats : nullptr);
     const double secs = seconds_since(t0);
-    scene::write_hits(out, hits);
+    io::write_hits(out, hits);
     std::size_t n_hit = 0;
     for (const Hit& h : hits) n_hit += h.hit();
     std::cout << "method " << spec.label() << "  isa " << tracer->ran_isa(spec, any) << spec.isa_note(any) << "  query "

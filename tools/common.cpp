@@ -6,7 +6,7 @@
 
 #include <iostream>
 
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/scenes.h"
 
 namespace simdbvh::cli {
 
@@ -26,14 +26,14 @@ double median(std::vector<double> v) {
 Mesh load_scene_with_progress(const std::string& name) {
     const auto t0 = std::chrono::steady_clock::now();
     progress("loading " + name + " ...");
-    Mesh m = scene::load_scene(name);
+    Mesh m = workloads::load_scene(name);
     progress("loaded " + name + ": " + std::to_string(m.size()) + " triangles in " +
              std::to_string(seconds_since(t0)) + " s");
     return m;
 }
 
 std::string default_scene(std::string* why) {
-    if (scene::is_cached("dragon")) {
+    if (workloads::is_cached("dragon")) {
         if (why) *why = "the Stanford Dragon (cached)";
         return "dragon";
     }

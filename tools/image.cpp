@@ -6,7 +6,8 @@
 #include <cmath>
 
 #include "simdbvh/kernels/error.h"
-#include "simdbvh/scene/rays.h"
+#include "simdbvh/workloads/rays.h"
+#include "simdbvh/io/output.h"
 
 namespace simdbvh::cli {
 
@@ -74,7 +75,7 @@ void write_png(const std::string& file, const Image& img) {
     } catch (const Error& e) {
         throw Error(file + ": " + e.what());
     }
-    scene::write_file_atomic(file, bytes);
+    io::write_file_atomic(file, bytes);
 }
 
 }  // namespace simdbvh::cli

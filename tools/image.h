@@ -9,6 +9,7 @@
 #include "simdbvh/kernels/hit.h"
 #include "simdbvh/kernels/ray.h"
 #include "simdbvh/mesh.h"
+#include "simdbvh/io/output.h"
 
 namespace simdbvh::cli {
 
@@ -24,7 +25,7 @@ Image shade_eye_light(const Mesh& mesh, std::span<const Ray> rays, std::span<con
 Image heat_map(std::span<const std::uint32_t> counts, int w, int h, std::uint32_t max_count = 0);
 // Red where the two hit arrays differ (different triangle or hit/miss), black elsewhere.
 Image disagreement(std::span<const Hit> a, std::span<const Hit> b, int w, int h, std::size_t* differing = nullptr);
-// The PNG file's bytes (stb); write_png writes them through scene::write_file_atomic.
+// The PNG file's bytes (stb); write_png writes them through io::write_file_atomic.
 std::vector<unsigned char> encode_png(const Image& img);
 void write_png(const std::string& file, const Image& img);
 

@@ -13,10 +13,10 @@
 #include "open3d_inside.h"
 #include "simdbvh/bvh2/inside.h"
 #include "simdbvh/bvh8/inside.h"
-#include "simdbvh/compare/cgal.h"
-#include "simdbvh/compare/embree.h"
-#include "simdbvh/scene/points.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/reference/cgal.h"
+#include "simdbvh/reference/embree.h"
+#include "simdbvh/workloads/points.h"
+#include "simdbvh/workloads/scenes.h"
 
 namespace simdbvh::cli {
 
@@ -47,21 +47,21 @@ struct MeshCase {
 void run_mesh(const MeshCase& mc, bool embree, const Open3dAnswer* o3d, std::vector<InsideRow>& rows) {
     const Mesh& mesh = mc.mesh;
     const Bvh8 bvh = Bvh8::build(mesh);  // the CLI's default tree for inside (every tree gives the same sides)
-    std::unique_ptr<compare::EmbreeScene> emb[2];
+    std::unique_ptr<reference::EmbreeScene> emb[2];
     if (embree)
         for (int robust = 0; robust < 2; ++robust) {
-            compare::EmbreeOptions o;
+            reference::EmbreeOptions o;
             o.robust = robust == 1;
             o.threads = 1;
             o.count_filter = true;
-            emb[robust] = std::make_unique<compare::EmbreeScene>(mesh, o);
+            emb[robust] = std::make_unique<reference::EmbreeScene>(mesh, o);
         }
     for (std::size_t k = 0; k < mc.sets.size(); ++k) {
         const PointSet& set = mc.sets[k];
         progress("inside/outside: " + mc.name + ", " + set.name + " (" + std::to_string(set.points.size()) +
                      " points)",
                  true);
-        const std::vector<Side> ref = compare::cgal_sides(mesh, set.points);
+        const std::vector<Side> ref = reference::cgal_sides(mesh, set.points);
         std::size_t surface = 0;
         for (Side s : ref) surface += s == Side::surface;
         auto tally = [&](const std::string& method, double seconds, const std::function<Side(std::size_t)>& side) {
@@ -119,7 +119,7 @@ std::vector<Open3dAnswer> run_open3d(const std::vector<MeshCase>& cases) {
 
 std::vector<InsideRow> run_inside_panel(bool quick, bool embree, bool open3d) {
     std::vector<InsideRow> rows;
-    if (!compare::have_cgal()) {
+    if (!reference::have_cgal()) {
         progress("inside/outside panel skipped: this build has no CGAL (libcgal-dev)", true);
         return rows;
     }
@@ -131,14 +131,14 @@ std::vector<InsideRow> run_inside_panel(bool quick, bool embree, bool open3d) {
     const Mesh& cubes = cases[0].mesh;
     cases[0].sets = {{"through vertices and edges", lattice_points(k)},
                      {"diagonal rays through vertices", diagonal_through_vertices(cubes, n)},
-                     {"uniform", scene::random_points(cubes.bounds(), n, 5)},
+                     {"uniform", workloads::random_points(cubes.bounds(), n, 5)},
                      {"2 ulps off the surface", near_surface(cubes, n, 2)}};
     cases[1].name = quick ? "icosphere-3" : "icosphere-5";
-    cases[1].mesh = scene::icosphere(quick ? 3 : 5);
+    cases[1].mesh = workloads::icosphere(quick ? 3 : 5);
     const Mesh& sphere = cases[1].mesh;
     cases[1].sets = {{"through vertices", through_vertices(sphere, n, 0.01f)},
                      {"diagonal rays through vertices", diagonal_through_vertices(sphere, n)},
-                     {"uniform", scene::random_points(sphere.bounds(), n, 6)},
+                     {"uniform", workloads::random_points(sphere.bounds(), n, 6)},
                      {"2 ulps off the surface", near_surface(sphere, n, 2)}};
     const std::vector<Open3dAnswer> o3d = open3d ? run_open3d(cases) : std::vector<Open3dAnswer>{};
     std::size_t job = 0;

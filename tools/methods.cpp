@@ -5,7 +5,7 @@
 #include "simdbvh/bvh2/spheres.h"
 #include "simdbvh/bvh8/accel.h"
 #include "simdbvh/bvh8/brute_force8.h"
-#include "simdbvh/compare/embree.h"
+#include "simdbvh/reference/embree.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/kernels/parallel.h"
 
@@ -303,12 +303,12 @@ private:
 class EmbreeTracer final : public Tracer {
 public:
     EmbreeTracer(const Mesh& m, const MethodSpec& s) : spec_(s) {
-        compare::EmbreeOptions eo;
-        eo.quality = s.quality == "high" ? compare::EmbreeQuality::high : compare::EmbreeQuality::medium;
+        reference::EmbreeOptions eo;
+        eo.quality = s.quality == "high" ? reference::EmbreeQuality::high : reference::EmbreeQuality::medium;
         eo.robust = s.robust;
         eo.threads = s.threads;
-        scene_ = std::make_unique<compare::EmbreeScene>(m, eo);
-        const compare::EmbreeStats& st = scene_->stats();
+        scene_ = std::make_unique<reference::EmbreeScene>(m, eo);
+        const reference::EmbreeStats& st = scene_->stats();
         build_ms = st.setup_ms + st.build_ms;
         bytes_per_triangle = st.bytes_per_triangle;
     }
@@ -327,7 +327,7 @@ public:
 
 private:
     MethodSpec spec_;
-    std::unique_ptr<compare::EmbreeScene> scene_;
+    std::unique_ptr<reference::EmbreeScene> scene_;
 };
 
 }  // namespace

@@ -15,9 +15,9 @@
 
 #include "report.h"
 #include "simdbvh/kernels/error.h"
-#include "simdbvh/scene/families.h"
-#include "simdbvh/scene/output.h"
-#include "simdbvh/scene/points.h"
+#include "simdbvh/io/write_ply.h"
+#include "simdbvh/io/output.h"
+#include "simdbvh/io/point_files.h"
 
 namespace simdbvh::cli {
 
@@ -85,11 +85,11 @@ Open3dRun run_open3d_occupancy(std::span<const Open3dJob> jobs, double timeout_s
         auto [it, added] = mesh_files.try_emplace(jobs[i].mesh);
         if (added) {
             it->second = (dir.path / ("mesh" + std::to_string(mesh_files.size()) + ".ply")).string();
-            scene::write_ply(it->second, *jobs[i].mesh);
+            io::write_ply(it->second, *jobs[i].mesh);
         }
         point_files[i] = (dir.path / ("points" + std::to_string(i) + ".bin")).string();
         out_files[i] = (dir.path / ("occupancy" + std::to_string(i) + ".bin")).string();
-        scene::write_file_atomic(point_files[i], scene::encode_points(jobs[i].points));
+        io::write_file_atomic(point_files[i], io::encode_points(jobs[i].points));
     }
     PythonOptions opt;
     opt.env = {"OMP_NUM_THREADS=1"};

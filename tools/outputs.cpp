@@ -12,8 +12,8 @@
 
 #include "report.h"
 #include "simdbvh/kernels/error.h"
-#include "simdbvh/scene/output.h"
-#include "simdbvh/scene/scene_inputs.h"
+#include "simdbvh/io/output.h"
+#include "simdbvh/workloads/scene_inputs.h"
 
 namespace simdbvh::cli {
 namespace fs = std::filesystem;
@@ -21,7 +21,7 @@ namespace {
 
 bool same_file(const std::string& a, const std::string& b) {
     std::error_code ec;
-    const fs::path ta = scene::output_target(a), tb = scene::output_target(b);
+    const fs::path ta = io::output_target(a), tb = io::output_target(b);
     if (fs::exists(ta, ec) && fs::exists(tb, ec)) return fs::equivalent(ta, tb, ec);
     return fs::weakly_canonical(ta, ec) == fs::weakly_canonical(tb, ec);
 }
@@ -32,7 +32,7 @@ void on_signal(int sig) {
         ::kill(child, SIGKILL);
         ::waitpid(child, nullptr, 0);
     }
-    scene::remove_temp_files();
+    io::remove_temp_files();
     ::signal(sig, SIG_DFL);
     ::raise(sig);
     ::_exit(128 + sig);  // PID 1: the default action of SIGTERM and SIGINT is to do nothing
@@ -45,7 +45,7 @@ void check_outputs(const NamedPaths& outputs, const Inputs& inputs, bool create_
     std::vector<std::pair<std::string, std::string>> read;
     for (const auto& [opt, path] : inputs.files) read.emplace_back(opt + " " + path, path);
     for (const auto& [opt, name] : inputs.scenes)
-        for (const scene::SceneInput& in : scene::scene_input_files(name))
+        for (const workloads::SceneInput& in : workloads::scene_input_files(name))
             read.emplace_back(in.via.empty() ? opt + " " + name
                                              : in.path.string() + ", which " + opt + " " + name + " reads (" + in.via + ")",
                               in.path.string());
@@ -60,7 +60,7 @@ void check_outputs(const NamedPaths& outputs, const Inputs& inputs, bool create_
             if (same_file(path, outputs[j].second))
                 throw Error(path + ": " + opt + " is the same file as " + outputs[j].first + " " + outputs[j].second +
                             " (two outputs cannot share a file)");
-        scene::check_writable(path, create_parent);
+        io::check_writable(path, create_parent);
     }
 }
 

@@ -6,6 +6,7 @@
 #include <string>
 #include <utility>
 #include <vector>
+#include "simdbvh/io/output.h"
 
 namespace simdbvh::cli {
 
@@ -15,11 +16,11 @@ using NamedPaths = std::vector<std::pair<std::string, std::string>>;
 // What a command reads.
 struct Inputs {
     NamedPaths files = {};   // read as given: {"--rays", "r.bin"}
-    NamedPaths scenes = {};  // scene names, each standing for every file it leads to (scene::scene_input_files):
+    NamedPaths scenes = {};  // scene names, each standing for every file it leads to (workloads::scene_input_files):
                              // {"--scene", "scene.json"}: the JSON file and each mesh it references
 };
 
-// Throws simdbvh::Error unless every output can be written (scene::check_writable; with create_parent for
+// Throws simdbvh::Error unless every output can be written (io::check_writable; with create_parent for
 // files in a folder the command creates) and no output is the same file as an input or another output
 // (existing files: same device and inode, so symlinks and hard links are caught; otherwise the paths with
 // symlinks resolved). The message names the output and the input (and how the scene reaches it).

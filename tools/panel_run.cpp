@@ -11,13 +11,13 @@
 #include "report.h"
 #include "simdbvh/bvh2/spheres.h"
 #include "simdbvh/bvh8/bvh8.h"
-#include "simdbvh/scene/rays.h"
+#include "simdbvh/workloads/rays.h"
 
 namespace simdbvh::cli {
 
 namespace {
 
-using scene::RayKind;
+using workloads::RayKind;
 constexpr RayKind kKinds[] = {RayKind::primary, RayKind::incoherent, RayKind::diffuse};
 using TraceFn = std::function<void(std::span<const Ray>, std::span<Hit>, TraceStats*)>;
 
@@ -60,8 +60,8 @@ struct PanelRays {
 PanelRays make_rays(const PanelConfig& c, const Mesh& mesh) {
     PanelRays p;
     for (RayKind k : kKinds) {
-        progress("generating " + std::to_string(c.rays) + " " + std::string(scene::name(k)) + " rays", true);
-        p.rays.push_back(scene::generate_rays(mesh, k, c.rays, 42));
+        progress("generating " + std::to_string(c.rays) + " " + std::string(workloads::name(k)) + " rays", true);
+        p.rays.push_back(workloads::generate_rays(mesh, k, c.rays, 42));
     }
     p.sample.resize(3);
     for (int k = 0; k < 3; ++k) {
@@ -69,7 +69,7 @@ PanelRays make_rays(const PanelConfig& c, const Mesh& mesh) {
         for (std::size_t i = 0; i < p.rays[k].size() && p.sample[k].size() < c.stats_rays; i += stride)
             p.sample[k].push_back(p.rays[k][i]);
     }
-    p.frame = scene::primary_rays(scene::default_camera(mesh.bounds(), kFrameW, kFrameH));
+    p.frame = workloads::primary_rays(workloads::default_camera(mesh.bounds(), kFrameW, kFrameH));
     return p;
 }
 

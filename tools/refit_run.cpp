@@ -10,16 +10,16 @@
 #include "bench_run.h"
 #include "common.h"
 #include "simdbvh/bvh8/bvh8.h"
-#include "simdbvh/compare/embree.h"
-#include "simdbvh/scene/deform.h"
-#include "simdbvh/scene/rays.h"
+#include "simdbvh/reference/embree.h"
+#include "simdbvh/workloads/deform.h"
+#include "simdbvh/workloads/rays.h"
 
 namespace simdbvh::cli {
 
 namespace {
 
 constexpr double kRadiansPerFrame = 0.1;
-constexpr scene::RayKind kKinds[2] = {scene::RayKind::primary, scene::RayKind::incoherent};
+constexpr workloads::RayKind kKinds[2] = {workloads::RayKind::primary, workloads::RayKind::incoherent};
 
 double ms_of(const std::function<void()>& f) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -49,15 +49,15 @@ std::vector<RefitFrame> run_refit(const BenchConfig& c, const Mesh& mesh) {
     const int reps = std::max(1, c.build_reps);
     progress("refit sequence: " + std::to_string(c.refit_frames) + " frames", true);
     Bvh8 refit = Bvh8::build(mesh);
-    compare::EmbreeScene embree_refit(mesh, {compare::EmbreeQuality::refit, false, 1});
-    compare::EmbreeScene embree_rebuild(mesh, {compare::EmbreeQuality::medium, false, 1});
+    reference::EmbreeScene embree_refit(mesh, {reference::EmbreeQuality::refit, false, 1});
+    reference::EmbreeScene embree_rebuild(mesh, {reference::EmbreeQuality::medium, false, 1});
     const std::size_t n = std::max<std::size_t>(1024, c.rays / 4);
     for (int f = 1; f <= c.refit_frames; ++f) {
         RefitFrame fr;
         fr.frame = f;
         fr.radians = kRadiansPerFrame * f;
         progress("refit frame " + std::to_string(f) + " (twist " + fmt("%.2f", fr.radians) + " rad)", true);
-        const Mesh moved = scene::twist(mesh, fr.radians);
+        const Mesh moved = workloads::twist(mesh, fr.radians);
         // The first refit and update of the frame are untimed (first touch of the new positions).
         refit.refit(moved, 1);
         fr.refit_ms = median_of(reps, [&] { return ms_of([&] { refit.refit(moved, 1); }); });
@@ -71,7 +71,7 @@ std::vector<RefitFrame> run_refit(const BenchConfig& c, const Mesh& mesh) {
         fr.sah_refit = refit.stats().sah_cost;
         fr.sah_rebuild = rebuilt.stats().sah_cost;
         for (int k = 0; k < 2; ++k) {
-            const std::vector<Ray> rays = scene::generate_rays(moved, kKinds[k], n, 7 + std::uint64_t(f));
+            const std::vector<Ray> rays = workloads::generate_rays(moved, kKinds[k], n, 7 + std::uint64_t(f));
             std::vector<Hit> a(rays.size()), b(rays.size());
             fr.mrays_refit[k] = mrays(c.reps, n, [&] { intersect(refit, rays, a); });
             fr.mrays_rebuild[k] = mrays(c.reps, n, [&] { intersect(rebuilt, rays, b); });
@@ -108,7 +108,7 @@ std::string refit_markdown(const std::vector<RefitFrame>& frames, const std::str
     if (frames.empty()) return "";
     std::ostringstream s;
     s << "The bench scene twisted about its vertical axis by " << kRadiansPerFrame
-      << " rad more per frame (scene::twist). Ours: BVH8 refit (1 thread / all cores) against `Bvh8::build` of the "
+      << " rad more per frame (workloads::twist). Ours: BVH8 refit (1 thread / all cores) against `Bvh8::build` of the "
          "moved mesh (1 thread); Embree 3, one thread: a dynamic scene with RTC_BUILD_QUALITY_REFIT against a "
          "medium scene, both updated with the new vertex buffer and rtcCommitScene. ms: median of the timed runs "
          "after an untimed one. Mrays/s: closest hit, one thread, primary / incoherent rays. differ: rays whose "

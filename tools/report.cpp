@@ -21,7 +21,7 @@
 #include <thread>
 
 #include "simdbvh/kernels/error.h"
-#include "simdbvh/scene/output.h"
+#include "simdbvh/io/output.h"
 
 namespace simdbvh::cli {
 
@@ -94,7 +94,7 @@ std::string json_text(const Json& doc) {
 
 void write_text(const fs::path& file, const std::string& text) {
     if (file.has_parent_path()) fs::create_directories(file.parent_path());
-    scene::write_file_atomic(file, std::span(reinterpret_cast<const unsigned char*>(text.data()), text.size()));
+    io::write_file_atomic(file, std::span(reinterpret_cast<const unsigned char*>(text.data()), text.size()));
 }
 
 std::string with_marked_block(const fs::path& file, const std::string& begin, const std::string& end,
@@ -147,10 +147,10 @@ std::vector<fs::path> ReportFiles::paths() const {
 
 bool ReportFiles::add_charts(const std::string& script, const std::string& json, const std::string& json_name,
                              const fs::path& dir) {
-    std::optional<scene::StagingDir> staging;
+    std::optional<io::StagingDir> staging;
     try {
         staging.emplace();
-        scene::write_file_atomic(staging->path() / json_name,
+        io::write_file_atomic(staging->path() / json_name,
                                  std::span(reinterpret_cast<const unsigned char*>(json.data()), json.size()));
     } catch (const Error& e) {
         std::cerr << "[simdbvh] warning: no charts (" << e.what() << "); the report has tables only\n";
@@ -186,10 +186,10 @@ void ReportFiles::commit() const {
             created.push_back(*it);
         }
     }
-    std::vector<scene::OutputFile> out;
+    std::vector<io::OutputFile> out;
     for (const auto& [p, b] : files_) out.push_back({p, b});
     try {
-        scene::write_files_atomic(out);
+        io::write_files_atomic(out);
     } catch (...) {
         std::error_code ec;
         for (auto c = created.rbegin(); c != created.rend(); ++c) fs::remove_all(*c, ec);

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
+#include "simdbvh/io/output.h"
 
 namespace simdbvh::cli {
 
@@ -56,7 +57,7 @@ void check_marked_block(const std::filesystem::path& file, const std::string& be
 
 // The files of one report, committed together: nothing is written before commit(), which writes every file to
 // a temporary file beside it and renames them all into place only when each is complete
-// (scene::write_files_atomic). A failed or interrupted run leaves every file as it was.
+// (io::write_files_atomic). A failed or interrupted run leaves every file as it was.
 class ReportFiles {
 public:
     void add(const std::filesystem::path& file, const std::string& text);
@@ -64,7 +65,7 @@ public:
     // The bytes added for `file`, or nullptr.
     const std::vector<unsigned char>* find(const std::filesystem::path& file) const;
     // Runs scripts/SCRIPT (run_chart_script) on `json` (written as JSON_NAME) in a staging folder of its own
-    // (scene::StagingDir) and adds every PNG it draws there under `dir`. False, with a warning on stderr, when
+    // (io::StagingDir) and adds every PNG it draws there under `dir`. False, with a warning on stderr, when
     // the script fails: the report then has tables only.
     bool add_charts(const std::string& script, const std::string& json, const std::string& json_name,
                     const std::filesystem::path& dir);

@@ -12,9 +12,10 @@
 #include "outputs.h"
 #include "printable.h"
 #include "simdbvh/kernels/error.h"
-#include "simdbvh/scene/rays.h"
-#include "simdbvh/scene/scene_desc.h"
-#include "simdbvh/scene/scene_hits.h"
+#include "simdbvh/workloads/rays.h"
+#include "simdbvh/io/ray_files.h"
+#include "simdbvh/workloads/scene_desc.h"
+#include "simdbvh/io/scene_hits.h"
 
 namespace simdbvh::cli {
 
@@ -77,7 +78,7 @@ Vec3 tint(const SceneHit& h) {
 }  // namespace
 
 bool is_scene_desc(const std::string& name) {
-    return scene::is_builtin_scene(name) || (name.size() > 5 && name.substr(name.size() - 5) == ".json");
+    return workloads::is_builtin_scene(name) || (name.size() > 5 && name.substr(name.size() - 5) == ".json");
 }
 
 void refuse_mesh_options(const Options& o, const std::string& name) {
@@ -100,7 +101,7 @@ InstanceBounds parse_instance_bounds(const Options& o) {
 int info_scene(const std::string& name, const MethodSpec& spec, InstanceBounds bounds) {
     const int width = scene_width(spec);
     progress("loading " + name + " ...");
-    const SceneDesc desc = scene::load_scene_desc(name);
+    const SceneDesc desc = workloads::load_scene_desc(name);
     std::printf("scene        %s\n", printable(name).c_str());
     std::printf("isa          %s\n", std::string(simdbvh::name(spec.isa)).c_str());
     if (width == 4) print_info<4>(desc, spec, bounds);
@@ -114,9 +115,9 @@ int trace_scene(const Options& o, const std::string& name, const std::string& ra
     const int width = scene_width(spec);
     refuse_mesh_options(o, name);
     check_outputs({{"--out", out}}, {.files = {{"--rays", rays_file}}, .scenes = {{"--scene", name}}});
-    const auto rays = scene::read_rays(rays_file);  // a bad ray file fails before any expensive work
+    const auto rays = io::read_rays(rays_file);  // a bad ray file fails before any expensive work
     progress("loading " + name + " ...");
-    const SceneDesc desc = scene::load_scene_desc(name);
+    const SceneDesc desc = workloads::load_scene_desc(name);
     std::vector<SceneHit> hits(rays.size());
     double build_ms = 0;
     const auto t0 = std::chrono::steady_clock::now();
@@ -130,7 +131,7 @@ int trace_scene(const Options& o, const std::string& name, const std::string& ra
         trace_with<16>(desc, spec, bounds, rays, hits, any, &build_ms);
     }
     const double secs = seconds_since(t0) - build_ms / 1e3;
-    scene::write_scene_hits(out, hits);
+    io::write_scene_hits(out, hits);
     std::size_t n_hit = 0;
     for (const SceneHit& h : hits) n_hit += h.hit();
     std::cout << "scene " << name << "  method " << (spec.method == "brute" ? "brute" : "bvh" + std::to_string(width))
@@ -142,7 +143,7 @@ int trace_scene(const Options& o, const std::string& name, const std::string& ra
 }
 
 Mesh scene_bounds_proxy(const std::string& name) {
-    const SceneDesc desc = scene::load_scene_desc(name);
+    const SceneDesc desc = workloads::load_scene_desc(name);
     const Aabb b = world_bounds(desc);
     if (b.is_empty()) throw Error(name + ": the scene has no bounded part (planes only): no rays to aim");
     Mesh m;
@@ -153,9 +154,9 @@ Mesh scene_bounds_proxy(const std::string& name) {
 
 Image render_scene_image(const std::string& name, const MethodSpec& spec, InstanceBounds bounds, int w, int h) {
     const int width = scene_width(spec);
-    const SceneDesc desc = scene::load_scene_desc(name);
-    const scene::Camera cam = scene::scene_camera(desc, w, h);
-    const auto rays = scene::primary_rays(cam);
+    const SceneDesc desc = workloads::load_scene_desc(name);
+    const workloads::Camera cam = workloads::scene_camera(desc, w, h);
+    const auto rays = workloads::primary_rays(cam);
     std::vector<SceneHit> hits(rays.size());
     double build_ms = 0;
     if (spec.method == "brute") brute_force_intersect(desc, rays, hits);

@@ -1,12 +1,12 @@
 #pragma once
 // info and trace on scene descriptions (built-in instances-N, spheres-N, room,
-// or a .json scene file): the scene layer of simdbvh/scene_accel.
+// or a .json scene file): the scene layer of simdbvh/scene.
 #include <string>
 
 #include "image.h"
 #include "methods.h"
-#include "simdbvh/scene/rays.h"
-#include "simdbvh/scene_accel/scene.h"
+#include "simdbvh/workloads/rays.h"
+#include "simdbvh/scene/scene.h"
 
 namespace simdbvh::cli {
 

@@ -11,7 +11,7 @@
 
 #include "report.h"
 #include "scene_cmds.h"
-#include "simdbvh/compare/embree.h"
+#include "simdbvh/reference/embree.h"
 
 namespace simdbvh::cli {
 
@@ -21,9 +21,9 @@ namespace {
 
 std::string mb(std::size_t bytes) { return fmt("%.2f", double(bytes) / 1e6); }
 
-Json tally_json(const compare::SceneTally& t) {
+Json tally_json(const reference::SceneTally& t) {
     Json j = Json::object();
-    for (int i = 0; i < 6; ++i) j[std::string(compare::name(compare::SceneLabel(i)))] = t.count[i];
+    for (int i = 0; i < 6; ++i) j[std::string(reference::name(reference::SceneLabel(i)))] = t.count[i];
     j["marginal"] = t.marginal;
     return j;
 }
@@ -113,10 +113,10 @@ Table agreement_table(const SceneDescBenchResults& r) {
     return t;
 }
 
-std::string labels(const compare::SceneTally& t) {
+std::string labels(const reference::SceneTally& t) {
     std::string s;
     for (int i = 2; i < 6; ++i)
-        if (t.count[i]) s += (s.empty() ? "" : ", ") + std::string(compare::name(compare::SceneLabel(i))) + " " + std::to_string(t.count[i]);
+        if (t.count[i]) s += (s.empty() ? "" : ", ") + std::string(reference::name(reference::SceneLabel(i))) + " " + std::to_string(t.count[i]);
     if (s.empty()) return "none";
     return s + (t.marginal ? " (" + std::to_string(t.marginal) + " marginal)" : "");
 }
@@ -279,7 +279,7 @@ void report_scene_desc_bench(const BenchConfig& c, const SceneDescBenchResults& 
         spec.isa = active_isa();
         set.add(dir / "scene_render.png", encode_png(render_scene_image(c.scene, spec, InstanceBounds::child_corners, 640, 480)));
         rep.markdown << "# simdbvh bench report: scene " << r.scene << "\n\nMachine: " << c.machine << "\n\nCommand: `"
-                     << c.command << "`\n\nEmbree " << compare::EmbreeScene::version() << ". " << kNote << "\n\n"
+                     << c.command << "`\n\nEmbree " << reference::EmbreeScene::version() << ". " << kNote << "\n\n"
                      << body(r, "", charts, false) << "![render](scene_render.png)\n";
         set.add(dir / "report.md", rep.markdown.str());
         const std::string s = slug(r.scene);

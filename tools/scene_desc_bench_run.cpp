@@ -13,11 +13,11 @@
 
 #include "common.h"
 #include "simdbvh/bvh8/bvh8.h"
-#include "simdbvh/compare/embree.h"
-#include "simdbvh/compare/embree_instances.h"
-#include "simdbvh/compare/reference.h"
-#include "simdbvh/scene/scene_desc.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/reference/embree.h"
+#include "simdbvh/reference/embree_instances.h"
+#include "simdbvh/reference/reference.h"
+#include "simdbvh/workloads/scene_desc.h"
+#include "simdbvh/workloads/scenes.h"
 
 namespace simdbvh::cli {
 
@@ -98,7 +98,7 @@ Method scene_method(std::string name, const SceneBvhN<8>& s, std::vector<SceneHi
                   [&buf](std::size_t i) { return buf[i]; }};
 }
 
-Method embree_method(std::string name, const compare::EmbreeInstanceScene& e, std::vector<SceneHit>& buf) {
+Method embree_method(std::string name, const reference::EmbreeInstanceScene& e, std::vector<SceneHit>& buf) {
     return Method{std::move(name),
                   [&e, &buf](std::span<const Ray> rays, bool any) {
                       buf.resize(rays.size());
@@ -109,7 +109,7 @@ Method embree_method(std::string name, const compare::EmbreeInstanceScene& e, st
 
 // Closest hits of `got` against ours (`ref`); the rays where they differ go to the double reference.
 void agreement(const std::string& method, const std::string& kind, std::span<const Ray> rays, const Method& ref,
-               const std::function<SceneHit(std::size_t)>& got, const compare::SceneReferencer* referee,
+               const std::function<SceneHit(std::size_t)>& got, const reference::SceneReferencer* referee,
                std::vector<SceneAgreementRow>& out) {
     SceneAgreementRow a;
     a.method = method;
@@ -128,7 +128,7 @@ void agreement(const std::string& method, const std::string& kind, std::span<con
             ++a.same;
             a.same_bits += r == g;
             differ = r.hit() && std::fabs(double(r.t) - double(g.t)) >
-                                    compare::tolerance(rays[i], r.t) * (referee ? referee->cond(r.inst) : 1.0);
+                                    reference::tolerance(rays[i], r.t) * (referee ? referee->cond(r.inst) : 1.0);
         } else {
             ++a.other_object;
             differ = true;
@@ -137,7 +137,7 @@ void agreement(const std::string& method, const std::string& kind, std::span<con
         ++a.differ;
         if (!referee || a.refereed >= kMaxRefereed) continue;
         ++a.refereed;
-        const compare::SceneReference x = referee->closest(rays[i]);
+        const reference::SceneReference x = referee->closest(rays[i]);
         a.ours.add(referee->classify(rays[i], x, r));
         a.theirs.add(referee->classify(rays[i], x, g));
     }
@@ -163,8 +163,8 @@ void tessellation(const BenchConfig& c, const SphereSet& all, SceneDescBenchResu
     analytic.instances.push_back({0, Affine3{}});
     const auto& spheres = std::get<SphereSet>(analytic.geometries[0]).spheres;
     const std::size_t n = std::min<std::size_t>(c.rays, 65536);
-    const std::vector<Ray> primary = scene::scene_camera_rays(analytic, n);
-    const std::vector<Ray> incoherent = scene::interior_rays(world_bounds(analytic), n, 5);
+    const std::vector<Ray> primary = workloads::scene_camera_rays(analytic, n);
+    const std::vector<Ray> incoherent = workloads::interior_rays(world_bounds(analytic), n, 5);
 
     constexpr int kLevels = 6;
     progress("tessellation: analytic spheres and icosphere levels 0.." + std::to_string(kLevels - 1), true);
@@ -173,7 +173,7 @@ void tessellation(const BenchConfig& c, const SphereSet& all, SceneDescBenchResu
     std::vector<TessellationRow> rows;
     std::vector<std::size_t> per_sphere;  // triangles per sphere (1 for analytic)
     trees.push_back(SceneBvhN<8>::build(analytic));
-    const compare::EmbreeInstanceScene embree(analytic);
+    const reference::EmbreeInstanceScene embree(analytic);
     rows.push_back({"analytic (ours)", -1, 0, trees.back().stats().bytes});
     rows.push_back({"Embree SPHERE_POINT", -1, 0, embree.bytes()});
     per_sphere = {1, 1};
@@ -181,7 +181,7 @@ void tessellation(const BenchConfig& c, const SphereSet& all, SceneDescBenchResu
         SceneDesc tess;
         Mesh m;
         for (const Sphere& s : spheres) {
-            const Mesh one = scene::icosphere(level, s.radius, s.center);
+            const Mesh one = workloads::icosphere(level, s.radius, s.center);
             const auto base = std::uint32_t(m.positions.size());
             m.positions.insert(m.positions.end(), one.positions.begin(), one.positions.end());
             for (const Triangle& t : one.triangles) m.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
@@ -263,7 +263,7 @@ void planes(const BenchConfig& c, const SceneDesc& desc, const std::vector<Ray> 
     in.instances.push_back({std::uint32_t(in.geometries.size() - 1), Affine3{}});
     progress("planes: kept out against put in the tree (" + std::to_string(boxes.boxes.size()) + " flat boxes)", true);
     const SceneBvhN<8> out_tree = SceneBvhN<8>::build(desc), in_tree = SceneBvhN<8>::build(in);
-    const compare::EmbreeInstanceScene embree_out(desc), embree_in(in);
+    const reference::EmbreeInstanceScene embree_out(desc), embree_in(in);
     std::vector<SceneHit> bufs[4];
     Method ms[4] = {scene_method("BVH8 scene, planes out", out_tree, bufs[0]),
                     scene_method("BVH8 scene, planes in (flat boxes)", in_tree, bufs[1]),
@@ -297,10 +297,10 @@ SceneDescBenchResults run_scene_desc_bench(const BenchConfig& c, const SceneDesc
     const double ms_child = build_median(c.build_reps, [&] { return timed_ms([&] { ours = SceneBvhN<8>::build(desc, child); }); });
     const double ms_corners =
         build_median(c.build_reps, [&] { return timed_ms([&] { ours_corners = SceneBvhN<8>::build(desc, corners); }); });
-    std::unique_ptr<compare::EmbreeInstanceScene> embree;
+    std::unique_ptr<reference::EmbreeInstanceScene> embree;
     const double ms_embree = build_median(c.build_reps, [&] {
         embree.reset();
-        return timed_ms([&] { embree = std::make_unique<compare::EmbreeInstanceScene>(desc); });
+        return timed_ms([&] { embree = std::make_unique<reference::EmbreeInstanceScene>(desc); });
     });
     res.stats = ours.stats();
     res.builds.push_back({"BVH8 scene (child-corners)", ms_child, ours.stats().bytes});
@@ -315,7 +315,7 @@ SceneDescBenchResults run_scene_desc_bench(const BenchConfig& c, const SceneDesc
                                 embree_method("Embree instanced", *embree, bufs[2])};
     // Flattened (meshes only): built and traced when it fits, else its bytes estimated.
     Bvh8 flat;
-    std::unique_ptr<compare::EmbreeScene> embree_flat;
+    std::unique_ptr<reference::EmbreeScene> embree_flat;
     std::vector<std::uint32_t> first;
     const std::size_t flat_tris = res.stats.instanced_primitives;
     if (meshes_only(desc) && desc.instances.size() > 1) {
@@ -325,7 +325,7 @@ SceneDescBenchResults run_scene_desc_bench(const BenchConfig& c, const SceneDesc
             const double ms_flat = build_median(c.build_reps, [&] { return timed_ms([&] { flat = Bvh8::build(mesh); }); });
             const double ms_eflat = build_median(c.build_reps, [&] {
                 embree_flat.reset();
-                return timed_ms([&] { embree_flat = std::make_unique<compare::EmbreeScene>(mesh); });
+                return timed_ms([&] { embree_flat = std::make_unique<reference::EmbreeScene>(mesh); });
             });
             res.builds.push_back({"BVH8 flattened", ms_flat, wide_bytes(flat)});
             const auto& es = embree_flat->stats();
@@ -358,7 +358,7 @@ SceneDescBenchResults run_scene_desc_bench(const BenchConfig& c, const SceneDesc
     }
 
     const Aabb box = world_bounds(desc);
-    const std::vector<Ray> rays[2] = {scene::scene_camera_rays(desc, c.rays), scene::interior_rays(box, c.rays, 9)};
+    const std::vector<Ray> rays[2] = {workloads::scene_camera_rays(desc, c.rays), workloads::interior_rays(box, c.rays, 9)};
     res.rays = rays[1].size();
     const char* kinds[2] = {"primary", "incoherent"};
     std::vector<Method*> ptrs;
@@ -373,7 +373,7 @@ SceneDescBenchResults run_scene_desc_bench(const BenchConfig& c, const SceneDesc
 
     // Agreement of the closest hits with ours (child corners): the brute force on a sample (it costs every
     // instanced primitive per ray), the others on every ray, their differences refereed in double.
-    const compare::SceneReferencer referee(desc);
+    const reference::SceneReferencer referee(desc);
     for (int k = 0; k < 2; ++k) {
         for (Method& m : methods) m.trace(rays[k], false);
         for (std::size_t i = 1; i < methods.size(); ++i)

@@ -12,8 +12,8 @@
 
 #include "bench_run.h"
 #include "sphere_precision.h"
-#include "simdbvh/compare/scene_reference.h"
-#include "simdbvh/scene_accel/scene.h"
+#include "simdbvh/reference/scene_reference.h"
+#include "simdbvh/scene/scene.h"
 
 namespace simdbvh::cli {
 
@@ -44,7 +44,7 @@ struct SceneAgreementRow {
     // Rays where the two differ (hit/miss, object, or t beyond the reference tolerance), refereed by the double
     // scene reference (compare/scene_reference.h), at most kMaxRefereed of them: both answers classified.
     std::size_t differ = 0, refereed = 0;
-    compare::SceneTally ours, theirs;
+    reference::SceneTally ours, theirs;
 };
 
 inline constexpr std::size_t kMaxRefereed = 2000;

@@ -10,9 +10,9 @@
 #include <random>
 #include <span>
 
-#include "simdbvh/compare/embree_instances.h"
-#include "simdbvh/scene_accel/scene.h"
-#include "simdbvh/scene_accel/shapes.h"
+#include "simdbvh/reference/embree_instances.h"
+#include "simdbvh/scene/scene.h"
+#include "simdbvh/scene/shapes.h"
 
 namespace simdbvh::cli {
 
@@ -150,7 +150,7 @@ SpherePrecisionRow study_ratio(double ratio, std::size_t n, Rng& rng) {
     SceneDesc desc;
     desc.geometries.push_back(SphereSet{{sphere}});
     desc.instances.push_back(Instance{0, Affine3{}});
-    const compare::EmbreeInstanceScene scene(desc);
+    const reference::EmbreeInstanceScene scene(desc);
     std::vector<SceneHit> hits(n);
     scene.intersect(rays, hits);
     for (std::size_t i = 0; i < n; ++i) embree.add(hits[i].hit(), rays[i], sphere, hits[i].t);

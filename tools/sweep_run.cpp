@@ -16,14 +16,14 @@
 
 #include "common.h"
 #include "methods.h"
-#include "simdbvh/scene/rays.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/rays.h"
+#include "simdbvh/workloads/scenes.h"
 
 namespace simdbvh::cli {
 
 namespace {
 
-using scene::RayKind;
+using workloads::RayKind;
 
 double median_ms(std::vector<double> v) {
     std::sort(v.begin(), v.end());
@@ -118,7 +118,7 @@ public:
             for (RayKind kind : {RayKind::primary, RayKind::incoherent}) {
                 std::vector<double> per_ray(methods.size(), 0.0);  // ms per ray at the previous count
                 for (std::size_t n_rays : s_.rays) {
-                    const auto rays = scene::generate_rays(mesh_, kind, n_rays, 42);
+                    const auto rays = workloads::generate_rays(mesh_, kind, n_rays, 42);
                     group(methods, built, rays, kind, threads, per_ray, out);
                 }
             }
@@ -147,7 +147,7 @@ private:
             SweepRow r;
             r.scene = s_.name;
             r.method = methods[i].method;
-            r.ray_kind = std::string(scene::name(kind));
+            r.ray_kind = std::string(workloads::name(kind));
             r.triangles = mesh_.size();
             r.rays = rays.size();
             r.held_out = s_.held_out;
@@ -181,13 +181,13 @@ std::vector<SweepScene> sweep_scenes(bool quick) {
         s.push_back({"icosphere-" + std::to_string(level), 0, false, rays});
     // A real mesh among the fit scenes: scanned meshes cost more per incoherent ray than soups and spheres of
     // the same size (deeper overlap), which moves the BVH2 / wide-tree crossover. Not one of the held-out scenes.
-    if (!quick && scene::is_cached("dragon-res3")) s.push_back({"dragon-res3", 0, false, rays});
+    if (!quick && workloads::is_cached("dragon-res3")) s.push_back({"dragon-res3", 0, false, rays});
     const std::vector<std::size_t> held_rays = quick ? std::vector<std::size_t>{3, 300, 3000, 30000}
                                                      : std::vector<std::size_t>{3, 300, 30000, 300000};
     const char* held[] = {"dragon", "dragon-res2", "dragon-res4", "bunny", "teapot"};
     const char* fallback[] = {"icosphere-7", "icosphere-5", "icosphere-3", "icosphere-1", "soup-3000"};
     for (int i = 0; i < 5; ++i) {
-        const bool use = scene::is_cached(held[i]) && !(quick && i == 0);
+        const bool use = workloads::is_cached(held[i]) && !(quick && i == 0);
         s.push_back({use ? held[i] : fallback[i], 0, true, held_rays});
     }
     return s;

@@ -8,8 +8,8 @@
 #include "common.h"
 #include "simdbvh/bvh2/crossings.h"
 #include "simdbvh/kernels/parallel.h"
-#include "simdbvh/scene/crossing_files.h"
-#include "simdbvh/scene/output.h"
+#include "simdbvh/io/crossing_files.h"
+#include "simdbvh/io/output.h"
 
 namespace simdbvh::cli {
 
@@ -33,7 +33,7 @@ void trace_crossings(const Mesh& mesh, std::span<const Ray> rays, const MethodSp
             crossings += a.hits.size();
             dropped += a.dropped;
         }
-        bytes = scene::encode_all_hits(all);
+        bytes = io::encode_all_hits(all);
     } else {
         std::vector<CrossingCount> counts(rays.size());
         if (brute) {
@@ -44,10 +44,10 @@ void trace_crossings(const Mesh& mesh, std::span<const Ray> rays, const MethodSp
             count_crossings(bvh, rays, counts, spec.threads);
         }
         for (const CrossingCount& c : counts) crossings += c.crossings;
-        bytes = scene::encode_counts(counts);
+        bytes = io::encode_counts(counts);
     }
     const double secs = seconds_since(t1);
-    scene::write_file_atomic(out, bytes);
+    io::write_file_atomic(out, bytes);
     std::cout << "method " << (brute ? "brute" : "bvh2") << "  query " << (q.all ? "all" : "count") << "  threads "
               << spec.threads << "\n"
               << "rays " << rays.size() << "  crossings " << crossings;

@@ -12,7 +12,7 @@
 // Refit rows (refit/<scene>/...): Bvh2::refit, Bvh8::refit and Embree's
 // refit (RTC_BUILD_QUALITY_REFIT, update_vertices) of a structure built once,
 // each repetition alternating between the mesh twisted by 1 rad and the mesh
-// itself (scene::twist), so every timed refit moves every vertex.
+// itself (workloads::twist), so every timed refit moves every vertex.
 // Peak memory: the warm-up build's peak resident bytes above the process's
 // resident bytes before it, per triangle (peak_B_per_tri; Linux /proc).
 // One-thread figures: run pinned, e.g. taskset -c 1 simdbvh_bench_build --benchmark_filter=/t1.
@@ -31,10 +31,10 @@
 
 #include "simdbvh/bvh2/bvh2.h"
 #include "simdbvh/bvh8/bvh8.h"
-#include "simdbvh/compare/embree.h"
+#include "simdbvh/reference/embree.h"
 #include "simdbvh/kernels/isa.h"
-#include "simdbvh/scene/deform.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/deform.h"
+#include "simdbvh/workloads/scenes.h"
 
 namespace {
 
@@ -45,7 +45,7 @@ double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std
 const simdbvh::Mesh& mesh_of(const std::string& name) {
     static std::map<std::string, std::unique_ptr<simdbvh::Mesh>> cache;
     auto& m = cache[name];
-    if (!m) m = std::make_unique<simdbvh::Mesh>(simdbvh::scene::load_scene(name));
+    if (!m) m = std::make_unique<simdbvh::Mesh>(simdbvh::workloads::load_scene(name));
     return *m;
 }
 
@@ -109,9 +109,9 @@ Timed build_once(Row row, const simdbvh::Mesh& mesh, int threads, const simdbvh:
         break;
     }
     case Row::embree_medium: {
-        simdbvh::compare::EmbreeOptions eo;
+        simdbvh::reference::EmbreeOptions eo;
         eo.threads = threads;
-        const simdbvh::compare::EmbreeScene s(mesh, eo);
+        const simdbvh::reference::EmbreeScene s(mesh, eo);
         t.ms = ms_since(t0);
         break;
     }
@@ -179,7 +179,7 @@ struct RefitState {
     simdbvh::Mesh moved;
     simdbvh::Bvh2 bvh2;
     simdbvh::Bvh8 bvh8;
-    std::unique_ptr<simdbvh::compare::EmbreeScene> embree;
+    std::unique_ptr<simdbvh::reference::EmbreeScene> embree;
     bool at_moved = false;
 };
 
@@ -205,13 +205,13 @@ void BM_Refit(benchmark::State& st, Refit what, std::string scene, bool all) {
         return;
     }
     RefitState r;
-    r.moved = simdbvh::scene::twist(*mesh, 1.0);
+    r.moved = simdbvh::workloads::twist(*mesh, 1.0);
     switch (what) {
     case Refit::bvh2: r.bvh2 = simdbvh::Bvh2::build(*mesh); break;
     case Refit::bvh8: r.bvh8 = simdbvh::Bvh8::build(*mesh); break;
     case Refit::embree:
-        r.embree = std::make_unique<simdbvh::compare::EmbreeScene>(
-            *mesh, simdbvh::compare::EmbreeOptions{simdbvh::compare::EmbreeQuality::refit, false, threads});
+        r.embree = std::make_unique<simdbvh::reference::EmbreeScene>(
+            *mesh, simdbvh::reference::EmbreeOptions{simdbvh::reference::EmbreeQuality::refit, false, threads});
         break;
     }
     refit_once(what, r, *mesh, threads);  // untimed warm-up
@@ -229,7 +229,7 @@ std::vector<std::string> scenes() {
     while (at <= list.size()) {
         const std::size_t comma = std::min(list.find(',', at), list.size());
         const std::string s = list.substr(at, comma - at);
-        if (!s.empty() && (s != "dragon" || simdbvh::scene::is_cached(s))) out.push_back(s);
+        if (!s.empty() && (s != "dragon" || simdbvh::workloads::is_cached(s))) out.push_back(s);
         at = comma + 1;
     }
     return out;
@@ -287,7 +287,7 @@ int main(int argc, char** argv) {
     register_all();
     benchmark::AddCustomContext("active_isa", std::string(simdbvh::name(simdbvh::active_isa())));
     benchmark::AddCustomContext("all_threads", std::to_string(all_threads()));
-    benchmark::AddCustomContext("embree", simdbvh::compare::EmbreeScene::version());
+    benchmark::AddCustomContext("embree", simdbvh::reference::EmbreeScene::version());
     benchmark::RunSpecifiedBenchmarks();
     benchmark::Shutdown();
     return 0;

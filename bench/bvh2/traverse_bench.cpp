@@ -6,7 +6,7 @@
 
 namespace {
 
-using simdbvh::scene::RayKind;
+using simdbvh::workloads::RayKind;
 
 void BM_Bvh2(benchmark::State& st, RayKind kind, bool any) {
     const bench::TraversalScene& s = bench::traversal_scene();
@@ -27,7 +27,7 @@ void BM_Bvh2(benchmark::State& st, RayKind kind, bool any) {
     st.counters["nodes/ray"] = double(ts.nodes_visited) / n;
     st.counters["boxes/ray"] = double(ts.box_tests) / n;
     st.counters["tris/ray"] = double(ts.triangle_tests) / n;
-    st.SetLabel("bvh2 scalar " + std::string(simdbvh::scene::name(kind)) + (any ? " any" : " closest"));
+    st.SetLabel("bvh2 scalar " + std::string(simdbvh::workloads::name(kind)) + (any ? " any" : " closest"));
 }
 
 BENCHMARK_CAPTURE(BM_Bvh2, scalar_primary_closest, RayKind::primary, false)->Unit(benchmark::kMillisecond);

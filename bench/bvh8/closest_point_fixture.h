@@ -12,7 +12,7 @@
 
 #include "simdbvh/bvh2/closest_point.h"
 #include "simdbvh/bvh8/closest_point.h"
-#include "simdbvh/scene/points.h"
+#include "simdbvh/workloads/points.h"
 #include "traversal_fixture.h"
 
 namespace bench {
@@ -21,12 +21,12 @@ inline const std::vector<simdbvh::Vec3>& closest_point_queries(bool near) {
     static const auto make = [](bool n) {
         const TraversalScene& s = traversal_scene();
         const std::size_t count = 20000;
-        if (!n) return simdbvh::scene::random_points(s.mesh.bounds(), count, 9);
+        if (!n) return simdbvh::workloads::random_points(s.mesh.bounds(), count, 9);
         // Vertices pushed off the surface along pseudo-random directions.
         std::vector<simdbvh::Vec3> pts(count);
         const simdbvh::Vec3 e = s.mesh.bounds().extent();
         const float off = 1e-4f * std::sqrt(e.x * e.x + e.y * e.y + e.z * e.z);
-        const auto dirs = simdbvh::scene::random_points(simdbvh::Aabb{{-1, -1, -1}, {1, 1, 1}}, count, 10, 0.0f);
+        const auto dirs = simdbvh::workloads::random_points(simdbvh::Aabb{{-1, -1, -1}, {1, 1, 1}}, count, 10, 0.0f);
         for (std::size_t i = 0; i < count; ++i)
             pts[i] = s.mesh.positions[(i * 2654435761u) % s.mesh.positions.size()] + dirs[i] * off;
         return pts;

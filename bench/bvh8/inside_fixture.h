@@ -8,13 +8,13 @@
 #include <vector>
 
 #include "simdbvh/bvh2/inside.h"
-#include "simdbvh/scene/points.h"
+#include "simdbvh/workloads/points.h"
 #include "traversal_fixture.h"
 
 namespace bench {
 
 inline const std::vector<simdbvh::Vec3>& inside_points() {
-    static const auto pts = simdbvh::scene::random_points(traversal_scene().mesh.bounds(), 100000, 9);
+    static const auto pts = simdbvh::workloads::random_points(traversal_scene().mesh.bounds(), 100000, 9);
     return pts;
 }
 

@@ -7,7 +7,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/scenes.h"
 
 namespace bench {
 
@@ -16,8 +16,8 @@ const TraversalScene& traversal_scene() {
         using namespace simdbvh;
         TraversalScene t;
         const char* env = std::getenv("SIMDBVH_BENCH_SCENE");
-        t.name = env && *env ? env : (scene::is_cached("dragon") ? "dragon" : "terrain");
-        t.mesh = scene::load_scene(t.name);
+        t.name = env && *env ? env : (workloads::is_cached("dragon") ? "dragon" : "terrain");
+        t.mesh = workloads::load_scene(t.name);
         t.bvh2 = Bvh2::build(t.mesh);
         t.bvh8 = Bvh8::build(t.bvh2);
         Bvh8Options g;
@@ -31,11 +31,11 @@ const TraversalScene& traversal_scene() {
         t.bvh16q = Bvh16::build(t.bvh2, q);
         const char* n = std::getenv("SIMDBVH_BENCH_RAYS");
         const std::size_t count = n && *n ? std::strtoull(n, nullptr, 10) : 100000;
-        for (scene::RayKind k : {scene::RayKind::primary, scene::RayKind::incoherent, scene::RayKind::diffuse})
-            t.rays[static_cast<int>(k)] = scene::generate_rays(t.mesh, k, count, /*seed=*/1);
+        for (workloads::RayKind k : {workloads::RayKind::primary, workloads::RayKind::incoherent, workloads::RayKind::diffuse})
+            t.rays[static_cast<int>(k)] = workloads::generate_rays(t.mesh, k, count, /*seed=*/1);
         const char* hd = std::getenv("SIMDBVH_BENCH_HD_SIDE");
         const int side = hd && *hd ? std::atoi(hd) : 1000;
-        t.primary_hd = scene::primary_rays(scene::default_camera(t.mesh.bounds(), side, side));
+        t.primary_hd = workloads::primary_rays(workloads::default_camera(t.mesh.bounds(), side, side));
         return t;
     }();
     return s;

@@ -12,7 +12,7 @@
 
 #include "simdbvh/bvh2/bvh2.h"
 #include "simdbvh/bvh8/bvh8.h"
-#include "simdbvh/scene/rays.h"
+#include "simdbvh/workloads/rays.h"
 
 namespace bench {
 
@@ -32,7 +32,7 @@ struct TraversalScene {
 
 const TraversalScene& traversal_scene();
 
-inline const std::vector<simdbvh::Ray>& rays_of(simdbvh::scene::RayKind k) {
+inline const std::vector<simdbvh::Ray>& rays_of(simdbvh::workloads::RayKind k) {
     return traversal_scene().rays[static_cast<int>(k)];
 }
 

@@ -12,14 +12,14 @@
 #include <vector>
 
 #include "isa_choice.h"
-#include "simdbvh/scene/rays.h"
+#include "simdbvh/workloads/rays.h"
 #include "traversal_fixture.h"
 
 namespace {
 
 using simdbvh::Collapse;
 using simdbvh::Isa;
-using simdbvh::scene::RayKind;
+using simdbvh::workloads::RayKind;
 
 template <int N>
 void run_wide(benchmark::State& st, const simdbvh::BvhN<N>& bvh, Isa isa, Collapse collapse, RayKind kind, bool any,
@@ -48,7 +48,7 @@ void run_wide(benchmark::State& st, const simdbvh::BvhN<N>& bvh, Isa isa, Collap
     st.counters["tris/ray"] = double(ts.triangle_tests) / n;
     st.SetLabel("bvh" + std::to_string(N) + (bvh.qnodes().empty() ? "" : " quantized") + " " +
                 std::string(simdbvh::name(isa)) + " " +
-                std::string(simdbvh::name(collapse)) + " " + std::string(simdbvh::scene::name(kind)) +
+                std::string(simdbvh::name(collapse)) + " " + std::string(simdbvh::workloads::name(kind)) +
                 (any ? " any" : " closest") + (timed.test == simdbvh::TriangleTest::moller ? " moller" : "") +
                 (timed.in_flight != 0 ? " in_flight " + std::to_string(timed.in_flight) : std::string()) +
                 (timed.reorder == simdbvh::Reorder::off ? " caller's order"
@@ -217,7 +217,7 @@ void BM_Bvh8Auto(benchmark::State& st, RayKind kind, bool any) {
     label << "bvh8 auto->" << simdbvh::name(c.isa) << " (" << (c.forced ? "forced" : (c.calibrated ? "calibrated" : "detected"));
     for (Isa isa : simdbvh::kAllIsas)
         if (c.ns_per_ray[int(isa)] > 0) label << " " << simdbvh::name(isa) << "=" << int(c.ns_per_ray[int(isa)]) << "ns";
-    label << ") " << simdbvh::scene::name(kind) << (any ? " any" : " closest");
+    label << ") " << simdbvh::workloads::name(kind) << (any ? " any" : " closest");
     st.SetLabel(label.str());
 }
 #define SIMDBVH_AUTO_BENCH(kind)                                                                                   \
@@ -242,7 +242,7 @@ const Camera64k& camera64k() {
     static const Camera64k c = [] {
         const auto& s = bench::traversal_scene();
         return Camera64k{simdbvh::Bvh8::build(s.mesh),
-                         simdbvh::scene::generate_rays(s.mesh, RayKind::primary, 65536, /*seed=*/1)};
+                         simdbvh::workloads::generate_rays(s.mesh, RayKind::primary, 65536, /*seed=*/1)};
     }();
     return c;
 }

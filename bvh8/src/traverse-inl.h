@@ -2,7 +2,7 @@
 // The wide BVH stack traversal, one loop for every width: a loop (step,
 // trace_span: several rays in flight per batch; trace_one: one ray in locals) x a node test (K::box, N lanes)
 // x a leaf intersector (Tri8Leaf: blocks of kBlockWidth triangles; the
-// sphere and box sets' in scene_accel/src/shape_traverse-inl.h) x a query
+// sphere and box sets' in scene/src/shape_traverse-inl.h) x a query
 // (query/query.h: ClosestHit, AnyHit, what a leaf does to the ray;
 // finish() writes its Hit),
 // after madmann91/bvh v2's traverse_top_down(leaf_fn, inner_fn) and Embree's
@@ -38,7 +38,7 @@ namespace simdbvh::bvh8::detail {
 
 // What a ray state keeps of its PreparedRay for the leaf intersector: nothing
 // (Tri8Leaf reads the packed RayData) or the PreparedRay itself (leaves of
-// scalar primitive tests, scene_accel/src/shape_traverse-inl.h).
+// scalar primitive tests, scene/src/shape_traverse-inl.h).
 struct NoPreparedRay {};
 
 // Leaf intersector: a leaf is `count` consecutive Tri8 blocks. The leaf

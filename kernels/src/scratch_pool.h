@@ -6,7 +6,7 @@
 // same thread finds them made. A call that starts on a thread while another
 // call from it holds a set (a host executor's waiting thread taking other work)
 // takes another one: sets are never shared. Users: the scene batches
-// (scene_accel/src/traverse.cpp) and the wide trees' sorted batches
+// (scene/src/traverse.cpp) and the wide trees' sorted batches
 // (bvh8/src/traverse.cpp).
 #include <memory>
 #include <mutex>

@@ -26,7 +26,7 @@
 #include "simdbvh/bvh8/inside.h"
 #include "simdbvh/kernels/isa.h"
 #include "simdbvh/kernels/parallel.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/scenes.h"
 
 namespace simdbvh::python {
 namespace {
@@ -517,7 +517,7 @@ PYBIND11_MODULE(_simdbvh, m) {
         Mesh mesh;
         {
             py::gil_scoped_release nogil;
-            mesh = scene::load_scene(path);
+            mesh = workloads::load_scene(path);
         }
         // As an empty file is refused: a built-in (soup-0) or a file (only vertices) that yields no triangle.
         if (mesh.triangles.empty()) throw Error(path + ": no triangles (an empty mesh)");

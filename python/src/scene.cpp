@@ -1,4 +1,4 @@
-// simdbvh.Scene: the two-level scene of scene_accel (geometries: meshes, sphere
+// simdbvh.Scene: the two-level scene (scene/) (geometries: meshes, sphere
 // sets, box sets; instances with 3x4 affine transforms; planes) from numpy
 // arrays, a built-in name or a JSON file, and its batched closest-hit and
 // any-hit queries with the GIL released. Every path (bvh4, bvh8, bvh16, brute)
@@ -19,8 +19,8 @@
 #include <vector>
 
 #include "arrays.h"
-#include "simdbvh/scene/scene_desc.h"
-#include "simdbvh/scene_accel/scene.h"
+#include "simdbvh/workloads/scene_desc.h"
+#include "simdbvh/scene/scene.h"
 
 namespace simdbvh::python {
 namespace {
@@ -370,10 +370,10 @@ void bind_scene(py::module_& m) {
         SceneDesc desc;
         {
             py::gil_scoped_release nogil;
-            desc = scene::load_scene_desc(name);
+            desc = workloads::load_scene_desc(name);
         }
         // A mesh name or file (not a built-in scene, not JSON) with no triangles is refused, as simdbvh.load does.
-        if (!scene::is_builtin_scene(name) && std::filesystem::path(name).extension() != ".json" &&
+        if (!workloads::is_builtin_scene(name) && std::filesystem::path(name).extension() != ".json" &&
             desc.geometries.size() == 1) {
             const Mesh* mesh = std::get_if<Mesh>(&desc.geometries[0]);
             if (mesh && mesh->triangles.empty()) throw Error(name + ": no triangles (an empty mesh)");

@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "simdbvh/kernels/ray.h"
-#include "simdbvh/scene/rays.h"
+#include "simdbvh/io/ray_files.h"
 #include "support/cli.h"
 #include "support/scene.h"
 
@@ -109,7 +109,7 @@ TEST_F(BadInput, NonFiniteVerticesRejectedWithCountAndFirstIndexOrDropped) {
     const CliRun d = run_cli("trace --scene " + mesh + " --rays " + rays_ + " --out " + out + " --drop-invalid");
     EXPECT_EQ(d.status, 0) << d.output;
     EXPECT_NE(d.output.find("dropped 2 triangles"), std::string::npos) << d.output;
-    EXPECT_EQ(scene::read_hits(out).size(), 200u);
+    EXPECT_EQ(io::read_hits(out).size(), 200u);
 }
 
 TEST_F(BadInput, OutOfRangeIndexNamesTheTriangle) {
@@ -127,7 +127,7 @@ TEST_F(BadInput, EmptyMeshEveryRayMisses) {
         for (const char* m : {"bvh2", "bvh8", "brute", "embree"}) {
             const CliRun t = run_cli("trace --scene " + mesh + " --rays " + rays_ + " --out " + out + " --method " + m);
             ASSERT_EQ(t.status, 0) << name << " " << m << "\n" << t.output;
-            for (const Hit& h : scene::read_hits(out)) ASSERT_EQ(h, Hit{}) << name << " " << m;
+            for (const Hit& h : io::read_hits(out)) ASSERT_EQ(h, Hit{}) << name << " " << m;
         }
     }
 }
@@ -140,14 +140,14 @@ TEST_F(BadInput, InvalidRaysMissOnEveryMethod) {
         {{0, 0, 0}, nan, {0, 0, 1}, inf},    {{0, 0, 0}, 0.0f, {0, 0, 1}, inf},  // the last one is valid: a hit
     };
     const std::string rays = (dir_ / "bad_rays.bin").string(), out = (dir_ / "o.hits").string();
-    scene::write_rays(rays, bad);
+    io::write_rays(rays, bad);
     for (const char* m : {"bvh2", "bvh8", "brute", "embree"})
         for (const char* extra : {"", " --any-hit", " --test moller", " --box plain"}) {
             if (std::string(extra) == " --box plain" && std::string(m) != "bvh2") continue;
             if (std::string(extra) == " --test moller" && std::string(m) == "embree") continue;  // not Embree's
             const CliRun t = run_cli(std::string("trace --scene icosphere-2 --rays ") + rays + " --out " + out + " --method " + m + extra);
             ASSERT_EQ(t.status, 0) << m << extra << "\n" << t.output;
-            const auto hits = scene::read_hits(out);
+            const auto hits = io::read_hits(out);
             ASSERT_EQ(hits.size(), bad.size());
             for (std::size_t i = 0; i + 1 < hits.size(); ++i) EXPECT_EQ(hits[i], Hit{}) << m << extra << " ray " << i;
             EXPECT_TRUE(hits.back().hit()) << m << extra;
@@ -200,7 +200,7 @@ TEST_F(BadInput, FamilyKindsOwnTheirScene) {
     ASSERT_EQ(c.status, 0) << c.output;
     const CliRun t = run_cli("trace --scene " + mesh + " --rays " + out + " --out " + (dir_ / "f.hits").string());
     ASSERT_EQ(t.status, 0) << t.output;
-    for (const Hit& h : scene::read_hits(dir_ / "f.hits")) ASSERT_TRUE(h.hit()) << "watertight rays must hit";
+    for (const Hit& h : io::read_hits(dir_ / "f.hits")) ASSERT_TRUE(h.hit()) << "watertight rays must hit";
 }
 
 }  // namespace

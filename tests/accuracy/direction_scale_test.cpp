@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "simdbvh/bvh8/bvh8.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/scenes.h"
 #include "support/rays.h"
 
 namespace simdbvh {
@@ -24,11 +24,11 @@ namespace {
 constexpr std::size_t kRays = 6000;  // about 5,000 hits on icosphere-3
 
 struct Fixture {
-    Mesh mesh = scene::icosphere(3);
+    Mesh mesh = workloads::icosphere(3);
     Bvh2 bvh2 = Bvh2::build(mesh);
     Bvh8 bvh8 = Bvh8::build(bvh2);
     std::vector<Ray> unit = [this] {
-        std::vector<Ray> r = test::rays(mesh, scene::RayKind::incoherent, kRays, 7);
+        std::vector<Ray> r = test::rays(mesh, workloads::RayKind::incoherent, kRays, 7);
         for (Ray& x : r) {
             x.tmin = 0.0f;
             x.tmax = std::numeric_limits<float>::infinity();

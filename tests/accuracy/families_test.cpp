@@ -10,21 +10,21 @@
 #include <map>
 
 #include "simdbvh/bvh8/bvh8.h"
-#include "simdbvh/compare/classify.h"
-#include "simdbvh/compare/reference.h"
+#include "simdbvh/reference/classify.h"
+#include "simdbvh/reference/reference.h"
 #include "simdbvh/kernels/parallel.h"
-#include "simdbvh/scene/families.h"
+#include "simdbvh/workloads/families.h"
 
 namespace simdbvh {
 namespace {
 
-using scene::Expect;
-using scene::Family;
+using workloads::Expect;
+using workloads::Family;
 
-std::vector<compare::Reference> references(const scene::FamilyCase& c) {
-    std::vector<compare::Reference> refs(c.rays.size());
+std::vector<reference::Reference> references(const workloads::FamilyCase& c) {
+    std::vector<reference::Reference> refs(c.rays.size());
     parallel_for(c.rays.size(), 2, [&](std::size_t b, std::size_t e) {
-        for (std::size_t i = b; i < e; ++i) refs[i] = compare::reference_intersect(c.mesh, c.rays[i]);
+        for (std::size_t i = b; i < e; ++i) refs[i] = reference::reference_intersect(c.mesh, c.rays[i]);
     });
     return refs;
 }
@@ -38,12 +38,12 @@ std::vector<Hit> trace2(const Bvh2& bvh, const std::vector<Ray>& rays, TraceOpti
 class Families : public testing::TestWithParam<Family> {};
 
 TEST_P(Families, DefaultPathAgreesWithReferenceAndPathsAreBitIdentical) {
-    scene::FamilyOptions fo;
+    workloads::FamilyOptions fo;
     fo.quick = true;
     fo.random_scene = "icosphere-4";  // offline and deterministic (the CLI uses dragon-res4 when cached)
-    const auto cases = scene::make_family(GetParam(), fo);
+    const auto cases = workloads::make_family(GetParam(), fo);
     ASSERT_FALSE(cases.empty());
-    for (const scene::FamilyCase& c : cases) {
+    for (const workloads::FamilyCase& c : cases) {
         SCOPED_TRACE(c.name);
         ASSERT_EQ(c.rays.size(), c.expect.size());
         ASSERT_GT(c.rays.size(), 50u);
@@ -55,19 +55,19 @@ TEST_P(Families, DefaultPathAgreesWithReferenceAndPathsAreBitIdentical) {
         so.stats = &st;
         const auto with_stats = trace2(bvh, c.rays, so);
         const auto refs = references(c);
-        compare::Tally tally;
+        reference::Tally tally;
         std::size_t n_hit = 0;
         for (std::size_t i = 0; i < c.rays.size(); ++i) {
             const Hit& h = hits[i];
             ASSERT_EQ(h, with_stats[i]) << "ray " << i << ": the stats path differs";
             ASSERT_FALSE(std::isnan(h.t) || std::isnan(h.u) || std::isnan(h.v)) << "ray " << i;
-            const compare::Verdict v = compare::classify(refs[i], h);
+            const reference::Verdict v = reference::classify(refs[i], h);
             tally.add(v);
-            EXPECT_TRUE(v.label != compare::Label::leak && v.label != compare::Label::false_hit &&
-                        v.label != compare::Label::wrong_triangle)
-                << "ray " << i << ": " << compare::name(v.label) << (v.marginal ? " (marginal)" : "") << " t=" << h.t
+            EXPECT_TRUE(v.label != reference::Label::leak && v.label != reference::Label::false_hit &&
+                        v.label != reference::Label::wrong_triangle)
+                << "ray " << i << ": " << reference::name(v.label) << (v.marginal ? " (marginal)" : "") << " t=" << h.t
                 << " prim=" << h.prim << " t_ref=" << refs[i].t << " ref_prim=" << refs[i].prim;
-            const scene::RayExpect& e = c.expect[i];
+            const workloads::RayExpect& e = c.expect[i];
             if (e.kind == Expect::hit) EXPECT_TRUE(h.hit()) << "ray " << i << " must hit";
             if (e.kind == Expect::miss) EXPECT_FALSE(h.hit()) << "ray " << i << " must miss";
             if (e.kind == Expect::no_self_hit) EXPECT_NE(h.prim, e.source) << "ray " << i << " hit its own triangle";
@@ -76,7 +76,7 @@ TEST_P(Families, DefaultPathAgreesWithReferenceAndPathsAreBitIdentical) {
         }
         // t errors (ill-conditioned t on near-degenerate triangles) are allowed
         // only within the float error bound of the reference.
-        EXPECT_EQ(tally.hard_disagreements(), 0u) << compare::to_string(tally);
+        EXPECT_EQ(tally.hard_disagreements(), 0u) << reference::to_string(tally);
         // (At offsets >= 1e6 the float spacing is 0.06..1, the meshes' size: they
         // collapse and may legitimately be missed by every ray.)
         if (GetParam() != Family::degenerate && c.offset < 1e6) EXPECT_GT(n_hit, 0u);
@@ -92,10 +92,10 @@ TEST_P(Families, DefaultPathAgreesWithReferenceAndPathsAreBitIdentical) {
 }
 
 TEST_P(Families, Deterministic) {
-    scene::FamilyOptions fo;
+    workloads::FamilyOptions fo;
     fo.quick = true;
     fo.random_scene = "icosphere-3";
-    const auto a = scene::make_family(GetParam(), fo), b = scene::make_family(GetParam(), fo);
+    const auto a = workloads::make_family(GetParam(), fo), b = workloads::make_family(GetParam(), fo);
     ASSERT_EQ(a.size(), b.size());
     for (std::size_t k = 0; k < a.size(); ++k) {
         EXPECT_EQ(a[k].name, b[k].name);
@@ -109,33 +109,33 @@ TEST_P(Families, Deterministic) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(All, Families, testing::ValuesIn(scene::kAllFamilies),
+INSTANTIATE_TEST_SUITE_P(All, Families, testing::ValuesIn(workloads::kAllFamilies),
                          [](const testing::TestParamInfo<Family>& i) {
-                             std::string n(scene::name(i.param));
+                             std::string n(workloads::name(i.param));
                              for (char& ch : n)
                                  if (ch == '-') ch = '_';
                              return n;
                          });
 
 TEST(FamilyNames, RoundTrip) {
-    for (Family f : scene::kAllFamilies) EXPECT_EQ(scene::parse_family(scene::name(f)), f);
-    EXPECT_FALSE(scene::parse_family("primary"));
+    for (Family f : workloads::kAllFamilies) EXPECT_EQ(workloads::parse_family(workloads::name(f)), f);
+    EXPECT_FALSE(workloads::parse_family("primary"));
 }
 
 TEST(FamilyShapes, OffsetsCoverEveryDecadeAndGrazingHasCoplanarRays) {
-    scene::FamilyOptions fo;
+    workloads::FamilyOptions fo;
     fo.quick = true;
-    const auto off = scene::make_family(Family::offsets, fo);
+    const auto off = workloads::make_family(Family::offsets, fo);
     std::vector<double> seen;
     for (const auto& c : off) seen.push_back(c.offset);
     for (double o = 1.0; o <= 1e7; o *= 10.0) EXPECT_NE(std::find(seen.begin(), seen.end(), o), seen.end()) << o;
-    const auto g = scene::make_family(Family::grazing, fo);
+    const auto g = workloads::make_family(Family::grazing, fo);
     std::size_t coplanar = 0;
     for (std::size_t i = 0; i < g[0].rays.size(); ++i)
         coplanar += g[0].expect[i].kind == Expect::miss && g[0].rays[i].org.y == 0.0f && g[0].rays[i].dir.y == 0.0f;
     EXPECT_GT(coplanar, 10u);
     // The torus is closed: every edge is shared by exactly two triangles.
-    const Mesh t = scene::torus(12, 8);
+    const Mesh t = workloads::torus(12, 8);
     std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
     for (const Triangle& tr : t.triangles)
         for (int k = 0; k < 3; ++k) edges[{std::min(tr[k], tr[(k + 1) % 3]), std::max(tr[k], tr[(k + 1) % 3])}]++;
@@ -146,9 +146,9 @@ TEST(FamilyShapes, OffsetsCoverEveryDecadeAndGrazingHasCoplanarRays) {
 // The comparison variants are wired and do what docs/accuracy.md measured: the
 // plain box test and Moller-Trumbore leak on the watertight family.
 TEST(Variants, PlainBoxAndMollerLeakWhereTheDefaultDoesNot) {
-    scene::FamilyOptions fo;
+    workloads::FamilyOptions fo;
     fo.quick = true;
-    const auto cases = scene::make_family(Family::watertight, fo);
+    const auto cases = workloads::make_family(Family::watertight, fo);
     std::size_t leaks[2][2] = {};
     for (const auto& c : cases) {
         const Bvh2 bvh = Bvh2::build(c.mesh);
@@ -167,7 +167,7 @@ TEST(Variants, PlainBoxAndMollerLeakWhereTheDefaultDoesNot) {
 }
 
 TEST(Variants, BoxTestOptionDoesNotChangeBvh8) {
-    const auto cases = scene::make_family(Family::watertight, {.quick = true});
+    const auto cases = workloads::make_family(Family::watertight, {.quick = true});
     const auto& c = cases[0];
     const Bvh8 b8 = Bvh8::build(c.mesh);
     TraceOptions plain;

@@ -6,8 +6,8 @@
 #include <filesystem>
 
 #include "simdbvh/kernels/error.h"
-#include "simdbvh/scene/load.h"
-#include "simdbvh/scene/rays.h"
+#include "simdbvh/io/load.h"
+#include "simdbvh/io/ray_files.h"
 #include "support/scene.h"
 
 namespace fs = std::filesystem;
@@ -22,8 +22,8 @@ TEST(FuzzRegressions, EveryKeptInputLoadsOrThrowsACleanError) {
         const std::string fname = e.path().filename().string();
         const bool rays = fname.rfind("fuzz_read_rays", 0) == 0 || fname.rfind("read_rays", 0) == 0;
         try {
-            if (rays) (void)simdbvh::scene::read_rays(e.path());
-            else (void)simdbvh::scene::load_mesh(e.path());
+            if (rays) (void)simdbvh::io::read_rays(e.path());
+            else (void)simdbvh::io::load_mesh(e.path());
         } catch (const simdbvh::Error& err) {
             EXPECT_NE(std::string(err.what()).find(e.path().filename().string()), std::string::npos) << err.what();
         }

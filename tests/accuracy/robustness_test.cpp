@@ -7,8 +7,8 @@
 #include <limits>
 
 #include "simdbvh/bvh8/bvh8.h"
-#include "simdbvh/scene/families.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/families.h"
+#include "simdbvh/workloads/scenes.h"
 
 namespace simdbvh {
 namespace {
@@ -48,7 +48,7 @@ void expect_miss(const Hit& h, const std::string& what) {
 }
 
 TEST(InvalidRays, MissWithoutTraversalOnEveryPath) {
-    const Mesh mesh = scene::icosphere(3, 4.0f);  // the valid rays start inside it
+    const Mesh mesh = workloads::icosphere(3, 4.0f);  // the valid rays start inside it
     const Bvh2 bvh = Bvh2::build(mesh);
     const Bvh8 b8 = Bvh8::build(bvh);
     const auto rays = invalid_rays();
@@ -90,7 +90,7 @@ TEST(InvalidRays, MissWithoutTraversalOnEveryPath) {
 
 TEST(InvalidRays, NodesVisitedIsZeroForInvalidRaysOnly) {
     // Control: the stats do count for a valid ray, so 0 above means "not traversed".
-    const Bvh2 bvh = Bvh2::build(scene::icosphere(3));
+    const Bvh2 bvh = Bvh2::build(workloads::icosphere(3));
     TraceStats st;
     TraceOptions o;
     o.stats = &st;
@@ -101,7 +101,7 @@ TEST(InvalidRays, NodesVisitedIsZeroForInvalidRaysOnly) {
 // Every degenerate case builds under the cap; the node count of a binary tree
 // over n primitives is at most 2n - 1, and the BVH8's depth is at most the BVH2's.
 TEST(DegenerateBuild, DepthAndNodeCountUnderTheCap) {
-    const auto cases = scene::make_family(scene::Family::degenerate, {.quick = false});
+    const auto cases = workloads::make_family(workloads::Family::degenerate, {.quick = false});
     for (const auto& c : cases) {
         SCOPED_TRACE(c.name);
         for (int cap : {64, 16, 6}) {

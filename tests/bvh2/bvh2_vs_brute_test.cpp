@@ -7,14 +7,14 @@
 #include <string>
 
 #include "simdbvh/bvh2/bvh2.h"
-#include "simdbvh/scene/rays.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/rays.h"
+#include "simdbvh/workloads/scenes.h"
 #include "support/sanitizer.h"
 
 namespace simdbvh {
 namespace {
 
-using scene::RayKind;
+using workloads::RayKind;
 
 struct Case {
     std::string scene;
@@ -23,7 +23,7 @@ struct Case {
 };
 
 std::string case_name(const testing::TestParamInfo<Case>& info) {
-    std::string s = info.param.scene + "_" + std::string(scene::name(info.param.kind)) + "_" +
+    std::string s = info.param.scene + "_" + std::string(workloads::name(info.param.kind)) + "_" +
                     std::string(name(info.param.builder));
     for (char& c : s)
         if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
@@ -35,9 +35,9 @@ class Bvh2VsBrute : public testing::TestWithParam<Case> {};
 TEST_P(Bvh2VsBrute, ClosestAndAnyHitMatchBruteForce) {
     const Case& c = GetParam();
     const bool npm_scene = c.scene == "bunny" || c.scene == "teapot" || c.scene.rfind("dragon", 0) == 0;
-    if (npm_scene && !scene::is_cached(c.scene))
+    if (npm_scene && !workloads::is_cached(c.scene))
         GTEST_SKIP() << "scene '" << c.scene << "' is not cached: run scripts/fetch_scenes.sh";
-    const Mesh mesh = scene::load_scene(c.scene);
+    const Mesh mesh = workloads::load_scene(c.scene);
     BuildOptions opts;
     opts.builder = c.builder;
     const Bvh2 bvh = Bvh2::build(mesh, opts);
@@ -45,7 +45,7 @@ TEST_P(Bvh2VsBrute, ClosestAndAnyHitMatchBruteForce) {
     // (an eighth of the rays under a sanitizer: support/sanitizer.h)
     const std::size_t count = test::sampled(
         std::clamp<std::size_t>(100'000'000 / std::max<std::size_t>(mesh.size(), 1), 500, 20000), 200);
-    const auto rays = scene::generate_rays(mesh, c.kind, count, /*seed=*/7);
+    const auto rays = workloads::generate_rays(mesh, c.kind, count, /*seed=*/7);
     ASSERT_EQ(rays.size(), count);
     std::vector<Hit> got(rays.size()), any(rays.size());
     intersect(bvh, rays, got);

@@ -13,7 +13,7 @@
 
 #include "simdbvh/bvh2/closest_point.h"
 #include "simdbvh/bvh2/signed_distance.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/scenes.h"
 #include "support/scene.h"
 
 namespace simdbvh {
@@ -119,9 +119,9 @@ void expect_bvh_equals_brute(const Mesh& mesh, const std::vector<Vec3>& pts, con
 }
 
 TEST(ClosestPoint, Bvh2IsBitIdenticalToBruteForce) {
-    const Mesh sphere = scene::icosphere(3);
+    const Mesh sphere = workloads::icosphere(3);
     expect_bvh_equals_brute(sphere, random_points(sphere.bounds(), 3000, 5), {}, "icosphere-3");
-    const Mesh soup = scene::random_soup(3000, 11);  // overlapping triangles: many near-equal distances
+    const Mesh soup = workloads::random_soup(3000, 11);  // overlapping triangles: many near-equal distances
     expect_bvh_equals_brute(soup, random_points(soup.bounds(), 3000, 6), {}, "soup-3000");
     PointQueryOptions near;
     near.max_distance = 0.05f;
@@ -134,7 +134,7 @@ TEST(ClosestPoint, Bvh2IsBitIdenticalToBruteForce) {
 // A query point on a shared vertex is at distance 0 from every triangle
 // around it: the lowest id among them wins, on every path.
 TEST(ClosestPoint, TiesGoToTheLowerTriangleId) {
-    const Mesh sphere = scene::icosphere(2);
+    const Mesh sphere = workloads::icosphere(2);
     const Bvh2 bvh = Bvh2::build(sphere);
     for (std::uint32_t v = 0; v < sphere.positions.size(); v += 7) {
         std::uint32_t lowest = kInvalidPrim;

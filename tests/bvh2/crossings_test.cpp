@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "simdbvh/bvh2/crossings.h"
-#include "simdbvh/scene/families.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/families.h"
+#include "simdbvh/workloads/scenes.h"
 #include "support/scene.h"
 
 namespace simdbvh {
@@ -21,10 +21,10 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 // aimed at a vertex or an edge midpoint. Leaving the solid once more than
 // entering it: winding +1 and an odd number of crossings, on every ray.
 TEST(Crossings, RaysFromInsideThroughVerticesAndEdgesCountOnce) {
-    scene::FamilyOptions fo;
+    workloads::FamilyOptions fo;
     fo.quick = true;
     std::size_t rays = 0, exact_ties = 0;
-    for (const scene::FamilyCase& c : scene::make_family(scene::Family::watertight, fo)) {
+    for (const workloads::FamilyCase& c : workloads::make_family(workloads::Family::watertight, fo)) {
         SCOPED_TRACE(c.name);
         const Bvh2 bvh = Bvh2::build(c.mesh);
         for (std::size_t i = 0; i < c.rays.size(); ++i) {
@@ -84,7 +84,7 @@ TEST(Crossings, AxisRaysThroughACubesVerticesAndEdges) {
 
 // Diagonal rays through the icosphere's vertices from far outside: in and out.
 TEST(Crossings, RaysThroughVerticesFromOutside) {
-    const Mesh sphere = scene::icosphere(3);
+    const Mesh sphere = workloads::icosphere(3);
     const Bvh2 bvh = Bvh2::build(sphere);
     for (std::size_t v = 0; v < sphere.positions.size(); ++v) {
         const Vec3 p = sphere.positions[v];
@@ -96,7 +96,7 @@ TEST(Crossings, RaysThroughVerticesFromOutside) {
 }
 
 TEST(Crossings, AllHitsSortedCappedAndEqualToBruteForce) {
-    const Mesh soup = scene::random_soup(2000, 3);
+    const Mesh soup = workloads::random_soup(2000, 3);
     const Bvh2 bvh = Bvh2::build(soup);
     std::mt19937 rng(2);
     std::uniform_real_distribution<float> u(-1.0f, 2.0f);

@@ -11,7 +11,7 @@
 
 #include "../../bvh2/src/exact_predicates.h"
 #include "simdbvh/bvh2/inside.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/scenes.h"
 #include "support/scene.h"
 
 namespace simdbvh {
@@ -98,7 +98,7 @@ TEST(MeshClosure, ClosedOpenFlippedAndUnwelded) {
         soup.triangles.push_back({i, i + 1, i + 2});
     }
     EXPECT_TRUE(mesh_closure(soup).consistently_oriented());
-    EXPECT_TRUE(mesh_closure(scene::icosphere(3)).consistently_oriented());
+    EXPECT_TRUE(mesh_closure(workloads::icosphere(3)).consistently_oriented());
 }
 
 // The cube [o, o+1]^3 on a grid of quarter steps: the axis rays from these
@@ -218,7 +218,7 @@ TEST(Inside, OctahedronGridOffTheSurface) {
 }
 
 TEST(Inside, SphereBvhEqualsBruteForceAndTheGeometry) {
-    const Mesh sphere = scene::icosphere(3);
+    const Mesh sphere = workloads::icosphere(3);
     const Bvh2 bvh = Bvh2::build(sphere);
     std::mt19937 rng(4);
     std::uniform_real_distribution<float> u(-1.3f, 1.3f);

@@ -10,9 +10,9 @@
 #include <limits>
 
 #include "simdbvh/bvh2/bvh2.h"
-#include "simdbvh/scene/deform.h"
-#include "simdbvh/scene/rays.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/deform.h"
+#include "simdbvh/workloads/rays.h"
+#include "simdbvh/workloads/scenes.h"
 
 namespace simdbvh {
 namespace {
@@ -41,32 +41,32 @@ void expect_bounds(const Bvh2& bvh, const Mesh& mesh, std::uint32_t i, const Aab
 }
 
 TEST(Bvh2Refit, SameMeshReproducesTheBuild) {
-    const Mesh mesh = scene::icosphere(4);
+    const Mesh mesh = workloads::icosphere(4);
     const Bvh2 built = Bvh2::build(mesh);
     Bvh2 b = built;
     b.refit(mesh);
     EXPECT_TRUE(same_nodes(b, built));
     EXPECT_EQ(b.stats().sah_cost, built.stats().sah_cost);
     // Twisted and back: the build again, bit for bit.
-    b.refit(scene::twist(mesh, 2.0));
+    b.refit(workloads::twist(mesh, 2.0));
     EXPECT_FALSE(same_nodes(b, built));
     b.refit(mesh, 2);
     EXPECT_TRUE(same_nodes(b, built));
 }
 
 TEST(Bvh2Refit, TwistedHitsEqualBruteForce) {
-    const Mesh mesh = scene::random_soup(5000, 3);
+    const Mesh mesh = workloads::random_soup(5000, 3);
     Bvh2 b = Bvh2::build(mesh);
     Bvh2 b2 = b;
     for (double angle : {0.4, 1.5, 3.0}) {
-        const Mesh moved = scene::twist(mesh, angle);
+        const Mesh moved = workloads::twist(mesh, angle);
         b.refit(moved, 1);
         b2.refit(moved, 2);
         ASSERT_TRUE(same_nodes(b, b2)) << angle;
         expect_bounds(b, moved, 0, Aabb{{-INFINITY, -INFINITY, -INFINITY}, {INFINITY, INFINITY, INFINITY}});
         const Bvh2 rebuilt = Bvh2::build(moved);
         EXPECT_GT(b.stats().sah_cost, rebuilt.stats().sah_cost) << "a twisted soup's refit tree is worse than a rebuild";
-        const auto rays = scene::generate_rays(moved, scene::RayKind::incoherent, 3000, 5);
+        const auto rays = workloads::generate_rays(moved, workloads::RayKind::incoherent, 3000, 5);
         std::size_t hits = 0;
         for (const Ray& r : rays) {
             const Hit want = brute_force_intersect(moved, r);
@@ -80,16 +80,16 @@ TEST(Bvh2Refit, TwistedHitsEqualBruteForce) {
 }
 
 TEST(Bvh2Refit, BadMeshThrowsAndLeavesTheTree) {
-    const Mesh mesh = scene::icosphere(2);
+    const Mesh mesh = workloads::icosphere(2);
     const Bvh2 built = Bvh2::build(mesh);
     Bvh2 b = built;
     Mesh fewer = mesh;
     fewer.triangles.pop_back();
     EXPECT_THROW(b.refit(fewer), Error);
-    Mesh nan = scene::twist(mesh, 1.0);
+    Mesh nan = workloads::twist(mesh, 1.0);
     nan.positions[nan.triangles.back()[1]].y = std::numeric_limits<float>::quiet_NaN();
     EXPECT_THROW(b.refit(nan), Error);
-    Mesh index = scene::twist(mesh, 1.0);
+    Mesh index = workloads::twist(mesh, 1.0);
     index.triangles.back()[2] = std::uint32_t(index.positions.size());
     EXPECT_THROW(b.refit(index), Error);
     EXPECT_TRUE(same_nodes(b, built));

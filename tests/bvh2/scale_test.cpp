@@ -4,8 +4,8 @@
 #include <gtest/gtest.h>
 
 #include "simdbvh/bvh2/bvh2.h"
-#include "simdbvh/scene/rays.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/rays.h"
+#include "simdbvh/workloads/scenes.h"
 
 namespace simdbvh {
 namespace {
@@ -17,12 +17,12 @@ Mesh scaled(Mesh m, float s) {
 
 TEST(Scale, PowerOfTwoScalingIsExact) {
     for (const char* name : {"dragon-res4", "icosphere-5"}) {
-        if (std::string(name).rfind("dragon", 0) == 0 && !scene::is_cached(name)) {
+        if (std::string(name).rfind("dragon", 0) == 0 && !workloads::is_cached(name)) {
             std::cout << "[ SKIPPED ] " << name << " not cached (run scripts/fetch_scenes.sh)\n";
             continue;
         }
-        const Mesh base = scene::load_scene(name);
-        const auto rays = scene::generate_rays(base, scene::RayKind::incoherent, 4000, 3);
+        const Mesh base = workloads::load_scene(name);
+        const auto rays = workloads::generate_rays(base, workloads::RayKind::incoherent, 4000, 3);
         const Bvh2 bvh = Bvh2::build(base);
         std::vector<Hit> want(rays.size());
         intersect(bvh, rays, want);

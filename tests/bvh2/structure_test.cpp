@@ -6,7 +6,7 @@
 #include <cstring>
 
 #include "simdbvh/bvh2/bvh2.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/scenes.h"
 
 namespace simdbvh {
 namespace {
@@ -56,7 +56,7 @@ class Structure : public testing::TestWithParam<Builder> {};
 TEST_P(Structure, InvariantsHoldOnSoupAndSphere) {
     BuildOptions opts;
     opts.builder = GetParam();
-    for (const Mesh& m : {scene::random_soup(5000, 3), scene::icosphere(4)}) {
+    for (const Mesh& m : {workloads::random_soup(5000, 3), workloads::icosphere(4)}) {
         const Bvh2 bvh = Bvh2::build(m, opts);
         check_structure(m, bvh, opts.max_depth);
         EXPECT_GT(bvh.stats().leaves, 1u);
@@ -78,7 +78,7 @@ TEST_P(Structure, DepthCapHoldsOnDegenerateInput) {
 }
 
 TEST_P(Structure, SameTreeForAnyThreadCount) {
-    const Mesh m = scene::random_soup(200'000, 11);
+    const Mesh m = workloads::random_soup(200'000, 11);
     BuildOptions one, many;
     one.builder = many.builder = GetParam();
     many.threads = 4;
@@ -99,14 +99,14 @@ INSTANTIATE_TEST_SUITE_P(Builders, Structure,
                          });
 
 TEST(Structure, BinnedSahBeatsMidpointOnSahCost) {
-    const Mesh m = scene::random_soup(20000, 5);
+    const Mesh m = workloads::random_soup(20000, 5);
     BuildOptions sah, mid;
     mid.builder = Builder::midpoint;
     EXPECT_LT(Bvh2::build(m, sah).stats().sah_cost, Bvh2::build(m, mid).stats().sah_cost);
 }
 
 TEST(Structure, LeavesRespectMaxLeafSize) {
-    const Mesh m = scene::random_soup(20000, 9);
+    const Mesh m = workloads::random_soup(20000, 9);
     for (int leaf : {1, 4, 8}) {
         BuildOptions o;
         o.max_leaf_size = leaf;

@@ -11,8 +11,8 @@
 #include <cstring>
 
 #include "simdbvh/bvh8/accel.h"
-#include "simdbvh/scene/rays.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/rays.h"
+#include "simdbvh/workloads/scenes.h"
 
 namespace simdbvh {
 namespace {
@@ -210,8 +210,8 @@ void expect_same_as_named(const Accel& a, const Mesh& mesh, std::span<const Ray>
 }
 
 TEST(Accel, EveryMethodAnswersBitForBitAsItself) {
-    const Mesh mesh = scene::icosphere(3);  // 1280 triangles
-    const auto rays = scene::generate_rays(mesh, scene::RayKind::incoherent, 600, /*seed=*/4);
+    const Mesh mesh = workloads::icosphere(3);  // 1280 triangles
+    const auto rays = workloads::generate_rays(mesh, workloads::RayKind::incoherent, 600, /*seed=*/4);
     for (Isa isa : supported_isas())
         for (AccelMethod m : kAccelMethods) {
             AccelOptions o;
@@ -241,7 +241,7 @@ void expect_same_tree(const BvhN<N>* got, const BvhN<N>& want) {
 // Bvh2::build(mesh), another, deeper tree (checked to differ here, so the
 // comparison can tell them apart).
 TEST(Accel, WideTreeIsTheWidthsOwnBuild) {
-    const Mesh mesh = scene::icosphere(6);  // 81,920 triangles: the builds run on two threads
+    const Mesh mesh = workloads::icosphere(6);  // 81,920 triangles: the builds run on two threads
     for (const int threads : {1, 2}) {
         SCOPED_TRACE(threads);
         AccelOptions o;
@@ -279,9 +279,9 @@ TEST(Accel, WideTreeIsTheWidthsOwnBuild) {
 TEST(Accel, AutoNamesTheModelsChoiceAndAnswersAsIt) {
     // The fitted model of this ISA: whatever it picks, the hits are that method's.
     for (std::size_t tris_level : {0, 4}) {
-        const Mesh mesh = scene::icosphere(int(tris_level));
+        const Mesh mesh = workloads::icosphere(int(tris_level));
         for (std::size_t n_rays : {std::size_t(64), std::size_t(3000)}) {
-            const auto rays = scene::generate_rays(mesh, scene::RayKind::primary, n_rays, /*seed=*/5);
+            const auto rays = workloads::generate_rays(mesh, workloads::RayKind::primary, n_rays, /*seed=*/5);
             const Accel a = Accel::build(mesh, rays.size());
             EXPECT_EQ(a.method(), choose(cost_model(active_isa()), mesh.size(), rays.size()).method);
             EXPECT_EQ(a.choice().triangles, mesh.size());
@@ -294,9 +294,9 @@ TEST(Accel, ChoosesWithTheGivenModel) {
     const CostModel m = hand_model();
     AccelOptions o;
     o.model = &m;
-    const Mesh mesh = scene::icosphere(0);  // 20 triangles; 10 rays: brute8 (see TinyMeshFewRaysIsSimdBruteForce)
+    const Mesh mesh = workloads::icosphere(0);  // 20 triangles; 10 rays: brute8 (see TinyMeshFewRaysIsSimdBruteForce)
     EXPECT_EQ(Accel::build(mesh, 10, o).method(), AccelMethod::brute8);
-    EXPECT_EQ(Accel::build(scene::random_soup(1, 1), 1, o).method(), AccelMethod::brute);
+    EXPECT_EQ(Accel::build(workloads::random_soup(1, 1), 1, o).method(), AccelMethod::brute);
 }
 
 }  // namespace

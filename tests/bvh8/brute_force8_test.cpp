@@ -14,8 +14,8 @@
 #include "simdbvh/bvh8/brute_force8.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/kernels/triangle.h"
-#include "simdbvh/scene/rays.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/rays.h"
+#include "simdbvh/workloads/scenes.h"
 
 namespace simdbvh {
 namespace {
@@ -30,8 +30,8 @@ void check_mesh(const Mesh& mesh, const char* what) {
     EXPECT_EQ(brute.triangles(), mesh.size());
     EXPECT_EQ(brute.blocks().size(), (mesh.size() + 7) / 8);
     std::vector<Ray> rays;
-    for (scene::RayKind k : {scene::RayKind::primary, scene::RayKind::incoherent, scene::RayKind::diffuse}) {
-        const auto r = scene::generate_rays(mesh, k, 700, /*seed=*/9);
+    for (workloads::RayKind k : {workloads::RayKind::primary, workloads::RayKind::incoherent, workloads::RayKind::diffuse}) {
+        const auto r = workloads::generate_rays(mesh, k, 700, /*seed=*/9);
         rays.insert(rays.end(), r.begin(), r.end());
     }
     // Rays aimed exactly at vertices and edge midpoints (shared by several triangles: the tie rule decides).
@@ -74,8 +74,8 @@ void check_mesh(const Mesh& mesh, const char* what) {
 }
 
 TEST(BruteForce8, BitIdenticalToScalarBruteForce) {
-    check_mesh(scene::icosphere(3), "icosphere-3");
-    check_mesh(scene::random_soup(1003, 4), "soup-1003");
+    check_mesh(workloads::icosphere(3), "icosphere-3");
+    check_mesh(workloads::random_soup(1003, 4), "soup-1003");
 }
 
 TEST(BruteForce8, EmptyMeshAndBadInput) {
@@ -86,7 +86,7 @@ TEST(BruteForce8, EmptyMeshAndBadInput) {
     EXPECT_FALSE(hits[0].hit());
     std::vector<Hit> none;
     EXPECT_THROW(intersect(empty, rays, none), Error);
-    Mesh bad = scene::icosphere(1);
+    Mesh bad = workloads::icosphere(1);
     bad.triangles[0][1] = 1u << 30;
     EXPECT_THROW(BruteForce8::build(bad), Error);
 }

@@ -16,7 +16,7 @@
 
 #include "collapse.h"  // bvh8/src: scatter_pays
 #include "simdbvh/bvh8/bvh8.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/scenes.h"
 
 namespace simdbvh {
 namespace {
@@ -33,9 +33,9 @@ constexpr Baseline kBaselines[] = {
 
 TEST(BuildQuality, SahCostWithinOnePercentOfTheBaseline) {
     for (const Baseline& b : kBaselines) {
-        if (std::string(b.scene) == "dragon" && !scene::is_cached(b.scene)) continue;
+        if (std::string(b.scene) == "dragon" && !workloads::is_cached(b.scene)) continue;
         SCOPED_TRACE(b.scene);
-        const Mesh m = scene::load_scene(b.scene);
+        const Mesh m = workloads::load_scene(b.scene);
         const Bvh2 bvh2 = Bvh2::build(m);
         const Bvh8 bvh8 = Bvh8::build(bvh2);
         EXPECT_NEAR(bvh2.stats().sah_cost, b.bvh2_sah, 0.01 * b.bvh2_sah);
@@ -66,7 +66,7 @@ bool same_bytes(const V& a, const V& b) {
 TEST(BuildQuality, TreesAreByteIdenticalForAnyThreadCount) {
     for (const char* name : {"soup-300000", "icosphere-7"}) {
         SCOPED_TRACE(name);
-        const Mesh m = scene::load_scene(name);
+        const Mesh m = workloads::load_scene(name);
         BuildOptions one;
         Bvh8Options wide_one;
         const Bvh2 a2 = Bvh2::build(m, one);
@@ -99,7 +99,7 @@ TEST(BuildQuality, PackFromTheMeshGathersOrScattersTheSameBytes) {
     };
     for (const Case c : {Case{"soup-300000", true}, Case{"icosphere-6", false}}) {
         SCOPED_TRACE(c.scene);
-        const Mesh m = scene::load_scene(c.scene);
+        const Mesh m = workloads::load_scene(c.scene);
         BuildOptions bo;
         bo.intersection_cost = Bvh8Options{}.bvh2_intersection_cost;
         const Bvh2 b2 = Bvh2::build(m, bo);

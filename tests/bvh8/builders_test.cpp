@@ -3,8 +3,8 @@
 #include <gtest/gtest.h>
 
 #include "simdbvh/bvh8/bvh8.h"
-#include "simdbvh/scene/rays.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/rays.h"
+#include "simdbvh/workloads/scenes.h"
 
 namespace simdbvh {
 namespace {
@@ -12,11 +12,11 @@ namespace {
 class Bvh8Builders : public testing::TestWithParam<Builder> {};
 
 TEST_P(Bvh8Builders, CollapsedTreeMatchesBruteForceOnEveryIsa) {
-    const Mesh mesh = scene::random_soup(3000, 21);
+    const Mesh mesh = workloads::random_soup(3000, 21);
     BuildOptions bo;
     bo.builder = GetParam();
     const Bvh2 bvh2 = Bvh2::build(mesh, bo);
-    const auto rays = scene::generate_rays(mesh, scene::RayKind::incoherent, 2000, 4);
+    const auto rays = workloads::generate_rays(mesh, workloads::RayKind::incoherent, 2000, 4);
     std::vector<Hit> want(rays.size());
     brute_force_intersect(mesh, rays, want);
     std::size_t hits = 0;

@@ -16,13 +16,13 @@
 #include "simdbvh/kernels/box.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/kernels/triangle.h"
-#include "simdbvh/scene/rays.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/rays.h"
+#include "simdbvh/workloads/scenes.h"
 
 namespace simdbvh {
 namespace {
 
-using scene::RayKind;
+using workloads::RayKind;
 
 bool npm_scene(const std::string& s) { return s == "bunny" || s == "teapot" || s.rfind("dragon", 0) == 0; }
 
@@ -39,9 +39,9 @@ const Fixture& fixture(const std::string& scene, RayKind kind) {
     auto& f = cache[{scene, kind}];
     if (!f) {
         f = std::make_unique<Fixture>();
-        f->mesh = scene::load_scene(scene);
+        f->mesh = workloads::load_scene(scene);
         f->bvh2 = Bvh2::build(f->mesh);
-        f->rays = scene::generate_rays(f->mesh, kind, 20000, /*seed=*/11);
+        f->rays = workloads::generate_rays(f->mesh, kind, 20000, /*seed=*/11);
         f->want_watertight.resize(f->rays.size());
         f->want_moller.resize(f->rays.size());
         intersect(f->bvh2, f->rays, f->want_watertight);
@@ -54,7 +54,7 @@ using Param = std::tuple<std::string, RayKind, Collapse, Isa>;
 
 std::string param_name(const testing::TestParamInfo<Param>& info) {
     auto [s, k, c, isa] = info.param;
-    std::string n = s + "_" + std::string(scene::name(k)) + "_" + std::string(name(c)) + "_" + std::string(name(isa));
+    std::string n = s + "_" + std::string(workloads::name(k)) + "_" + std::string(name(c)) + "_" + std::string(name(isa));
     for (char& ch : n)
         if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
     return n;
@@ -65,7 +65,7 @@ class Bvh8VsBvh2 : public testing::TestWithParam<Param> {};
 TEST_P(Bvh8VsBvh2, ClosestBitIdenticalAnyHitAgrees) {
     const auto [scene_name, kind, collapse, isa] = GetParam();
     if (!supported(isa)) GTEST_SKIP() << "CPU lacks " << name(isa);
-    if (npm_scene(scene_name) && !scene::is_cached(scene_name))
+    if (npm_scene(scene_name) && !workloads::is_cached(scene_name))
         GTEST_SKIP() << "scene '" << scene_name << "' is not cached: run scripts/fetch_scenes.sh";
     const Fixture& f = fixture(scene_name, kind);
     Bvh8Options o;
@@ -129,7 +129,7 @@ class Bvh8Small : public testing::TestWithParam<Isa> {};
 std::vector<Ray> rays_around(const Mesh& mesh, std::size_t count, std::uint64_t seed) {
     Aabb b = mesh.bounds();
     if (b.is_empty()) b = Aabb{{-1, -1, -1}, {1, 1, 1}};
-    return scene::incoherent_rays(b, count, seed);
+    return workloads::incoherent_rays(b, count, seed);
 }
 
 void expect_same(const Mesh& mesh, const BuildOptions& bo, const Bvh8Options& o, Isa isa, const std::string& what) {
@@ -151,7 +151,7 @@ TEST_P(Bvh8Small, FewTriangles) {
     const Isa isa = GetParam();
     if (!supported(isa)) GTEST_SKIP() << "CPU lacks " << name(isa);
     for (std::size_t n : {0u, 1u, 3u, 7u, 8u, 9u, 17u}) {
-        const Mesh mesh = scene::random_soup(n, 100 + n);
+        const Mesh mesh = workloads::random_soup(n, 100 + n);
         for (Collapse c : {Collapse::sah, Collapse::greedy}) {
             Bvh8Options o;
             o.collapse = c;
@@ -171,7 +171,7 @@ TEST_P(Bvh8Small, PartlyFilledNodesAndBlocks) {
     const Isa isa = GetParam();
     if (!supported(isa)) GTEST_SKIP() << "CPU lacks " << name(isa);
     for (std::size_t n : {20u, 50u, 300u}) {
-        const Mesh mesh = scene::random_soup(n, 7 * n);
+        const Mesh mesh = workloads::random_soup(n, 7 * n);
         for (int leaf : {1, 2, 3}) {
             BuildOptions bo;
             bo.max_leaf_size = leaf;
@@ -194,7 +194,7 @@ TEST_P(Bvh8Small, PartlyFilledNodesAndBlocks) {
 TEST_P(Bvh8Small, InvalidRaysAndStats) {
     const Isa isa = GetParam();
     if (!supported(isa)) GTEST_SKIP() << "CPU lacks " << name(isa);
-    const Mesh mesh = scene::icosphere(3);
+    const Mesh mesh = workloads::icosphere(3);
     const Bvh8 bvh8 = Bvh8::build(mesh);
     constexpr float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
     const std::vector<Ray> bad = {
@@ -254,7 +254,7 @@ INSTANTIATE_TEST_SUITE_P(Isas, Bvh8Small, testing::ValuesIn(kAllIsas),
 TEST_P(Bvh8Small, ThreadsGiveSameHits) {
     const Isa isa = GetParam();
     if (!supported(isa)) GTEST_SKIP() << "CPU lacks " << name(isa);
-    const Mesh mesh = scene::icosphere(4);
+    const Mesh mesh = workloads::icosphere(4);
     const Bvh8 bvh8 = Bvh8::build(mesh);
     const auto rays = rays_around(mesh, 10000, 4);
     std::vector<Hit> one(rays.size()), many(rays.size());
@@ -266,7 +266,7 @@ TEST_P(Bvh8Small, ThreadsGiveSameHits) {
 }
 
 TEST(Bvh8Api, UnsupportedIsaThrowsAndSpanSizeIsChecked) {
-    const Bvh8 bvh8 = Bvh8::build(scene::icosphere(1));
+    const Bvh8 bvh8 = Bvh8::build(workloads::icosphere(1));
     const std::vector<Ray> rays(4, Ray{{0, 0, -5}, 0, {0, 0, 1}});
     std::vector<Hit> hits(3);
     EXPECT_THROW(intersect(bvh8, rays, hits, {}, Isa::scalar), Error);
@@ -279,7 +279,7 @@ TEST(Bvh8Api, UnsupportedIsaThrowsAndSpanSizeIsChecked) {
     EXPECT_FALSE(parse_collapse("nope"));
     Bvh8Options bad;
     bad.max_leaf_size = 0;
-    EXPECT_THROW(Bvh8::build(scene::icosphere(1), {}, bad), Error);
+    EXPECT_THROW(Bvh8::build(workloads::icosphere(1), {}, bad), Error);
 }
 
 }  // namespace

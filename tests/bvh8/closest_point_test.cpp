@@ -12,8 +12,8 @@
 #include <string>
 
 #include "simdbvh/bvh8/closest_point.h"
-#include "simdbvh/scene/points.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/points.h"
+#include "simdbvh/workloads/scenes.h"
 
 namespace simdbvh {
 namespace {
@@ -25,7 +25,7 @@ bool same(const ClosestPoint& a, const ClosestPoint& b) {
 }
 
 std::vector<Vec3> points_for(const Mesh& m) {
-    std::vector<Vec3> p = scene::random_points(m.bounds(), 1500, 3, 0.5f);
+    std::vector<Vec3> p = workloads::random_points(m.bounds(), 1500, 3, 0.5f);
     for (std::size_t t = 0; t < m.size() && t < 600; t += 3) {
         const Vec3 a = m.vertex(t, 0), b = m.vertex(t, 1);
         p.push_back(a);
@@ -74,14 +74,14 @@ void check(const Mesh& mesh, const char* what, bool expect_pruning = true) {
 }
 
 TEST(WideClosestPoint, SoupOfOverlappingTriangles) {
-    const Mesh m = scene::random_soup(4000, 11);
+    const Mesh m = workloads::random_soup(4000, 11);
     check<4>(m, "soup");
     check<8>(m, "soup");
     check<16>(m, "soup");
 }
 
 TEST(WideClosestPoint, SphereVerticesAndEdges) {
-    const Mesh m = scene::icosphere(4);
+    const Mesh m = workloads::icosphere(4);
     check<8>(m, "icosphere");
     check<16>(m, "icosphere");
 }
@@ -93,7 +93,7 @@ TEST(WideClosestPoint, SphereVerticesAndEdges) {
 // answers, every triangle tested exactly.
 TEST(WideClosestPoint, FloatBoundsAtExtremeScales) {
     for (float scale : {1e-24f, 1e-18f, 1e18f, 1e21f}) {
-        Mesh m = scene::icosphere(3);
+        Mesh m = workloads::icosphere(3);
         for (Vec3& v : m.positions) v = v * scale;
         const std::string what = "icosphere scaled by " + std::to_string(scale);
         check<8>(m, what.c_str(), scale > 1e-20f);
@@ -103,7 +103,7 @@ TEST(WideClosestPoint, FloatBoundsAtExtremeScales) {
 TEST(WideClosestPoint, EmptyMeshAndBadRadius) {
     const Bvh8 empty = Bvh8::build(Mesh{});
     EXPECT_FALSE(closest_point(empty, Vec3{0, 0, 0}).found());
-    const Bvh8 b = Bvh8::build(scene::icosphere(1));
+    const Bvh8 b = Bvh8::build(workloads::icosphere(1));
     PointQueryOptions o;
     o.max_distance = -1.0f;
     EXPECT_THROW(closest_point(b, Vec3{0, 0, 0}, o), Error);

@@ -12,8 +12,8 @@
 
 #include "collapse.h"
 #include "simdbvh/kernels/box.h"
-#include "simdbvh/scene/rays.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/rays.h"
+#include "simdbvh/workloads/scenes.h"
 
 namespace simdbvh {
 namespace {
@@ -254,8 +254,8 @@ std::vector<Scene> scenes() {
     std::vector<Scene> out;
     for (std::string n : {"icosphere-3", "soup-2000", "bunny", "dragon-res4"}) {
         const bool npm = n == "bunny" || n.rfind("dragon", 0) == 0;
-        if (npm && !scene::is_cached(n)) continue;
-        out.push_back({n, scene::load_scene(n)});
+        if (npm && !workloads::is_cached(n)) continue;
+        out.push_back({n, workloads::load_scene(n)});
     }
     return out;
 }
@@ -331,9 +331,9 @@ template <int N>
 std::size_t empty_slots_never_hit() {
     std::size_t empty_slots = 0;
     for (std::size_t tris : {3u, 20u, 37u, 90u}) {  // partly filled nodes
-        const Mesh mesh = scene::random_soup(tris, 3);
+        const Mesh mesh = workloads::random_soup(tris, 3);
         const BvhN<N> b = BvhN<N>::build(mesh);
-        std::vector<Ray> rays = scene::incoherent_rays(mesh.bounds(), 300, 9);
+        std::vector<Ray> rays = workloads::incoherent_rays(mesh.bounds(), 300, 9);
         for (float sx : {0.0f, -0.0f, 1.0f, -1.0f})
             for (float sy : {0.0f, -0.0f, 1.0f, -1.0f})
                 for (float sz : {0.0f, -0.0f, 1.0f, -1.0f}) rays.push_back({{0, 0, 0}, 0, {sx, sy, sz}});

@@ -5,17 +5,17 @@
 #include <thread>
 
 #include "simdbvh/bvh8/bvh8.h"
-#include "simdbvh/scene/rays.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/rays.h"
+#include "simdbvh/workloads/scenes.h"
 
 namespace simdbvh {
 namespace {
 
 TEST(Concurrent, ManyThreadsTraceOneBvh) {
-    const Mesh mesh = scene::random_soup(20000, 17);
+    const Mesh mesh = workloads::random_soup(20000, 17);
     const Bvh2 bvh2 = Bvh2::build(mesh);
     const Bvh8 bvh8 = Bvh8::build(bvh2);
-    const auto rays = scene::generate_rays(mesh, scene::RayKind::incoherent, 4000, 9);
+    const auto rays = workloads::generate_rays(mesh, workloads::RayKind::incoherent, 4000, 9);
     std::vector<Hit> want(rays.size());
     intersect(bvh2, rays, want);
     constexpr int kThreads = 4;
@@ -44,10 +44,10 @@ TEST(Concurrent, ManyThreadsTraceOneBvh) {
 // sorted, each batch's blocks split over two threads of its own (the per-thread
 // order and gather arrays), against the BVH2.
 TEST(Concurrent, ManyThreadsTraceSortedBatches) {
-    const Mesh mesh = scene::random_soup(20000, 17);
+    const Mesh mesh = workloads::random_soup(20000, 17);
     const Bvh2 bvh2 = Bvh2::build(mesh);
     const Bvh8 bvh8 = Bvh8::build(bvh2);
-    const auto rays = scene::generate_rays(mesh, scene::RayKind::diffuse, 40000, 9);  // three blocks
+    const auto rays = workloads::generate_rays(mesh, workloads::RayKind::diffuse, 40000, 9);  // three blocks
     std::vector<Hit> want(rays.size());
     intersect(bvh2, rays, want);
     TraceOptions o;

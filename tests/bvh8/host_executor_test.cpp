@@ -16,8 +16,8 @@
 #include "simdbvh/bvh2/bvh2.h"
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/kernels/parallel.h"
-#include "simdbvh/scene/rays.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/rays.h"
+#include "simdbvh/workloads/scenes.h"
 #include "support/sanitizer.h"
 
 #if !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
@@ -41,7 +41,7 @@ namespace simdbvh {
 namespace {
 
 const Mesh& mesh() {  // large enough for subtree tasks (32k) and parallel binning (128k)
-    static const Mesh m = scene::load_scene("icosphere-7");
+    static const Mesh m = workloads::load_scene("icosphere-7");
     return m;
 }
 
@@ -131,11 +131,11 @@ TEST(HostExecutor, RunTasksRunsEveryTaskOnceWithOrWithoutAnExecutor) {
 // waits for its blocks, runs another sorted trace (a work-stealing pool's
 // thread taking other work): each keeps its own order, both give the BVH2's hits.
 TEST(HostExecutor, SortedTraceStartedWhileAnotherWaits) {
-    const Mesh soup = scene::random_soup(20000, 3);
+    const Mesh soup = workloads::random_soup(20000, 3);
     const Bvh2 bvh2 = Bvh2::build(soup);
     const Bvh8 bvh = Bvh8::build(bvh2);
-    const std::vector<Ray> outer = scene::generate_rays(soup, scene::RayKind::diffuse, 40000, 1);
-    const std::vector<Ray> inner = scene::generate_rays(soup, scene::RayKind::incoherent, 30000, 2);
+    const std::vector<Ray> outer = workloads::generate_rays(soup, workloads::RayKind::diffuse, 40000, 1);
+    const std::vector<Ray> inner = workloads::generate_rays(soup, workloads::RayKind::incoherent, 30000, 2);
     std::vector<Hit> want_outer(outer.size()), want_inner(inner.size());
     intersect(bvh2, outer, want_outer);
     intersect(bvh2, inner, want_inner);

@@ -8,14 +8,14 @@
 #include "simdbvh/bvh2/bvh2.h"
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/kernels/error.h"
-#include "simdbvh/scene/rays.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/rays.h"
+#include "simdbvh/workloads/scenes.h"
 #include "traverse.h"
 
 namespace simdbvh {
 namespace {
 
-using scene::RayKind;
+using workloads::RayKind;
 
 TEST(InFlight, ChosenByTreeSize) {
     using bvh8::detail::kInCacheBytes;
@@ -60,10 +60,10 @@ TEST_P(InFlightHits, SameHitsEveryWay) {
     const Isa isa = GetParam();
     if (!supported(isa)) GTEST_SKIP() << "CPU lacks " << name(isa);
     for (std::size_t tris : {2000u, 100000u}) {
-        const Mesh mesh = scene::random_soup(tris, 9);
+        const Mesh mesh = workloads::random_soup(tris, 9);
         const Bvh2 bvh2 = Bvh2::build(mesh);
         for (RayKind kind : {RayKind::primary, RayKind::incoherent}) {
-            const auto rays = scene::generate_rays(mesh, kind, 1500, 3);
+            const auto rays = workloads::generate_rays(mesh, kind, 1500, 3);
             std::vector<Hit> want(rays.size());
             intersect(bvh2, rays, want, {});
             const std::string what = "soup-" + std::to_string(tris);

@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "simdbvh/bvh8/inside.h"
-#include "simdbvh/scene/points.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/points.h"
+#include "simdbvh/workloads/scenes.h"
 #include "support/scene.h"
 
 namespace simdbvh {
@@ -124,8 +124,8 @@ TEST(WideInside, SeparatedCubesOnAQuarterGrid) {
 }
 
 TEST(WideInside, SphereVerticesAndEdgeMidpoints) {
-    const Mesh sphere = scene::icosphere(4);
-    std::vector<Vec3> pts = scene::random_points(sphere.bounds(), 3000, 5, 0.3f);
+    const Mesh sphere = workloads::icosphere(4);
+    std::vector<Vec3> pts = workloads::random_points(sphere.bounds(), 3000, 5, 0.3f);
     for (std::size_t t = 0; t < sphere.size(); t += 7) {
         const Vec3 a = sphere.vertex(t, 0), b = sphere.vertex(t, 1);
         pts.push_back(a);
@@ -141,8 +141,8 @@ TEST(WideInside, SphereVerticesAndEdgeMidpoints) {
 }
 
 TEST(WideInside, SoupOfOverlappingTrianglesWithSharedBlocks) {
-    const Mesh soup = scene::random_soup(3000, 17);
-    std::vector<Vec3> pts = scene::random_points(soup.bounds(), 3000, 6, 0.1f);
+    const Mesh soup = workloads::random_soup(3000, 17);
+    std::vector<Vec3> pts = workloads::random_points(soup.bounds(), 3000, 6, 0.1f);
     for (std::size_t t = 0; t < soup.size(); t += 5) pts.push_back(soup.vertex(t, 2));
     const std::vector<PointSide> got = check(soup, pts, "soup", /*expect_shared=*/true);
     std::uint32_t most = 0;

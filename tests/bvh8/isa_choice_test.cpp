@@ -22,8 +22,8 @@
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/kernels/parallel.h"
-#include "simdbvh/scene/rays.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/rays.h"
+#include "simdbvh/workloads/scenes.h"
 
 namespace simdbvh {
 namespace {
@@ -40,9 +40,9 @@ bool same_bits(const Hit& a, const Hit& b) {
 }
 
 struct Sphere5 {
-    Mesh mesh = scene::icosphere(5);
+    Mesh mesh = workloads::icosphere(5);
     Bvh8 bvh = Bvh8::build(mesh);
-    std::vector<Ray> rays = scene::generate_rays(mesh, scene::RayKind::incoherent, 20000, /*seed=*/5);
+    std::vector<Ray> rays = workloads::generate_rays(mesh, workloads::RayKind::incoherent, 20000, /*seed=*/5);
 };
 
 void expect_same_as_every_isa(const Sphere5& s, const std::vector<Hit>& got) {
@@ -204,7 +204,7 @@ TEST(IsaChoice, CalibratingBatchIsOneParallelCall) {
     if (forced_isa()) GTEST_SKIP() << "SIMDBVH_ISA forces an ISA";
     if (simd_isas() < 2) GTEST_SKIP() << "this CPU has fewer than two SIMD ISAs: nothing to choose";
     SIMDBVH_SKIP_UNLESS_FRESH({16, false}, {16, true});
-    const Mesh mesh = scene::icosphere(5);
+    const Mesh mesh = workloads::icosphere(5);
     const Bvh16 bvh = Bvh16::build(mesh);
     std::atomic<int> calls{0};
     set_executor([&](std::size_t chunks, const std::function<void(std::size_t)>& run) {
@@ -217,7 +217,7 @@ TEST(IsaChoice, CalibratingBatchIsOneParallelCall) {
         SCOPED_TRACE(order == Reorder::on ? "sorted" : "caller's order");
         const bool any = order == Reorder::on;  // each its own slot: both calibrate
         two.reorder = order;
-        const std::vector<Ray> rays = scene::generate_rays(mesh, scene::RayKind::primary, 65536, 1);
+        const std::vector<Ray> rays = workloads::generate_rays(mesh, workloads::RayKind::primary, 65536, 1);
         std::vector<Hit> want(rays.size());
         any ? occluded(bvh, rays, want, two, detected_isa()) : intersect(bvh, rays, want, two, detected_isa());
         const int given = calls.exchange(0);

@@ -16,8 +16,8 @@
 #include "simdbvh/bvh2/bvh2.h"
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/kernels/triangle.h"
-#include "simdbvh/scene/rays.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/rays.h"
+#include "simdbvh/workloads/scenes.h"
 #include "wide_trace_checks.h"
 
 namespace simdbvh {
@@ -82,10 +82,10 @@ TEST_P(PacketHits, SameClosestHitsRealAnyHits) {
     if (!supported(isa)) GTEST_SKIP() << "CPU lacks " << name(isa);
     // 100000 triangles: past 4 MiB, so the single-ray blocks run 8 in flight; 3000: one at a time.
     for (std::size_t tris : {3000u, 100000u}) {
-        const Mesh mesh = scene::random_soup(tris, 5);
+        const Mesh mesh = workloads::random_soup(tris, 5);
         const Bvh2 bvh2 = Bvh2::build(mesh);
         std::vector<Ray> rays = packet_rays(mesh);
-        const std::vector<Ray> more = scene::generate_rays(mesh, scene::RayKind::incoherent, 1203, 4);
+        const std::vector<Ray> more = workloads::generate_rays(mesh, workloads::RayKind::incoherent, 1203, 4);
         rays.insert(rays.end(), more.begin(), more.end());
         std::vector<Hit> want(rays.size());
         intersect(bvh2, rays, want, {});

@@ -12,14 +12,14 @@
 
 #include "quantize.h"
 #include "simdbvh/bvh8/bvh8.h"
-#include "simdbvh/scene/deform.h"
-#include "simdbvh/scene/rays.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/deform.h"
+#include "simdbvh/workloads/rays.h"
+#include "simdbvh/workloads/scenes.h"
 
 namespace simdbvh {
 namespace {
 
-using scene::RayKind;
+using workloads::RayKind;
 
 WideOptions quantized() {
     WideOptions o;
@@ -90,23 +90,23 @@ void expect_same_hits(const Mesh& mesh, const std::vector<Ray>& rays, const std:
 template <int N>
 void check_meshes() {
     for (const std::string s : {"icosphere-4", "soup-3000", "dragon-res4"}) {
-        if (s == "dragon-res4" && !scene::is_cached(s)) continue;
-        const Mesh mesh = scene::load_scene(s);
+        if (s == "dragon-res4" && !workloads::is_cached(s)) continue;
+        const Mesh mesh = workloads::load_scene(s);
         for (RayKind k : {RayKind::primary, RayKind::incoherent}) {
-            std::vector<Ray> rays = scene::generate_rays(mesh, k, 3000, 41);
+            std::vector<Ray> rays = workloads::generate_rays(mesh, k, 3000, 41);
             const Aabb b = mesh.bounds();
             // Axis-aligned rays with +-0 components from the bounds' corners (the box planes).
             for (float sx : {0.0f, -0.0f, 1.0f, -1.0f})
                 for (float sy : {0.0f, -0.0f, 1.0f, -1.0f})
                     for (const Vec3& o : {b.lo, b.hi, Vec3{b.lo.x, b.hi.y, 0}})
                         rays.push_back({o, 0, {sx, sy, 1.0f}});
-            expect_same_hits<N>(mesh, rays, s + " " + std::string(scene::name(k)));
+            expect_same_hits<N>(mesh, rays, s + " " + std::string(workloads::name(k)));
         }
     }
 }
 
 TEST(QuantizedNodes, Bvh4IsAnError) {
-    const Mesh m = scene::random_soup(100, 3);
+    const Mesh m = workloads::random_soup(100, 3);
     EXPECT_THROW(Bvh4::build(m, {}, quantized()), Error);
     const Bvh2 b2 = Bvh2::build(m);
     EXPECT_THROW(Bvh4::build(b2, quantized()), Error);
@@ -120,7 +120,7 @@ TEST(QuantizedNodes, Bvh16SameHitsEveryIsa) { check_meshes<16>(); }
 TEST(QuantizedNodes, FarAndTinyCoordinates) {
     for (const double scale : {1e30, 1e-30, 1.0}) {
         for (const double offset : {0.0, 1e6, -3e7}) {
-            Mesh m = scene::random_soup(2000, 7);
+            Mesh m = workloads::random_soup(2000, 7);
             for (Vec3& v : m.positions) {
                 v.x = float(v.x * scale + offset);
                 v.y = float(v.y * scale - offset);
@@ -129,7 +129,7 @@ TEST(QuantizedNodes, FarAndTinyCoordinates) {
             const std::string what = "scale " + std::to_string(scale) + " offset " + std::to_string(offset);
             const Bvh8 q = Bvh8::build(m, {}, quantized());
             expect_quantized(q, what);
-            const auto rays = scene::generate_rays(m, RayKind::incoherent, 800, 3);
+            const auto rays = workloads::generate_rays(m, RayKind::incoherent, 800, 3);
             std::vector<Hit> got(rays.size());
             intersect(q, rays, got);
             for (std::size_t i = 0; i < rays.size(); i += 5)
@@ -171,12 +171,12 @@ TEST(QuantizedNodes, TooWideFallsBackToFullNodes) {
 // A refit requantizes in place: the quantized boxes contain the moved
 // children and the hits are brute force's on the moved mesh.
 TEST(QuantizedNodes, RefitRequantizes) {
-    const Mesh mesh = scene::random_soup(5000, 13);
+    const Mesh mesh = workloads::random_soup(5000, 13);
     Bvh8 b = Bvh8::build(mesh, {}, quantized());
-    const Mesh moved = scene::twist(mesh, 1.2);
+    const Mesh moved = workloads::twist(mesh, 1.2);
     b.refit(moved, 2);
     expect_quantized(b, "twisted");
-    const auto rays = scene::generate_rays(moved, RayKind::incoherent, 2000, 9);
+    const auto rays = workloads::generate_rays(moved, RayKind::incoherent, 2000, 9);
     std::vector<Hit> got(rays.size());
     for (Isa isa : kAllIsas) {
         if (!supported(isa)) continue;

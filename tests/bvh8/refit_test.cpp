@@ -11,9 +11,9 @@
 #include <limits>
 
 #include "simdbvh/bvh8/bvh8.h"
-#include "simdbvh/scene/deform.h"
-#include "simdbvh/scene/rays.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/deform.h"
+#include "simdbvh/workloads/rays.h"
+#include "simdbvh/workloads/scenes.h"
 
 namespace simdbvh {
 namespace {
@@ -54,7 +54,7 @@ void expect_bounds(const BvhN<N>& bvh, const Mesh& mesh, std::uint32_t i, const 
 
 template <int N>
 void check_width() {
-    const Mesh mesh = scene::random_soup(6000, 11);
+    const Mesh mesh = workloads::random_soup(6000, 11);
     const BvhN<N> built = BvhN<N>::build(mesh);
     BvhN<N> b = built, b2 = built;
     b.refit(mesh);
@@ -62,15 +62,15 @@ void check_width() {
     EXPECT_EQ(b.stats().sah_cost, built.stats().sah_cost) << N;
     const Aabb all{{-INFINITY, -INFINITY, -INFINITY}, {INFINITY, INFINITY, INFINITY}};
     for (double angle : {0.5, 2.5}) {
-        const Mesh moved = scene::twist(mesh, angle);
+        const Mesh moved = workloads::twist(mesh, angle);
         b.refit(moved, 1);
         b2.refit(moved, 2);
         ASSERT_TRUE(same_tree(b, b2)) << N << " " << angle;
         expect_bounds(b, moved, 0, all);
         const Aabb mb = moved.bounds(), tb = b.bounds();
         EXPECT_TRUE(std::memcmp(&mb, &tb, sizeof(Aabb)) == 0) << N;
-        auto rays = scene::generate_rays(moved, scene::RayKind::incoherent, 2000, 7);
-        const auto prim = scene::generate_rays(moved, scene::RayKind::primary, 1000, 8);
+        auto rays = workloads::generate_rays(moved, workloads::RayKind::incoherent, 2000, 7);
+        const auto prim = workloads::generate_rays(moved, workloads::RayKind::primary, 1000, 8);
         rays.insert(rays.end(), prim.begin(), prim.end());
         std::vector<Hit> want(rays.size());
         std::size_t hits = 0;
@@ -92,7 +92,7 @@ void check_width() {
     Mesh fewer = mesh;
     fewer.triangles.pop_back();
     EXPECT_THROW(b.refit(fewer), Error);
-    Mesh nan = scene::twist(mesh, 1.0);
+    Mesh nan = workloads::twist(mesh, 1.0);
     nan.positions[nan.triangles.front()[0]].x = std::numeric_limits<float>::infinity();
     EXPECT_THROW(b.refit(nan), Error);
     EXPECT_TRUE(same_tree(b, built)) << N;
@@ -106,7 +106,7 @@ TEST(WideRefit, EmptyMesh) {
     Bvh8 b = Bvh8::build(Mesh{});
     b.refit(Mesh{});
     EXPECT_TRUE(b.nodes().empty());
-    EXPECT_THROW(b.refit(scene::icosphere(0)), Error);
+    EXPECT_THROW(b.refit(workloads::icosphere(0)), Error);
 }
 
 }  // namespace

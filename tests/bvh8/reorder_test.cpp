@@ -17,8 +17,8 @@
 #include "simdbvh/bvh2/bvh2.h"
 #include "simdbvh/bvh8/batch_order.h"
 #include "simdbvh/bvh8/bvh8.h"
-#include "simdbvh/scene/rays.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/rays.h"
+#include "simdbvh/workloads/scenes.h"
 #include "wide_trace_checks.h"
 
 namespace simdbvh {
@@ -30,7 +30,7 @@ using bvh8::detail::kReorderSegment;
 // zero direction, outside the bounds) and rays with a negative tmin or a
 // finite tmax, spread through the batch.
 std::vector<Ray> bounce_rays(const Mesh& mesh, std::size_t count) {
-    std::vector<Ray> rays = scene::generate_rays(mesh, scene::RayKind::diffuse, count, 7);
+    std::vector<Ray> rays = workloads::generate_rays(mesh, workloads::RayKind::diffuse, count, 7);
     const Aabb b = mesh.bounds();
     const float e = b.extent().x;
     for (std::size_t i = 0; i < rays.size(); i += 97) {
@@ -50,7 +50,7 @@ std::vector<Ray> bounce_rays(const Mesh& mesh, std::size_t count) {
 Mesh spheres() {
     Mesh m;
     for (int c = 0; c < 8; ++c) {
-        const Mesh s = scene::icosphere(3, 0.8f, Vec3{float(c & 1) * 2, float(c >> 1 & 1) * 2, float(c >> 2) * 2});
+        const Mesh s = workloads::icosphere(3, 0.8f, Vec3{float(c & 1) * 2, float(c >> 1 & 1) * 2, float(c >> 2) * 2});
         const auto base = std::uint32_t(m.positions.size());
         m.positions.insert(m.positions.end(), s.positions.begin(), s.positions.end());
         for (const Triangle& t : s.triangles) m.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
@@ -91,7 +91,7 @@ TEST_P(ReorderHits, SameHitsInEveryOrder) {
     const Isa isa = GetParam();
     if (!supported(isa)) GTEST_SKIP() << "CPU lacks " << name(isa);
     // Surfaces (the automatic choice sorts their bounces) and a soup.
-    for (const Mesh& mesh : {spheres(), scene::random_soup(30000, 3)}) {
+    for (const Mesh& mesh : {spheres(), workloads::random_soup(30000, 3)}) {
         const Bvh2 bvh2 = Bvh2::build(mesh);
         // Past kReorderMinRays and kReorderBlock: a full sorted block and a part.
         const std::vector<Ray> rays = bounce_rays(mesh, 20000);
@@ -112,9 +112,9 @@ INSTANTIATE_TEST_SUITE_P(Isas, ReorderHits, testing::ValuesIn(kAllIsas),
 
 // A batch of more than one segment: each sorted on its own, the hits at the caller's positions.
 TEST(ReorderHits, BatchOfSeveralSegments) {
-    const Mesh mesh = scene::icosphere(2);
+    const Mesh mesh = workloads::icosphere(2);
     const Bvh8 bvh = Bvh8::build(mesh);
-    const std::vector<Ray> rays = scene::incoherent_rays(mesh.bounds(), kReorderSegment + 5003, 11);
+    const std::vector<Ray> rays = workloads::incoherent_rays(mesh.bounds(), kReorderSegment + 5003, 11);
     TraceOptions off, on;
     off.reorder = Reorder::off;
     on.reorder = Reorder::on;
@@ -153,9 +153,9 @@ TEST(RayOrder, KeysOfTheCorners) {
 }
 
 TEST(RayOrder, StablePermutationByKey) {
-    const Mesh mesh = scene::icosphere(3);
-    std::vector<Ray> rays = scene::generate_rays(mesh, scene::RayKind::diffuse, 30000, 5);
-    const std::vector<Ray> far = scene::incoherent_rays(mesh.bounds(), 3000, 6);  // from outside the bounds
+    const Mesh mesh = workloads::icosphere(3);
+    std::vector<Ray> rays = workloads::generate_rays(mesh, workloads::RayKind::diffuse, 30000, 5);
+    const std::vector<Ray> far = workloads::incoherent_rays(mesh.bounds(), 3000, 6);  // from outside the bounds
     rays.insert(rays.begin() + 1000, far.begin(), far.end());
     for (std::size_t i = 0; i < rays.size(); i += 5) rays[i] = rays[i / 5];  // equal keys far apart
     rays[3].org.x = std::numeric_limits<float>::quiet_NaN();
@@ -182,15 +182,15 @@ TEST(RayOrder, StablePermutationByKey) {
 TEST(RayOrder, AutomaticSortsSurfaceBouncesOnly) {
     const Mesh mesh = spheres();
     const Aabb b = mesh.bounds();
-    const std::vector<Ray> bounces = scene::generate_rays(mesh, scene::RayKind::diffuse, 150000, 1);
+    const std::vector<Ray> bounces = workloads::generate_rays(mesh, workloads::RayKind::diffuse, 150000, 1);
     EXPECT_TRUE(bvh8::detail::scattered(bounces, b));
     // Every 8th of them (18,750: the same cells, fewer rays): too few per cell their origins occupy.
     std::vector<Ray> sparse;
     for (std::size_t i = 0; i < bounces.size(); i += 8) sparse.push_back(bounces[i]);
     EXPECT_FALSE(bvh8::detail::scattered(sparse, b));
-    EXPECT_FALSE(bvh8::detail::scattered(scene::generate_rays(mesh, scene::RayKind::primary, 40000, 1), b));
-    EXPECT_FALSE(bvh8::detail::scattered(scene::incoherent_rays(b, 40000, 1), b));  // from outside
-    EXPECT_FALSE(bvh8::detail::scattered(scene::interior_rays(b, 40000, 1), b));    // filling the bounds
+    EXPECT_FALSE(bvh8::detail::scattered(workloads::generate_rays(mesh, workloads::RayKind::primary, 40000, 1), b));
+    EXPECT_FALSE(bvh8::detail::scattered(workloads::incoherent_rays(b, 40000, 1), b));  // from outside
+    EXPECT_FALSE(bvh8::detail::scattered(workloads::interior_rays(b, 40000, 1), b));    // filling the bounds
 }
 
 // The public question (batch_order.h), on Ray records and on a function of
@@ -199,8 +199,8 @@ TEST(RayOrder, AutomaticSortsSurfaceBouncesOnly) {
 TEST(RayOrder, TracesSortedTellsTheTraversalsChoice) {
     const Mesh mesh = spheres();
     const Bvh16 bvh = Bvh16::build(mesh);
-    const std::vector<Ray> bounces = scene::generate_rays(mesh, scene::RayKind::diffuse, 150000, 1);
-    const std::vector<Ray> camera = scene::generate_rays(mesh, scene::RayKind::primary, 40000, 1);
+    const std::vector<Ray> bounces = workloads::generate_rays(mesh, workloads::RayKind::diffuse, 150000, 1);
+    const std::vector<Ray> camera = workloads::generate_rays(mesh, workloads::RayKind::primary, 40000, 1);
     auto asked = [&](const std::vector<Ray>& rays, Reorder r) {
         TraceOptions o;
         o.reorder = r;

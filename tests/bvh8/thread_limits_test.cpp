@@ -21,8 +21,8 @@
 
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/kernels/parallel.h"
-#include "simdbvh/scene/rays.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/rays.h"
+#include "simdbvh/workloads/scenes.h"
 
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
 #define SIMDBVH_SANITIZED 1
@@ -138,10 +138,10 @@ TEST_P(ThreadLimits, ParallelForCoversEveryIndexOnce) {
 }
 
 TEST_P(ThreadLimits, ThreadedTracesMatchOneThread) {
-    const Mesh mesh = scene::icosphere(5);
+    const Mesh mesh = workloads::icosphere(5);
     const Bvh2 bvh2 = Bvh2::build(mesh);
     const Bvh8 bvh8 = Bvh8::build(bvh2);
-    const auto rays = scene::generate_rays(mesh, scene::RayKind::incoherent, 50000, 3);
+    const auto rays = workloads::generate_rays(mesh, workloads::RayKind::incoherent, 50000, 3);
     std::vector<Hit> want(rays.size()), got2(rays.size()), got8(rays.size());
     intersect(bvh8, rays, want);
     TraceOptions two;
@@ -162,7 +162,7 @@ TEST_P(ThreadLimits, ThreadedTracesMatchOneThread) {
 // same tree, so a build that loses its threads must too.
 TEST_P(ThreadLimits, ThreadedBuildMatchesOneThread) {
     if (GetParam() == Limit::address_space) GTEST_SKIP() << "a build allocates: covered by the process limits";
-    const Mesh mesh = scene::random_soup(300000, 5);
+    const Mesh mesh = workloads::random_soup(300000, 5);
     const Bvh2 want = Bvh2::build(mesh);
     const Bvh8 want8 = Bvh8::build(want);
     expect_child_ok(GetParam(), [&] {

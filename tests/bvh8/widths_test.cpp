@@ -14,13 +14,13 @@
 #include "simdbvh/bvh2/bvh2.h"
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/kernels/triangle.h"
-#include "simdbvh/scene/rays.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/rays.h"
+#include "simdbvh/workloads/scenes.h"
 
 namespace simdbvh {
 namespace {
 
-using scene::RayKind;
+using workloads::RayKind;
 
 bool npm_scene(const std::string& s) { return s == "bunny" || s == "teapot" || s.rfind("dragon", 0) == 0; }
 
@@ -42,9 +42,9 @@ const Fixture& fixture(const std::string& scene, RayKind kind) {
     auto& f = cache[{scene, kind}];
     if (!f) {
         f = std::make_unique<Fixture>();
-        f->mesh = scene::load_scene(scene);
+        f->mesh = workloads::load_scene(scene);
         f->bvh2 = Bvh2::build(f->mesh);
-        f->rays = scene::generate_rays(f->mesh, kind, kRays, /*seed=*/23);
+        f->rays = workloads::generate_rays(f->mesh, kind, kRays, /*seed=*/23);
         for (TriangleTest test : {TriangleTest::watertight, TriangleTest::moller}) {
             const int t = test_index(test);
             f->want[t].resize(f->rays.size());
@@ -98,7 +98,7 @@ using Param = std::tuple<std::string, RayKind, int, Isa>;
 
 std::string param_name(const testing::TestParamInfo<Param>& info) {
     const auto& [s, k, w, isa] = info.param;
-    std::string n = s + "_" + std::string(scene::name(k)) + "_bvh" + std::to_string(w) + "_" + std::string(name(isa));
+    std::string n = s + "_" + std::string(workloads::name(k)) + "_bvh" + std::to_string(w) + "_" + std::string(name(isa));
     for (char& ch : n)
         if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
     return n;
@@ -109,7 +109,7 @@ class WidthsVsBrute : public testing::TestWithParam<Param> {};
 TEST_P(WidthsVsBrute, ClosestBitIdenticalAnyHitGenuine) {
     const auto [scene_name, kind, width, isa] = GetParam();
     if (!supported(isa)) GTEST_SKIP() << "CPU lacks " << name(isa);
-    if (npm_scene(scene_name) && !scene::is_cached(scene_name))
+    if (npm_scene(scene_name) && !workloads::is_cached(scene_name))
         GTEST_SKIP() << "scene '" << scene_name << "' is not cached: run scripts/fetch_scenes.sh";
     const Fixture& f = fixture(scene_name, kind);
     switch (width) {
@@ -159,11 +159,11 @@ void expect_same_visits(const Mesh& mesh, const std::vector<Ray>& rays, const st
 
 TEST(WidthsNodeTest, EveryIsaVisitsTheSameNodes) {
     std::vector<std::pair<std::string, Mesh>> meshes;
-    meshes.emplace_back("icosphere-4", scene::icosphere(4));
-    meshes.emplace_back("soup-3000", scene::random_soup(3000, 5));
-    if (scene::is_cached("dragon-res4")) meshes.emplace_back("dragon-res4", scene::load_scene("dragon-res4"));
+    meshes.emplace_back("icosphere-4", workloads::icosphere(4));
+    meshes.emplace_back("soup-3000", workloads::random_soup(3000, 5));
+    if (workloads::is_cached("dragon-res4")) meshes.emplace_back("dragon-res4", workloads::load_scene("dragon-res4"));
     for (const auto& [what, mesh] : meshes) {
-        std::vector<Ray> rays = scene::generate_rays(mesh, RayKind::incoherent, 3000, 17);
+        std::vector<Ray> rays = workloads::generate_rays(mesh, RayKind::incoherent, 3000, 17);
         const Aabb b = mesh.bounds();
         // Axis-aligned rays with +-0 components, from the box's planes and corners.
         for (float sx : {0.0f, -0.0f, 1.0f, -1.0f})
@@ -193,7 +193,7 @@ void check_small(const Mesh& mesh, Isa isa, const std::string& what) {
         const BvhN<N> bvh = BvhN<N>::build(bvh2, o);
         Aabb b = mesh.bounds();
         if (b.is_empty()) b = Aabb{{-1, -1, -1}, {1, 1, 1}};
-        const auto rays = scene::incoherent_rays(b, 1500, 5);
+        const auto rays = workloads::incoherent_rays(b, 1500, 5);
         std::vector<Hit> got(rays.size()), any(rays.size());
         intersect(bvh, rays, got, {}, isa);
         occluded(bvh, rays, any, {}, isa);
@@ -212,7 +212,7 @@ TEST_P(WidthsSmall, DuplicatedTrianglesTieToLowerId) {
     const Isa isa = GetParam();
     if (!supported(isa)) GTEST_SKIP() << "CPU lacks " << name(isa);
     for (std::size_t n : {0u, 1u, 3u, 9u, 17u, 40u}) {
-        Mesh mesh = scene::random_soup(n, 31 + n);
+        Mesh mesh = workloads::random_soup(n, 31 + n);
         const std::size_t tris = mesh.triangles.size();
         for (std::size_t k = 0; k < tris; ++k) mesh.triangles.push_back(mesh.triangles[k]);
         const std::string what = std::to_string(n) + " triangles twice";

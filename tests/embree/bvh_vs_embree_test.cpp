@@ -15,16 +15,16 @@
 
 #include "simdbvh/bvh2/bvh2.h"
 #include "simdbvh/bvh8/bvh8.h"
-#include "simdbvh/compare/classify.h"
-#include "simdbvh/compare/embree.h"
+#include "simdbvh/reference/classify.h"
+#include "simdbvh/reference/embree.h"
 #include "simdbvh/kernels/isa.h"
-#include "simdbvh/scene/rays.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/rays.h"
+#include "simdbvh/workloads/scenes.h"
 
-namespace simdbvh::compare {
+namespace simdbvh::reference {
 namespace {
 
-using scene::RayKind;
+using workloads::RayKind;
 
 constexpr std::size_t kRays = 3000;  // per ray kind: keeps the suite well under a minute on 2 cores
 
@@ -34,7 +34,7 @@ struct Case {
 };
 
 std::string case_name(const testing::TestParamInfo<Case>& info) {
-    std::string s = info.param.scene + "_" + std::string(scene::name(info.param.kind));
+    std::string s = info.param.scene + "_" + std::string(workloads::name(info.param.kind));
     for (char& c : s)
         if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
     return s;
@@ -56,7 +56,7 @@ std::string describe(const Ray& r, const Hit& ours, const Hit& theirs, const Dis
 // Embree's own (once per Embree configuration: the same for each of our
 // methods, which are bit-identical). A marginal disagreement of ours (the
 // reference itself is within float rounding: a ray grazing an edge or a vertex)
-// is printed but tolerated; see simdbvh/compare/classify.h.
+// is printed but tolerated; see simdbvh/reference/classify.h.
 // strict: not even a marginal disagreement is allowed (closed mesh, rays from inside).
 void report(const std::string& method, const std::string& embree, const std::string& mode, const Comparison& c,
             std::span<const Ray> rays, std::span<const Hit> ours, std::span<const Hit> theirs, bool strict) {
@@ -137,13 +137,13 @@ class VsEmbree : public testing::TestWithParam<Case> {};
 
 TEST_P(VsEmbree, NoDisagreementIsOurs) {
     const Case& c = GetParam();
-    if (npm_scene(c.scene) && !scene::is_cached(c.scene))
-        GTEST_SKIP() << "scene '" << c.scene << "' is not cached in " << scene::cache_dir().string()
+    if (npm_scene(c.scene) && !workloads::is_cached(c.scene))
+        GTEST_SKIP() << "scene '" << c.scene << "' is not cached in " << workloads::cache_dir().string()
                      << ": run scripts/fetch_scenes.sh (needs npm)";
-    const Mesh mesh = scene::load_scene(c.scene);
-    const std::vector<Ray> rays = scene::generate_rays(mesh, c.kind, kRays, 1 + std::uint64_t(c.kind));
+    const Mesh mesh = workloads::load_scene(c.scene);
+    const std::vector<Ray> rays = workloads::generate_rays(mesh, c.kind, kRays, 1 + std::uint64_t(c.kind));
     ASSERT_EQ(rays.size(), kRays);
-    std::cout << c.scene << " (" << mesh.size() << " triangles), " << rays.size() << " " << scene::name(c.kind)
+    std::cout << c.scene << " (" << mesh.size() << " triangles), " << rays.size() << " " << workloads::name(c.kind)
               << " rays, Embree " << EmbreeScene::version() << "\n";
     run(mesh, rays, /*strict=*/false);
 }
@@ -165,7 +165,7 @@ class VsEmbreeWatertight : public testing::TestWithParam<float> {};
 
 TEST_P(VsEmbreeWatertight, NoDisagreementIsOurs) {
     const float offset = GetParam();
-    Mesh mesh = scene::icosphere(4);
+    Mesh mesh = workloads::icosphere(4);
     for (Vec3& p : mesh.positions)  // translated in double, rounded to float
         p = Vec3{float(double(p.x) + offset), float(double(p.y) + offset), float(double(p.z) + offset)};
     const Vec3 o{float(0.013 + offset), float(-0.021 + offset), float(0.034 + offset)};
@@ -190,4 +190,4 @@ INSTANTIATE_TEST_SUITE_P(Offsets, VsEmbreeWatertight, testing::Values(0.0f, 1e3f
                          });
 
 }  // namespace
-}  // namespace simdbvh::compare
+}  // namespace simdbvh::reference

@@ -5,11 +5,11 @@
 #include <cmath>
 #include <limits>
 
-#include "simdbvh/compare/classify.h"
+#include "simdbvh/reference/classify.h"
 #include "simdbvh/kernels/error.h"
 #include "support/scene.h"
 
-namespace simdbvh::compare {
+namespace simdbvh::reference {
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
@@ -190,4 +190,4 @@ TEST(Compare, Occluded) {
 }
 
 }  // namespace
-}  // namespace simdbvh::compare
+}  // namespace simdbvh::reference

@@ -7,23 +7,23 @@
 #include <cmath>
 #include <random>
 
-#include "simdbvh/compare/embree_instances.h"
-#include "simdbvh/scene/rays.h"
-#include "simdbvh/scene/scene_desc.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/reference/embree_instances.h"
+#include "simdbvh/workloads/rays.h"
+#include "simdbvh/workloads/scene_desc.h"
+#include "simdbvh/workloads/scenes.h"
 
 namespace simdbvh {
 namespace {
 
 TEST(EmbreeInstances, AgreeWithTheSceneOnNearlyEveryRay) {
-    const SceneDesc d = scene::instances_scene(scene::icosphere(3), 12);
+    const SceneDesc d = workloads::instances_scene(workloads::icosphere(3), 12);
     const SceneBvhN<8> ours = SceneBvhN<8>::build(d);
-    const compare::EmbreeInstanceScene embree(d);
+    const reference::EmbreeInstanceScene embree(d);
     Mesh proxy;
     const Aabb b = world_bounds(d);
     proxy.positions = {b.lo, b.hi};
     proxy.triangles = {{0, 1, 1}};
-    const auto rays = scene::generate_rays(proxy, scene::RayKind::primary, 20000, 1);
+    const auto rays = workloads::generate_rays(proxy, workloads::RayKind::primary, 20000, 1);
     std::vector<SceneHit> a(rays.size()), e(rays.size());
     intersect(ours, std::span<const Ray>(rays), std::span<SceneHit>(a), Isa::scalar);
     embree.intersect(rays, e);
@@ -45,7 +45,7 @@ TEST(EmbreeInstances, AgreeWithTheSceneOnNearlyEveryRay) {
 // under rotated, scaled instances: the same object on nearly every ray, closest and any hit.
 TEST(EmbreeInstances, AnalyticGeometryAndPlanesAgree) {
     SceneDesc d;
-    d.geometries.push_back(scene::icosphere(2));
+    d.geometries.push_back(workloads::icosphere(2));
     SphereSet spheres;
     BoxSet boxes;
     std::mt19937 rng(7);
@@ -68,13 +68,13 @@ TEST(EmbreeInstances, AnalyticGeometryAndPlanesAgree) {
     d.planes.push_back({{0, -6, 0}, {0, 1, 0}});
     d.planes.push_back({{0, 0, -7}, {0, 0, 1}});
     const SceneBvhN<8> ours = SceneBvhN<8>::build(d);
-    const compare::EmbreeInstanceScene embree(d);
+    const reference::EmbreeInstanceScene embree(d);
     EXPECT_GT(embree.bytes(), 0u);
     Mesh proxy;
     const Aabb b = world_bounds(d);
     proxy.positions = {b.lo, b.hi};
     proxy.triangles = {{0, 1, 1}};
-    const auto rays = scene::generate_rays(proxy, scene::RayKind::incoherent, 20000, 3);
+    const auto rays = workloads::generate_rays(proxy, workloads::RayKind::incoherent, 20000, 3);
     std::vector<SceneHit> a(rays.size()), e(rays.size()), ao(rays.size()), eo(rays.size());
     intersect(ours, std::span<const Ray>(rays), std::span<SceneHit>(a), Isa::scalar);
     occluded(ours, std::span<const Ray>(rays), std::span<SceneHit>(ao), Isa::scalar);

@@ -5,15 +5,15 @@
 #include <cmath>
 #include <limits>
 
-#include "simdbvh/compare/classify.h"
-#include "simdbvh/compare/embree.h"
+#include "simdbvh/reference/classify.h"
+#include "simdbvh/reference/embree.h"
 #include "simdbvh/kernels/error.h"
-#include "simdbvh/scene/deform.h"
-#include "simdbvh/scene/rays.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/deform.h"
+#include "simdbvh/workloads/rays.h"
+#include "simdbvh/workloads/scenes.h"
 #include "support/scene.h"
 
-namespace simdbvh::compare {
+namespace simdbvh::reference {
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
@@ -76,7 +76,7 @@ TEST(EmbreeScene, InvalidRaysAreMissesAndCounted) {
 }
 
 TEST(EmbreeScene, OptionsStatsAndNames) {
-    const Mesh m = scene::icosphere(4);  // 5120 triangles
+    const Mesh m = workloads::icosphere(4);  // 5120 triangles
     for (EmbreeQuality q : {EmbreeQuality::medium, EmbreeQuality::high}) {
         for (bool robust : {false, true}) {
             const EmbreeOptions o{q, robust, 1};
@@ -136,8 +136,8 @@ TEST(EmbreeScene, MovesKeepTheScene) {
 
 // Embree against the double reference on a closed mesh: report its own errors.
 TEST(EmbreeScene, AgainstReferenceOnIcosphere) {
-    const Mesh m = scene::icosphere(3);
-    std::vector<Ray> rays = scene::incoherent_rays(m.bounds(), 400, 5);
+    const Mesh m = workloads::icosphere(3);
+    std::vector<Ray> rays = workloads::incoherent_rays(m.bounds(), 400, 5);
     for (const Vec3& p : m.positions) rays.push_back(ray({0.01f, -0.02f, 0.03f}, p));  // through every vertex
     for (bool robust : {false, true}) {
         const EmbreeScene s(m, {EmbreeQuality::medium, robust, 1});
@@ -155,10 +155,10 @@ TEST(EmbreeScene, AgainstReferenceOnIcosphere) {
 // for the moved mesh: the same prims as a scene built on the moved mesh for
 // almost every ray, and far from the answers before the move.
 TEST(EmbreeScene, StreamCallsGiveTheSingleRayAnswers) {
-    const Mesh mesh = scene::load_scene("icosphere-4");
+    const Mesh mesh = workloads::load_scene("icosphere-4");
     const EmbreeScene embree(mesh);
-    for (scene::RayKind kind : {scene::RayKind::primary, scene::RayKind::incoherent}) {
-        std::vector<Ray> rays = scene::generate_rays(mesh, kind, 1000, 5);
+    for (workloads::RayKind kind : {workloads::RayKind::primary, workloads::RayKind::incoherent}) {
+        std::vector<Ray> rays = workloads::generate_rays(mesh, kind, 1000, 5);
         rays[3].dir = {0, 0, 0};                                            // invalid: a miss either way
         rays[4].tmax = std::numeric_limits<float>::quiet_NaN();            // invalid too
         std::vector<Hit> one(rays.size()), stream(rays.size());
@@ -203,9 +203,9 @@ TEST(EmbreeScene, StreamCallsGiveTheSingleRayAnswers) {
 }
 
 TEST(EmbreeScene, UpdateVerticesFollowsTheMovedMesh) {
-    const Mesh m = scene::random_soup(4000, 2);
-    const Mesh moved = scene::twist(m, 2.0);
-    const auto rays = scene::incoherent_rays(moved.bounds(), 2000, 3);
+    const Mesh m = workloads::random_soup(4000, 2);
+    const Mesh moved = workloads::twist(m, 2.0);
+    const auto rays = workloads::incoherent_rays(moved.bounds(), 2000, 3);
     const EmbreeScene fresh(moved, {EmbreeQuality::medium, false, 1});
     std::vector<Hit> want(rays.size());
     fresh.intersect(rays, want);
@@ -238,7 +238,7 @@ TEST(EmbreeScene, UpdateVerticesFollowsTheMovedMesh) {
 // inside, two from outside, none when the ray points away; a scene without
 // count_filter refuses.
 TEST(EmbreeScene, CountHitsCountsEveryCrossing) {
-    const Mesh m = scene::icosphere(3);
+    const Mesh m = workloads::icosphere(3);
     const EmbreeScene s(m, {EmbreeQuality::medium, false, 1, true});
     const Vec3 d{0.0123f, 0.0456f, 1.0f};  // through face interiors, not along the mesh's symmetry planes
     EXPECT_EQ(s.count_hits(ray({0.01f, 0.02f, 0.0f}, d)), 1u);
@@ -252,4 +252,4 @@ TEST(EmbreeScene, CountHitsCountsEveryCrossing) {
 }
 
 }  // namespace
-}  // namespace simdbvh::compare
+}  // namespace simdbvh::reference

@@ -7,13 +7,13 @@
 #include <limits>
 
 #include "simdbvh/bvh2/bvh2.h"
-#include "simdbvh/compare/classify.h"
-#include "simdbvh/compare/reference.h"
-#include "simdbvh/scene/rays.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/reference/classify.h"
+#include "simdbvh/reference/reference.h"
+#include "simdbvh/workloads/rays.h"
+#include "simdbvh/workloads/scenes.h"
 #include "support/scene.h"
 
-namespace simdbvh::compare {
+namespace simdbvh::reference {
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
@@ -122,8 +122,8 @@ TEST(Reference, StackedTrianglesOnlyTheClosestIsInTheTieSet) {
 // The float brute force (the watertight kernel every path reproduces) agrees
 // with the double reference on every ray of a closed mesh.
 TEST(Reference, AgreesWithFloatBruteForceOnIcosphere) {
-    const Mesh m = scene::icosphere(3);
-    auto rays = scene::incoherent_rays(m.bounds(), 1500, 11);
+    const Mesh m = workloads::icosphere(3);
+    auto rays = workloads::incoherent_rays(m.bounds(), 1500, 11);
     // Plus rays from inside towards every 7th vertex (watertight family).
     for (std::size_t i = 0; i < m.positions.size(); i += 7) rays.push_back(ray({0.01f, -0.02f, 0.03f}, m.positions[i]));
     std::size_t hits = 0;
@@ -143,4 +143,4 @@ TEST(Reference, AgreesWithFloatBruteForceOnIcosphere) {
 }
 
 }  // namespace
-}  // namespace simdbvh::compare
+}  // namespace simdbvh::reference

@@ -10,14 +10,14 @@
 #include <string>
 
 #include "simdbvh/bvh2/spheres.h"
-#include "simdbvh/scene/rays.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/rays.h"
+#include "simdbvh/workloads/scenes.h"
 #include "support/sanitizer.h"
 
 namespace simdbvh {
 namespace {
 
-using scene::RayKind;
+using workloads::RayKind;
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
@@ -27,7 +27,7 @@ struct Case {
 };
 
 std::string case_name(const testing::TestParamInfo<Case>& info) {
-    std::string s = info.param.scene + "_" + std::string(scene::name(info.param.kind));
+    std::string s = info.param.scene + "_" + std::string(workloads::name(info.param.kind));
     for (char& c : s)
         if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
     return s;
@@ -37,14 +37,14 @@ class SpheresVsBrute : public testing::TestWithParam<Case> {};
 
 TEST_P(SpheresVsBrute, ClosestAndAnyHitMatchBruteForce) {
     const Case& c = GetParam();
-    if (c.scene == "bunny" && !scene::is_cached(c.scene))
+    if (c.scene == "bunny" && !workloads::is_cached(c.scene))
         GTEST_SKIP() << "scene '" << c.scene << "' is not cached: run scripts/fetch_scenes.sh";
-    const Mesh mesh = scene::load_scene(c.scene);
+    const Mesh mesh = workloads::load_scene(c.scene);
     const SphereBvh bvh = SphereBvh::build(mesh);
     // (an eighth of the rays under a sanitizer: support/sanitizer.h)
     const std::size_t count = test::sampled(
         std::clamp<std::size_t>(100'000'000 / std::max<std::size_t>(mesh.size(), 1), 500, 20000), 200);
-    const auto rays = scene::generate_rays(mesh, c.kind, count, /*seed=*/11);
+    const auto rays = workloads::generate_rays(mesh, c.kind, count, /*seed=*/11);
     std::vector<Hit> got(rays.size()), any(rays.size());
     intersect(bvh, rays, got);
     occluded(bvh, rays, any);
@@ -94,7 +94,7 @@ INSTANTIATE_TEST_SUITE_P(Scenes, SpheresVsBrute,
 // Every vertex lies inside its node's sphere and every subtree's vertices lie
 // inside the ancestors' spheres (checked through the leaf ranges).
 TEST(Spheres, EverySphereBoundsItsVertices) {
-    const Mesh mesh = scene::load_scene("soup-3000");
+    const Mesh mesh = workloads::load_scene("soup-3000");
     const SphereBvh bvh = SphereBvh::build(mesh);
     const auto& nodes = bvh.nodes();
     ASSERT_FALSE(nodes.empty());

@@ -3,9 +3,9 @@
 
 namespace test {
 
-std::vector<simdbvh::Ray> rays(const simdbvh::Mesh& mesh, simdbvh::scene::RayKind kind, std::size_t count,
+std::vector<simdbvh::Ray> rays(const simdbvh::Mesh& mesh, simdbvh::workloads::RayKind kind, std::size_t count,
                                std::uint64_t seed) {
-    return simdbvh::scene::generate_rays(mesh, kind, count, seed);
+    return simdbvh::workloads::generate_rays(mesh, kind, count, seed);
 }
 
 }  // namespace test

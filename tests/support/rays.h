@@ -4,11 +4,11 @@
 #include <vector>
 
 #include "simdbvh/mesh.h"
-#include "simdbvh/scene/rays.h"
+#include "simdbvh/workloads/rays.h"
 
 namespace test {
 
-std::vector<simdbvh::Ray> rays(const simdbvh::Mesh& mesh, simdbvh::scene::RayKind kind, std::size_t count,
+std::vector<simdbvh::Ray> rays(const simdbvh::Mesh& mesh, simdbvh::workloads::RayKind kind, std::size_t count,
                                std::uint64_t seed);
 
 }  // namespace test

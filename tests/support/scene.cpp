@@ -8,19 +8,19 @@
 #include <stdexcept>
 #include <unistd.h>
 
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/scenes.h"
 
 namespace test {
 
 bool available(std::string_view name) {
-    for (const std::string& n : simdbvh::scene::scene_names())
-        if (n == name && !simdbvh::scene::is_cached(name))
+    for (const std::string& n : simdbvh::workloads::scene_names())
+        if (n == name && !simdbvh::workloads::is_cached(name))
             return name == "icosphere" || name == "soup" || name == "terrain";
     return true;
 }
 
 std::string skip_message(std::string_view name) {
-    return "scene '" + std::string(name) + "' is not cached in " + simdbvh::scene::cache_dir().string() +
+    return "scene '" + std::string(name) + "' is not cached in " + simdbvh::workloads::cache_dir().string() +
            "; run scripts/fetch_scenes.sh (needs npm) to enable this test";
 }
 
@@ -33,7 +33,7 @@ simdbvh::Mesh load_or_skip(std::string_view name) {
         record_skip(name);
         return {};
     }
-    return simdbvh::scene::load_scene(name);
+    return simdbvh::workloads::load_scene(name);
 }
 
 simdbvh::Mesh one_triangle() {

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "simdbvh/bvh2/bvh2.h"
-#include "simdbvh/scene/rays.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/io/ray_files.h"
+#include "simdbvh/workloads/scenes.h"
 #include "support/cli.h"
 #include "support/scene.h"
 
@@ -30,7 +30,7 @@ protected:
 };
 
 TEST_F(ClassifyCli, OneCountPerKindOfAnswer) {
-    const Mesh mesh = scene::load_scene("icosphere-2");  // the unit sphere, 320 triangles
+    const Mesh mesh = workloads::load_scene("icosphere-2");  // the unit sphere, 320 triangles
     // Off-axis rays (no vertex or edge on their line): +z through the sphere, -z away from it.
     const Ray in{{0.13f, 0.21f, -5.0f}, 0.0f, {0.0f, 0.0f, 1.0f}};
     const Ray away{{0.13f, 0.21f, -5.0f}, 0.0f, {0.0f, 0.0f, -1.0f}};
@@ -50,8 +50,8 @@ TEST_F(ClassifyCli, OneCountPerKindOfAnswer) {
     phantom.prim = 0;
     const std::vector<Ray> rays{in, in, away, in, in};
     const std::vector<Hit> hits{right, Hit{}, phantom, other, far};
-    scene::write_rays(path("r.bin"), rays);
-    scene::write_hits(path("h.bin"), hits);
+    io::write_rays(path("r.bin"), rays);
+    io::write_hits(path("h.bin"), hits);
     const CliRun c = run_cli("classify --scene icosphere-2 --rays " + path("r.bin") + " --hits " + path("h.bin") +
                              " --threads 2 --json " + path("c.json"));
     ASSERT_EQ(c.status, 0) << c.output;
@@ -66,15 +66,15 @@ TEST_F(ClassifyCli, OneCountPerKindOfAnswer) {
 
 TEST_F(ClassifyCli, BadInputExitsTwoNamingTheFile) {
     const Ray in{{0.13f, 0.21f, -5.0f}, 0.0f, {0.0f, 0.0f, 1.0f}};
-    scene::write_rays(path("r.bin"), std::vector<Ray>{in, in});
-    scene::write_hits(path("one.bin"), std::vector<Hit>{Hit{}});
+    io::write_rays(path("r.bin"), std::vector<Ray>{in, in});
+    io::write_hits(path("one.bin"), std::vector<Hit>{Hit{}});
     CliRun c = run_cli("classify --scene icosphere-2 --rays " + path("r.bin") + " --hits " + path("one.bin"));
     EXPECT_EQ(c.status, 2) << c.output;
     EXPECT_NE(c.output.find("one.bin: 1 hits for 2 rays"), std::string::npos) << c.output;
     Hit bad;
     bad.t = 1.0f;
     bad.prim = 320;  // icosphere-2 has triangles 0..319
-    scene::write_hits(path("bad.bin"), std::vector<Hit>{bad, Hit{}});
+    io::write_hits(path("bad.bin"), std::vector<Hit>{bad, Hit{}});
     c = run_cli("classify --scene icosphere-2 --rays " + path("r.bin") + " --hits " + path("bad.bin") + " --json " +
                 path("out.json"));
     EXPECT_EQ(c.status, 2) << c.output;

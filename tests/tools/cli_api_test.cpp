@@ -14,9 +14,10 @@
 
 #include "simdbvh/bvh2/bvh2.h"
 #include "simdbvh/bvh8/bvh8.h"
-#include "simdbvh/scene/rays.h"
+#include "simdbvh/workloads/rays.h"
+#include "simdbvh/io/ray_files.h"
 #include "support/cli.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/scenes.h"
 
 namespace fs = std::filesystem;
 
@@ -47,12 +48,12 @@ TEST_F(Cli, RoundTripMatchesTheApi) {
             CliRun t = run_cli("trace --scene icosphere-3 --rays " + rays + " --out " + hits + " --method " + method);
             ASSERT_EQ(t.status, 0) << t.output;
             EXPECT_NE(t.output.find("isa"), std::string::npos) << "the output names the ISA";
-            const Mesh mesh = scene::load_scene("icosphere-3");
-            const auto r = scene::read_rays(rays);
-            const auto api = scene::generate_rays(mesh, *scene::parse_ray_kind(kind), 3000, 5);
+            const Mesh mesh = workloads::load_scene("icosphere-3");
+            const auto r = io::read_rays(rays);
+            const auto api = workloads::generate_rays(mesh, *workloads::parse_ray_kind(kind), 3000, 5);
             ASSERT_EQ(r.size(), api.size());
             ASSERT_EQ(0, std::memcmp(r.data(), api.data(), r.size() * sizeof(Ray))) << "gen-rays differs from the API";
-            const auto h = scene::read_hits(hits);
+            const auto h = io::read_hits(hits);
             ASSERT_EQ(h.size(), r.size());
             const Bvh2 bvh = Bvh2::build(mesh);
             std::size_t n_hit = 0;
@@ -70,7 +71,7 @@ TEST_F(Cli, AnyHitAgreesOnHitOrMiss) {
     ASSERT_EQ(run_cli("gen-rays --scene soup-2000 --kind incoherent --count 2000 --out " + rays).status, 0);
     ASSERT_EQ(run_cli("trace --scene soup-2000 --rays " + rays + " --out " + c).status, 0);
     ASSERT_EQ(run_cli("trace --scene soup-2000 --rays " + rays + " --out " + a + " --any-hit --method bvh8").status, 0);
-    const auto hc = scene::read_hits(c), ha = scene::read_hits(a);
+    const auto hc = io::read_hits(c), ha = io::read_hits(a);
     ASSERT_EQ(hc.size(), ha.size());
     for (std::size_t i = 0; i < hc.size(); ++i) ASSERT_EQ(hc[i].hit(), ha[i].hit()) << "ray " << i;
 }
@@ -161,10 +162,10 @@ void expect_width_matches_api(const std::string& rays, const std::string& hits, 
                               const std::string& output) {
     const std::string label = "bvh" + std::to_string(N) + "/" + std::string(name(isa));
     EXPECT_NE(output.find("method " + label), std::string::npos) << output;
-    const Mesh mesh = scene::load_scene("soup-2000");
+    const Mesh mesh = workloads::load_scene("soup-2000");
     const BvhN<N> bvh = BvhN<N>::build(mesh);
-    const auto r = scene::read_rays(rays);
-    const auto h = scene::read_hits(hits), a = scene::read_hits(any_hits);
+    const auto r = io::read_rays(rays);
+    const auto h = io::read_hits(hits), a = io::read_hits(any_hits);
     ASSERT_EQ(h.size(), r.size());
     ASSERT_EQ(a.size(), r.size());
     std::vector<Hit> want(r.size()), want_any(r.size());
@@ -204,7 +205,7 @@ TEST_F(Cli, SimdBruteForceEqualsBruteForceAtEveryIsa) {
     for (const std::string any : {"", " --any-hit"}) {
         const std::string ref = path("brute" + std::to_string(any.size()) + ".hits");
         ASSERT_EQ(run_cli(base + " --method brute" + any + " --out " + ref).status, 0);
-        const auto want = scene::read_hits(ref);
+        const auto want = io::read_hits(ref);
         std::size_t hit = 0;
         for (const Hit& h : want) hit += h.hit();
         EXPECT_GT(hit, want.size() / 10);
@@ -214,7 +215,7 @@ TEST_F(Cli, SimdBruteForceEqualsBruteForceAtEveryIsa) {
             CliRun t = run_cli(base + " --method brute8 --isa " + std::string(name(isa)) + " --threads 2" + any + " --out " + out);
             ASSERT_EQ(t.status, 0) << t.output;
             EXPECT_NE(t.output.find("method brute8/" + std::string(name(isa))), std::string::npos) << t.output;
-            const auto got = scene::read_hits(out);
+            const auto got = io::read_hits(out);
             ASSERT_EQ(got.size(), want.size());
             for (std::size_t i = 0; i < got.size(); ++i) {
                 if (any.empty()) ASSERT_EQ(got[i], want[i]) << name(isa) << " ray " << i;
@@ -231,7 +232,7 @@ TEST_F(Cli, InfoReportsEveryWidth) {
     ASSERT_EQ(t.status, 0) << t.output;
     for (const char* block : {"bvh4 (sah collapse)", "bvh8 (sah collapse)", "bvh16 (sah collapse)", "widths ("})
         EXPECT_NE(t.output.find(block), std::string::npos) << block << " missing in\n" << t.output;
-    const Bvh2 bvh2 = Bvh2::build(scene::load_scene("icosphere-3"));
+    const Bvh2 bvh2 = Bvh2::build(workloads::load_scene("icosphere-3"));
     auto row = [&](const WideStats& s) {
         char buf[128];
         std::snprintf(buf, sizeof buf, "  %-6d %10zu %6d %10.1f", s.width, s.nodes, s.depth, s.bytes_per_triangle);

@@ -15,9 +15,9 @@
 
 #include "simdbvh/bvh2/closest_point.h"
 #include "simdbvh/bvh2/inside.h"
-#include "simdbvh/scene/output.h"
-#include "simdbvh/scene/points.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/io/output.h"
+#include "simdbvh/io/point_files.h"
+#include "simdbvh/workloads/scenes.h"
 #include "support/cli.h"
 #include "support/scene.h"
 
@@ -44,9 +44,9 @@ TEST_F(DistanceCli, RecordsMatchTheBruteForce) {
     ASSERT_EQ(d.status, 0) << d.output;
     EXPECT_NE(d.output.find("points 2000"), std::string::npos) << d.output;
     ASSERT_EQ(fs::file_size(out), 2000u * 20);
-    const Mesh mesh = scene::load_scene("icosphere-3");
-    const auto points = scene::read_points(pts);
-    const auto recs = scene::read_distances(out);
+    const Mesh mesh = workloads::load_scene("icosphere-3");
+    const auto points = io::read_points(pts);
+    const auto recs = io::read_distances(out);
     ASSERT_EQ(points.size(), 2000u);
     ASSERT_EQ(recs.size(), 2000u);
     std::size_t inside = 0;
@@ -69,7 +69,7 @@ TEST_F(DistanceCli, RecordsMatchTheBruteForce) {
     // --unsigned: the same records with the sign dropped.
     CliRun u = run_cli("distance --scene icosphere-3 --points " + pts + " --out " + path("u.bin") + " --unsigned");
     ASSERT_EQ(u.status, 0) << u.output;
-    const auto unsigned_recs = scene::read_distances(path("u.bin"));
+    const auto unsigned_recs = io::read_distances(path("u.bin"));
     for (std::size_t i = 0; i < recs.size(); ++i) ASSERT_EQ(unsigned_recs[i].distance, std::fabs(recs[i].distance));
     // Every --tree writes the same bytes as the default (bvh4, checked against brute force above).
     EXPECT_NE(d.output.find("method bvh4"), std::string::npos) << d.output;
@@ -99,12 +99,12 @@ TEST_F(DistanceCli, InsideWritesOneBytePerPointAndWarnsOnOpenMeshes) {
     test::write_text(path("cube.obj"), closed_obj);
     test::write_text(path("open.obj"), open_obj);
     const std::vector<Vec3> q = {{0.5f, 0.5f, 0.5f}, {0.5f, 0.5f, 1.5f}, {1.0f, 0.5f, 0.5f}, {0.25f, 0.75f, -1.0f}};
-    scene::write_file_atomic(pts, scene::encode_points(q));
+    io::write_file_atomic(pts, io::encode_points(q));
     CliRun r = run_cli("inside --scene " + path("cube.obj") + " --points " + pts + " --out " + out);
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_NE(r.output.find("closed and consistently oriented"), std::string::npos) << r.output;
     EXPECT_EQ(test::read_bytes(out), std::string("\x01\x00\x02\x00", 4));
-    const auto sides = scene::read_sides(out);
+    const auto sides = io::read_sides(out);
     ASSERT_EQ(sides.size(), 4u);
     EXPECT_EQ(sides[2], Side::surface);
     r = run_cli("inside --scene " + path("open.obj") + " --points " + pts + " --out " + out + " --rule parity");
@@ -117,14 +117,14 @@ TEST_F(DistanceCli, InsideWritesOneBytePerPointAndWarnsOnOpenMeshes) {
         EXPECT_FALSE(fs::exists(path("x.bin")));
     }
     test::write_text(path("bad.sides"), std::string("\x00\x07", 2));
-    EXPECT_THROW(scene::read_sides(path("bad.sides")), Error);
+    EXPECT_THROW(io::read_sides(path("bad.sides")), Error);
 }
 
 TEST_F(DistanceCli, InsideEveryTreeWritesTheBruteForceBytes) {
     const std::string pts = path("p.bin");
     ASSERT_EQ(run_cli("gen-points --scene icosphere-3 --count 3000 --seed 5 --out " + pts).status, 0);
-    const Mesh mesh = scene::load_scene("icosphere-3");
-    const auto points = scene::read_points(pts);
+    const Mesh mesh = workloads::load_scene("icosphere-3");
+    const auto points = io::read_points(pts);
     std::string want;
     for (const Vec3& p : points) want.push_back(char(brute_force_classify_point(mesh, p).side));
     EXPECT_GT(std::count(want.begin(), want.end(), '\x01'), 300);
@@ -147,8 +147,8 @@ TEST_F(DistanceCli, InsideEveryTreeWritesTheBruteForceBytes) {
 TEST_F(DistanceCli, InsideRayOptionPicksTheRayCounted) {
     const std::string pts = path("p.bin");
     ASSERT_EQ(run_cli("gen-points --scene soup-2000 --count 2000 --seed 3 --out " + pts).status, 0);
-    const Mesh mesh = scene::load_scene("soup-2000");
-    const auto points = scene::read_points(pts);
+    const Mesh mesh = workloads::load_scene("soup-2000");
+    const auto points = io::read_points(pts);
     std::string plus_z;
     for (const auto& [name, ray] : std::vector<std::pair<std::string, CountRay>>{
              {"", CountRay::shortest}, {"+z", CountRay::plus_z}, {"-x", CountRay::minus_x}, {"+y", CountRay::plus_y}}) {
@@ -175,10 +175,10 @@ TEST_F(DistanceCli, MaxDistanceAndNonFinitePoints) {
     const std::string pts = path("p.bin"), out = path("d.bin");
     const float nan = std::numeric_limits<float>::quiet_NaN();
     const std::vector<Vec3> p = {{0, 0, 0}, {0, 0, 1.01f}, {nan, 0, 0}, {0, 0, 3}};
-    scene::write_file_atomic(pts, scene::encode_points(p));
+    io::write_file_atomic(pts, io::encode_points(p));
     CliRun d = run_cli("distance --scene icosphere-3 --points " + pts + " --out " + out + " --max-distance 0.5");
     ASSERT_EQ(d.status, 0) << d.output;
-    const auto recs = scene::read_distances(out);
+    const auto recs = io::read_distances(out);
     ASSERT_EQ(recs.size(), 4u);
     EXPECT_EQ(recs[0].prim, kInvalidPrim) << "the centre is about 1 away, beyond 0.5";
     EXPECT_NE(recs[1].prim, kInvalidPrim);
@@ -202,7 +202,7 @@ TEST_F(DistanceCli, BadInputExitsTwoAndLeavesNothing) {
     d = run_cli("distance --scene icosphere-3 --points " + pts + " --out " + keep);
     EXPECT_EQ(d.status, 2);
     EXPECT_EQ(test::read_bytes(keep), "precious");
-    scene::write_file_atomic(pts, scene::encode_points(std::vector<Vec3>{{0, 0, 0}}));
+    io::write_file_atomic(pts, io::encode_points(std::vector<Vec3>{{0, 0, 0}}));
     for (const std::string& bad : {std::string("--max-distance -1"), std::string("--max-distance abc"),
                                    std::string("--threads 0"), std::string("--bogus 1"),
                                    std::string("--tree bvh32")}) {

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "simdbvh/scene/rays.h"
-#include "simdbvh/scene/scene_hits.h"
+#include "simdbvh/io/ray_files.h"
+#include "simdbvh/io/scene_hits.h"
 #include "support/cli.h"
 #include "support/scene.h"
 
@@ -59,7 +59,7 @@ protected:
     std::vector<simdbvh::Ray> gen(const std::string& scene, const std::string& kind) const {
         const CliRun g = run_cli("gen-rays --scene " + scene + " --kind " + kind + " --count 1000 --out " + p("r.bin"));
         EXPECT_EQ(g.status, 0) << g.output;
-        return g.status == 0 ? simdbvh::scene::read_rays(p("r.bin")) : std::vector<simdbvh::Ray>{};
+        return g.status == 0 ? simdbvh::io::read_rays(p("r.bin")) : std::vector<simdbvh::Ray>{};
     }
     test::TempDir dir_;
 };
@@ -99,7 +99,7 @@ TEST_F(GenRaysHuge, HugeJsonScenesAreHit) {
             const CliRun t = run_cli("trace --scene " + p(scene) + " --rays " + p("r.bin") + " --out " + p("h.bin"));
             ASSERT_EQ(t.status, 0) << t.output;
             std::size_t hit = 0;
-            for (const simdbvh::SceneHit& h : simdbvh::scene::read_scene_hits(p("h.bin"))) hit += h.hit();
+            for (const simdbvh::SceneHit& h : simdbvh::io::read_scene_hits(p("h.bin"))) hit += h.hit();
             EXPECT_GT(hit, 100u) << what;
         }
 }

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "simdbvh/scene/points.h"
+#include "simdbvh/io/point_files.h"
 #include "support/cli.h"
 #include "support/scene.h"
 
@@ -36,7 +36,7 @@ TEST_F(InputRules, NumbersAreParsedStrictly) {
     // 1e-45 is the smallest positive float (a subnormal): no point is that close to the sphere.
     const CliRun tiny = run_cli(distance + " --max-distance 1e-45");
     ASSERT_EQ(tiny.status, 0) << tiny.output;
-    for (const auto& r : simdbvh::scene::read_distances(p("d.bin"))) EXPECT_EQ(r.prim, 0xFFFFFFFFu);
+    for (const auto& r : simdbvh::io::read_distances(p("d.bin"))) EXPECT_EQ(r.prim, 0xFFFFFFFFu);
     for (const char* ok : {"+1", "inf", "0"}) EXPECT_EQ(run_cli(distance + " --max-distance " + ok).status, 0) << ok;
     fs::remove(dir_ / "d.bin");
     for (const char* bad : {"' 1'", "'1 '", "' inf'", "1e39", "nan", "-1", "+-1", "1,5", "''"}) {

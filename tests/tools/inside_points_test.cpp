@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "inside_points.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/scenes.h"
 
 namespace simdbvh::cli {
 namespace {
@@ -50,7 +50,7 @@ std::size_t check_family(const Mesh& m, const std::vector<Vec3>& points) {
 }
 
 TEST(InsidePoints, DiagonalFamilyRunsExactlyThroughIcosphereVertices) {
-    const Mesh sphere = scene::icosphere(3);
+    const Mesh sphere = workloads::icosphere(3);
     const std::vector<Vec3> p = diagonal_through_vertices(sphere, 4000);  // the quick panel's call
     ASSERT_GE(p.size(), 1000u) << "most of the 642 vertices should give exact points";
     EXPECT_GE(check_family(sphere, p), 500u);
@@ -65,7 +65,7 @@ TEST(InsidePoints, DiagonalFamilyRunsExactlyThroughCubeGridVertices) {
 }
 
 TEST(InsidePoints, DiagonalFamilyKeepsToItsCapAndDropsInexactPoints) {
-    const Mesh sphere = scene::icosphere(3);
+    const Mesh sphere = workloads::icosphere(3);
     EXPECT_LE(diagonal_through_vertices(sphere, 100).size(), 101u);
     // A vertex far below the step in magnitude: v.x - d is not a float, so its points go.
     Mesh m;

@@ -15,7 +15,7 @@
 #include <string>
 
 #include "inside_points.h"
-#include "simdbvh/scene/scenes.h"
+#include "simdbvh/workloads/scenes.h"
 #include "support/cli.h"
 
 namespace fs = std::filesystem;
@@ -84,7 +84,7 @@ TEST_F(JsonReports, InsideOutsidePanel) {
     std::size_t ours = 0, embree_wrong = 0, diagonal = 0;
     // The diagonal family's points (tests/tools/inside_points_test.cpp checks them): all of them in each row.
     const std::size_t diagonal_points =
-        simdbvh::cli::diagonal_through_vertices(simdbvh::scene::icosphere(3), 4000).size();
+        simdbvh::cli::diagonal_through_vertices(simdbvh::workloads::icosphere(3), 4000).size();
     for (const Json& row : j["inside"]) {
         const std::string m = row["method"].get<std::string>();
         EXPECT_GT(row["points"].get<int>(), 0) << row.dump();

@@ -15,9 +15,10 @@
 #include <set>
 #include <string>
 
-#include "simdbvh/scene/rays.h"
-#include "simdbvh/scene/scene_desc.h"
-#include "simdbvh/scene/scene_hits.h"
+#include "simdbvh/workloads/rays.h"
+#include "simdbvh/io/ray_files.h"
+#include "simdbvh/workloads/scene_desc.h"
+#include "simdbvh/io/scene_hits.h"
 #include "support/cli.h"
 
 namespace fs = std::filesystem;
@@ -71,9 +72,9 @@ std::vector<Ray> rays(std::size_t n) {
 TEST_F(SceneCli, TraceJsonSceneMatchesTheApi) {
     const std::string scene = write("scene.json", kScene), ray_file = path("rays.bin");
     const auto r = rays(2000);
-    scene::write_rays(ray_file, r);
+    io::write_rays(ray_file, r);
     std::vector<SceneHit> want(r.size());
-    brute_force_intersect(scene::load_scene_json(scene), r, want);
+    brute_force_intersect(workloads::load_scene_json(scene), r, want);
     std::size_t n_hit = 0;
     for (const SceneHit& h : want) n_hit += h.hit();
     EXPECT_GT(n_hit, 500u);
@@ -82,7 +83,7 @@ TEST_F(SceneCli, TraceJsonSceneMatchesTheApi) {
         const CliRun t = run_cli("trace --scene " + scene + " --rays " + ray_file + " --out " + out + " --method " + method);
         ASSERT_EQ(t.status, 0) << t.output;
         EXPECT_NE(t.output.find("isa"), std::string::npos);
-        const auto got = scene::read_scene_hits(out);
+        const auto got = io::read_scene_hits(out);
         ASSERT_EQ(got.size(), want.size());
         for (std::size_t i = 0; i < got.size(); ++i) ASSERT_TRUE(got[i] == want[i]) << method << " ray " << i;
     }
@@ -96,12 +97,12 @@ TEST_F(SceneCli, GenRaysAimsAtTheSceneBounds) {
     const std::string scene = write("scene.json", kScene), ray_file = path("rays.bin"), out = path("out.hits");
     const CliRun g = run_cli("gen-rays --scene " + scene + " --kind incoherent --count 1000 --out " + ray_file);
     ASSERT_EQ(g.status, 0) << g.output;
-    const auto r = scene::read_rays(ray_file);
+    const auto r = io::read_rays(ray_file);
     ASSERT_EQ(r.size(), 1000u);
     const CliRun t = run_cli("trace --scene " + scene + " --rays " + ray_file + " --out " + out);
     ASSERT_EQ(t.status, 0) << t.output;
     std::size_t n_hit = 0;
-    for (const SceneHit& h : scene::read_scene_hits(out)) n_hit += h.hit();
+    for (const SceneHit& h : io::read_scene_hits(out)) n_hit += h.hit();
     EXPECT_GT(n_hit, 100u);
     const CliRun d = run_cli("gen-rays --scene " + scene + " --kind diffuse --count 10 --out " + path("d.bin"));
     EXPECT_EQ(d.status, 2) << d.output;
@@ -190,7 +191,7 @@ TEST_F(SceneCli, BadJsonExits2NamingThePathAndWritesNothing) {
     std::string bad = kScene;
     bad.replace(bad.find("\"scale\": [1, 2, 1]"), 18, "\"scale\": [1, 0, 1]");
     const std::string scene = write("bad.json", bad), ray_file = path("rays.bin"), out = path("out.hits");
-    scene::write_rays(ray_file, rays(10));
+    io::write_rays(ray_file, rays(10));
     const CliRun t = run_cli("trace --scene " + scene + " --rays " + ray_file + " --out " + out);
     EXPECT_EQ(t.status, 2) << t.output;
     EXPECT_NE(t.output.find("bad.json: instances[1].transform: singular"), std::string::npos) << t.output;

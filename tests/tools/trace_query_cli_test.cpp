@@ -8,9 +8,9 @@
 #include <string>
 
 #include "simdbvh/bvh2/crossings.h"
-#include "simdbvh/scene/crossing_files.h"
-#include "simdbvh/scene/load.h"
-#include "simdbvh/scene/rays.h"
+#include "simdbvh/io/crossing_files.h"
+#include "simdbvh/io/load.h"
+#include "simdbvh/io/ray_files.h"
 #include "support/cli.h"
 #include "support/scene.h"
 
@@ -31,16 +31,16 @@ TEST(TraceQueryCli, CountAndAllHits) {
         const std::string counts = (dir / (std::string(method) + ".counts")).string();
         CliRun c = run_cli("trace --scene " + mesh + " --rays " + rays + " --out " + counts + " --query count --threads 2 --method " + method);
         ASSERT_EQ(c.status, 0) << c.output;
-        const auto w = scene::read_counts(counts);
-        ASSERT_EQ(w.size(), scene::read_rays(rays).size());
+        const auto w = io::read_counts(counts);
+        ASSERT_EQ(w.size(), io::read_rays(rays).size());
         for (std::size_t i = 0; i < w.size(); ++i) ASSERT_EQ(w[i], 1) << method << " ray " << i;
     }
     const std::string all = (dir / "all.bin").string();
     CliRun a = run_cli("trace --scene " + mesh + " --rays " + rays + " --out " + all + " --query all");
     ASSERT_EQ(a.status, 0) << a.output;
-    const auto recs = scene::read_all_hits(all);
-    const Mesh m = scene::load_mesh(mesh);
-    const auto r = scene::read_rays(rays);
+    const auto recs = io::read_all_hits(all);
+    const Mesh m = io::load_mesh(mesh);
+    const auto r = io::read_rays(rays);
     std::size_t k = 0;
     for (std::size_t i = 0; i < r.size(); ++i)
         for (const Crossing& c : brute_force_intersect_all(m, r[i]).hits) {

@@ -1,7 +1,7 @@
 #pragma once
 // Internal: the AVX2 kernels behind traverse-inl.h's K interface (a distinct
 // type per ISA). Include only from src/avx2 translation units (here and
-// scene_accel/src/avx2), compiled with the AVX2 flags.
+// scene/src/avx2), compiled with the AVX2 flags.
 #include "simd_kernels-inl.h"
 
 namespace simdbvh::bvh8::avx2 {

@@ -1,7 +1,7 @@
 #pragma once
 // Internal: the AVX512 kernels behind traverse-inl.h's K interface (a distinct
 // type per ISA). Include only from src/avx512 translation units (here and
-// scene_accel/src/avx512), compiled with the AVX512 flags.
+// scene/src/avx512), compiled with the AVX512 flags.
 // GCC 12 warns that _mm512_undefined_ps() (the pass-through of _mm512_max_ps,
 // xsimd's max for zmm) may be used uninitialized: GCC PR 105593, a false positive.
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"

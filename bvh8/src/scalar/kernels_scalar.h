@@ -2,7 +2,7 @@
 // Internal: the scalar kernels behind traverse-inl.h's K interface (baseline
 // x86-64, no AVX, no xsimd): the scalar reference tests (box.h, triangle.h),
 // one lane at a time. Include only from src/scalar translation units (here
-// and scene_accel/src/scalar).
+// and scene/src/scalar).
 #include "simdbvh/kernels/box.h"
 #include "simdbvh/kernels/triangle.h"
 #include "simdbvh/bvh8/node.h"
