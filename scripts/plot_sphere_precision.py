@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Chart of the sphere precision study (tools/sphere_precision.h), from a JSON file with the key
+"""Chart of the sphere precision study (lab/sphere_precision.h), from a JSON file with the key
 "sphere_precision": one object per ratio (ratio, rays, miss_*, median_err_*, max_err_*).
 
 usage: scripts/plot_sphere_precision.py JSON_FILE OUT_DIR

@@ -6,7 +6,7 @@ pkgs=(build-essential cmake pkg-config git ca-certificates
       libxsimd-dev libembree-dev libhwloc-dev libbenchmark-dev libgtest-dev googletest
       zlib1g-dev libstb-dev python3 python3-matplotlib assimp-testmodels nodejs npm binutils
       clang libclang-rt-14-dev  # clang + its sanitizer/libFuzzer runtime: scripts/fuzz.sh
-      libcgal-dev python3-open3d python3-numpy nlohmann-json3-dev  # JSON report layer (tools/)
+      libcgal-dev python3-open3d python3-numpy nlohmann-json3-dev  # JSON report layer (cli/report.cpp)
       pybind11-dev python3-dev python3-pytest python3-setuptools python3-wheel python3-pip python3-venv)  # references for the point queries (tests/compare, scripts/compare_points.py)
 missing=()
 for p in "${pkgs[@]}"; do

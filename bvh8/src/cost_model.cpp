@@ -8,7 +8,7 @@
 #include "simdbvh/kernels/build_threads.h"
 #include "simdbvh/kernels/soa.h"
 #include "simdbvh/kernels/topology.h"
-#include "simdbvh/mesh.h"
+#include "simdbvh/kernels/mesh.h"
 
 namespace simdbvh {
 

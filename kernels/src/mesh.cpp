@@ -1,4 +1,4 @@
-#include "simdbvh/mesh.h"
+#include "simdbvh/kernels/mesh.h"
 
 #include <algorithm>
 #include <cmath>

@@ -24,7 +24,7 @@
 #include "simdbvh/kernels/isa.h"
 #include "simdbvh/kernels/parallel.h"
 #include "simdbvh/kernels/ray.h"
-#include "simdbvh/mesh.h"
+#include "simdbvh/kernels/mesh.h"
 
 namespace simdbvh::python {
 

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: MIT
 """Open3D's RaycastingScene.compute_occupancy for the inside/outside panel of
-`simdbvh accuracy` (tools/open3d_inside.cpp runs it), on one thread.
+`simdbvh accuracy` (lab/open3d_inside.cpp runs it), on one thread.
 
 usage: inside_worker.py [--shim-dir DIR] MESH.ply POINTS.bin OUT.bin [MESH.ply POINTS.bin OUT.bin ...]
 

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "simdbvh/bvh8/bvh8.h"
+#include "simdbvh/simdbvh.h"
 
 namespace {
 

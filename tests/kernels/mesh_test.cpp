@@ -7,7 +7,7 @@
 #include <string>
 
 #include "simdbvh/kernels/error.h"
-#include "simdbvh/mesh.h"
+#include "simdbvh/kernels/mesh.h"
 
 namespace simdbvh {
 namespace {

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "simdbvh/kernels/ray.h"
-#include "simdbvh/mesh.h"
+#include "simdbvh/kernels/mesh.h"
 
 namespace test {
 

@@ -3,7 +3,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "simdbvh/mesh.h"
+#include "simdbvh/kernels/mesh.h"
 #include "simdbvh/workloads/rays.h"
 
 namespace test {

@@ -7,7 +7,7 @@
 #include <string>
 #include <string_view>
 
-#include "simdbvh/mesh.h"
+#include "simdbvh/kernels/mesh.h"
 
 namespace test {
 

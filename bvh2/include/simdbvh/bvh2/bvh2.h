@@ -10,7 +10,7 @@
 #include "simdbvh/kernels/hit.h"
 #include "simdbvh/kernels/ray.h"
 #include "simdbvh/kernels/triangle.h"
-#include "simdbvh/mesh.h"
+#include "simdbvh/kernels/mesh.h"
 
 namespace simdbvh {
 

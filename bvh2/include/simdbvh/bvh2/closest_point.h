@@ -18,7 +18,7 @@
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/kernels/hit.h"
 #include "simdbvh/kernels/vec.h"
-#include "simdbvh/mesh.h"
+#include "simdbvh/kernels/mesh.h"
 
 namespace simdbvh {
 

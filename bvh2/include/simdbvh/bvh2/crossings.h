@@ -15,7 +15,7 @@
 
 #include "simdbvh/bvh2/bvh2.h"
 #include "simdbvh/kernels/error.h"
-#include "simdbvh/mesh.h"
+#include "simdbvh/kernels/mesh.h"
 
 namespace simdbvh {
 

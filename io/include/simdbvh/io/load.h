@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <string_view>
 
-#include "simdbvh/mesh.h"
+#include "simdbvh/kernels/mesh.h"
 
 namespace simdbvh::io {
 

@@ -3,7 +3,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "simdbvh/mesh.h"
+#include "simdbvh/kernels/mesh.h"
 
 namespace simdbvh::io {
 

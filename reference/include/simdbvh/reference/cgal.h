@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "simdbvh/bvh2/inside.h"
-#include "simdbvh/mesh.h"
+#include "simdbvh/kernels/mesh.h"
 
 namespace simdbvh::reference {
 

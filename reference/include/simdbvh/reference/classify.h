@@ -22,7 +22,7 @@
 #include "simdbvh/reference/reference.h"
 #include "simdbvh/kernels/hit.h"
 #include "simdbvh/kernels/ray.h"
-#include "simdbvh/mesh.h"
+#include "simdbvh/kernels/mesh.h"
 
 namespace simdbvh::reference {
 

@@ -1,6 +1,6 @@
 #pragma once
 // Procedural deformations for refit: the same triangles, moved vertices.
-#include "simdbvh/mesh.h"
+#include "simdbvh/kernels/mesh.h"
 
 namespace simdbvh::workloads {
 

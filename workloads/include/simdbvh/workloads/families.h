@@ -14,7 +14,7 @@
 
 #include "simdbvh/kernels/hit.h"
 #include "simdbvh/kernels/ray.h"
-#include "simdbvh/mesh.h"
+#include "simdbvh/kernels/mesh.h"
 
 namespace simdbvh::workloads {
 

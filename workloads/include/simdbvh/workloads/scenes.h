@@ -8,7 +8,7 @@
 #include <string_view>
 #include <vector>
 
-#include "simdbvh/mesh.h"
+#include "simdbvh/kernels/mesh.h"
 
 namespace simdbvh::workloads {
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "simdbvh/kernels/error.h"
-#include "simdbvh/mesh.h"
+#include "simdbvh/kernels/mesh.h"
 #include "simdbvh/io/load.h"
 
 namespace simdbvh::io::detail {

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "simdbvh/kernels/isa.h"
-#include "simdbvh/mesh.h"
+#include "simdbvh/kernels/mesh.h"
 
 namespace simdbvh::cli {
 

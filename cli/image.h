@@ -8,7 +8,7 @@
 
 #include "simdbvh/kernels/hit.h"
 #include "simdbvh/kernels/ray.h"
-#include "simdbvh/mesh.h"
+#include "simdbvh/kernels/mesh.h"
 #include "simdbvh/io/output.h"
 
 namespace simdbvh::cli {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// The CLI's report layer (tools/report.h): its JSON parses whatever the
+// The CLI's report layer (cli/report.h): its JSON parses whatever the
 // numbers and strings hold (non-finite numbers as null, strings escaped,
 // bytes that are not UTF-8 replaced) and its tables have the documented shape.
 #include <gtest/gtest.h>

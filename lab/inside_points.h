@@ -6,7 +6,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "simdbvh/mesh.h"
+#include "simdbvh/kernels/mesh.h"
 
 namespace simdbvh::cli {
 

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "simdbvh/bvh2/inside.h"
-#include "simdbvh/mesh.h"
+#include "simdbvh/kernels/mesh.h"
 
 namespace simdbvh::cli {
 

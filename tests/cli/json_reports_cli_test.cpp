@@ -82,7 +82,7 @@ TEST_F(JsonReports, InsideOutsidePanel) {
     const Json j = parse(json);
     if (j["inside"].empty()) GTEST_SKIP() << "no CGAL in this build";
     std::size_t ours = 0, embree_wrong = 0, diagonal = 0;
-    // The diagonal family's points (tests/tools/inside_points_test.cpp checks them): all of them in each row.
+    // The diagonal family's points (tests/cli/inside_points_test.cpp checks them): all of them in each row.
     const std::size_t diagonal_points =
         simdbvh::cli::diagonal_through_vertices(simdbvh::workloads::icosphere(3), 4000).size();
     for (const Json& row : j["inside"]) {

@@ -11,7 +11,7 @@
 #include "accuracy_run.h"
 #include "refit_run.h"
 #include "results_doc.h"
-#include "simdbvh/mesh.h"
+#include "simdbvh/kernels/mesh.h"
 
 namespace simdbvh::cli {
 

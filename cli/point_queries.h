@@ -8,7 +8,7 @@
 #include "options.h"
 #include "simdbvh/bvh2/inside.h"
 #include "simdbvh/bvh8/bvh8.h"
-#include "simdbvh/mesh.h"
+#include "simdbvh/kernels/mesh.h"
 
 namespace simdbvh::cli {
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Open3D's rows of the inside/outside panel (tools/open3d_inside.h): the
+// Open3D's rows of the inside/outside panel (lab/open3d_inside.h): the
 // worker's output parser, a worker crash failing only the job it was on, and
 // the panel's Open3D rows against an independent count: Open3D's answers on
 // the cube grid's vertex/edge lattice, judged by the box itself (a point of

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "report.h"
-#include "simdbvh/mesh.h"
+#include "simdbvh/kernels/mesh.h"
 
 namespace simdbvh::cli {
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The inside/outside panel's "diagonal rays through vertices" family
-// (tools/inside_points.h), on the quick panel's meshes and caps: every point p
+// (lab/inside_points.h), on the quick panel's meshes and caps: every point p
 // has a vertex v with v - p = s(1, 1, 1) exactly (checked with an exact
 // difference, not a rounded one), so that the ray from p along (1, 1, 1),
 // Open3D's compute_occupancy ray, meets v when s > 0.

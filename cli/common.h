@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "simdbvh/mesh.h"
+#include "simdbvh/kernels/mesh.h"
 
 namespace simdbvh::cli {
 

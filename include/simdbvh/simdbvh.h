@@ -1,0 +1,35 @@
+#pragma once
+// simdbvh: exact, fast ray and point queries against triangle meshes and
+// scenes. The one header a user includes; each room's headers may also be
+// included alone (docs/architecture.md).
+//   kernels/  the ground-floor types (Vec3, Aabb, Ray, Hit, Mesh, Error, Isa) and the threads
+//   bvh2/     the binary BVH: builders, traversal, point queries, crossings, spheres
+//   bvh8/     the wide BVHs (4-, 8- and 16-wide from one collapse), Accel (the method by cost), brute force
+//   scene/    the two-level scene: instances, spheres, boxes, planes
+#include "simdbvh/kernels/aabb.h"
+#include "simdbvh/kernels/error.h"
+#include "simdbvh/kernels/hit.h"
+#include "simdbvh/kernels/isa.h"
+#include "simdbvh/kernels/mesh.h"
+#include "simdbvh/kernels/ray.h"
+#include "simdbvh/kernels/topology.h"
+#include "simdbvh/kernels/vec.h"
+
+#include "simdbvh/bvh2/build.h"
+#include "simdbvh/bvh2/bvh2.h"
+#include "simdbvh/bvh2/closest_point.h"
+#include "simdbvh/bvh2/crossings.h"
+#include "simdbvh/bvh2/inside.h"
+#include "simdbvh/bvh2/signed_distance.h"
+#include "simdbvh/bvh2/spheres.h"
+
+#include "simdbvh/bvh8/accel.h"
+#include "simdbvh/bvh8/brute_force8.h"
+#include "simdbvh/bvh8/bvh8.h"
+#include "simdbvh/bvh8/closest_point.h"
+#include "simdbvh/bvh8/inside.h"
+
+#include "simdbvh/scene/scene.h"
+#include "simdbvh/scene/scene_hit.h"
+#include "simdbvh/scene/shapes.h"
+#include "simdbvh/scene/transform.h"
