@@ -5,8 +5,8 @@ file(GLOB _traversal_bench_srcs CONFIGURE_DEPENDS ${CMAKE_CURRENT_LIST_DIR}/bvh2
      ${CMAKE_CURRENT_LIST_DIR}/bvh8/*_bench.cpp ${CMAKE_CURRENT_LIST_DIR}/reference/*_bench.cpp)
 if(_traversal_bench_srcs)
   add_executable(simdbvh_bench_traversal ${_traversal_bench_srcs} ${CMAKE_CURRENT_LIST_DIR}/bvh8/traversal_fixture.cpp)
-  # bvh8/src: isa_choice.h (the calibrating batch's benchmark forgets the choice).
-  target_include_directories(simdbvh_bench_traversal PRIVATE ${CMAKE_CURRENT_LIST_DIR}/bvh8
-                             ${CMAKE_CURRENT_LIST_DIR}/../bvh8/src)
-  target_link_libraries(simdbvh_bench_traversal PRIVATE simdbvh_workloads simdbvh_bvh8 simdbvh_reference benchmark::benchmark)
+  target_include_directories(simdbvh_bench_traversal PRIVATE ${CMAKE_CURRENT_LIST_DIR}/bvh8)
+  # simdbvh_bvh8_internal: isa_choice.h (the calibrating batch's benchmark forgets the choice).
+  target_link_libraries(simdbvh_bench_traversal PRIVATE simdbvh_workloads simdbvh_bvh8 simdbvh_bvh8_internal
+                        simdbvh_reference benchmark::benchmark)
 endif()

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "isa_choice.h"
+#include "simdbvh/bvh8/internal/isa_choice.h"
 #include "simdbvh/workloads/rays.h"
 #include "traversal_fixture.h"
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "point_query-inl.h"
+#include "simdbvh/bvh2/internal/point_query-inl.h"
 #include "simdbvh/kernels/parallel.h"
 
 namespace simdbvh {

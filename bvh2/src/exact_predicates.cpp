@@ -1,5 +1,5 @@
 // Exact orientation predicates for float coordinates (see exact_predicates.h).
-#include "exact_predicates.h"
+#include "simdbvh/bvh2/internal/exact_predicates.h"
 
 #include <cmath>
 #include <utility>

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <string>
 
-#include "crossing-inl.h"
-#include "point_query-inl.h"
+#include "simdbvh/bvh2/internal/crossing-inl.h"
+#include "simdbvh/bvh2/internal/point_query-inl.h"
 #include "simdbvh/kernels/parallel.h"
 
 namespace simdbvh {

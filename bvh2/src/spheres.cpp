@@ -12,7 +12,7 @@
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/kernels/parallel.h"
 #include "simdbvh/bvh2/spheres.h"
-#include "traverse_binary-inl.h"
+#include "simdbvh/bvh2/internal/traverse_binary-inl.h"
 #include "tree_shape.h"
 
 namespace simdbvh {

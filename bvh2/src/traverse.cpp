@@ -8,7 +8,7 @@
 #include "simdbvh/kernels/box.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/kernels/parallel.h"
-#include "traverse_binary-inl.h"
+#include "simdbvh/bvh2/internal/traverse_binary-inl.h"
 
 namespace simdbvh {
 

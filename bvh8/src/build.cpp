@@ -1,8 +1,8 @@
 // BvhN<N>::build: collapse (collapse.cpp) then pack (pack.cpp), N = 4, 8, 16.
 #include <chrono>
 
-#include "collapse.h"
-#include "quantize.h"
+#include "simdbvh/bvh8/internal/collapse.h"
+#include "simdbvh/bvh8/internal/quantize.h"
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/kernels/build_threads.h"
 

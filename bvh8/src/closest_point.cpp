@@ -1,5 +1,5 @@
 // Closest point queries over BvhN<N> (simdbvh/bvh8/closest_point.h): the
-// BVH2's machinery (bvh2/src/point_query-inl.h) over wide nodes and Tri8
+// BVH2's machinery (bvh2/internal/simdbvh/bvh2/internal/point_query-inl.h) over wide nodes and Tri8
 // blocks. A block shared by sibling leaves is offered whole: a triangle that
 // is not the leaf's own is still one of the mesh's, and the winner is the
 // (distance2, id) minimum over every triangle offered, so it cannot change.
@@ -8,7 +8,7 @@
 #include "simdbvh/bvh8/closest_point.h"
 
 #include "point_bounds-inl.h"
-#include "point_query-inl.h"
+#include "simdbvh/bvh2/internal/point_query-inl.h"
 #include "simdbvh/kernels/parallel.h"
 
 namespace simdbvh {

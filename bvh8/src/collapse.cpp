@@ -27,7 +27,7 @@
 #include <string>
 #include <type_traits>
 
-#include "collapse.h"
+#include "simdbvh/bvh8/internal/collapse.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/kernels/large_alloc.h"
 #include "simdbvh/kernels/parallel.h"

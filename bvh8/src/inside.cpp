@@ -1,5 +1,5 @@
 // Exact inside/outside over BvhN<N> (simdbvh/bvh8/inside.h): the BVH2's
-// crossing count (bvh2/src/crossing-inl.h) over wide nodes and Tri8 blocks.
+// crossing count (bvh2/internal/simdbvh/bvh2/internal/crossing-inl.h) over wide nodes and Tri8 blocks.
 // The column tests run 4 lanes at a time with SSE (the x86-64 baseline: no
 // dispatch, no AVX); they are comparisons only, so they decide exactly what
 // RayFrame::reaches() and column_misses() (on the mapped coordinates) decide
@@ -10,10 +10,10 @@
 
 #include <cstddef>
 
-#include "crossing-inl.h"
-#include "prefetch-inl.h"
+#include "simdbvh/bvh2/internal/crossing-inl.h"
+#include "simdbvh/bvh8/internal/prefetch-inl.h"
 #include "tri8_lanes-inl.h"
-#include "point_query-inl.h"
+#include "simdbvh/bvh2/internal/point_query-inl.h"
 #include "simdbvh/kernels/parallel.h"
 
 namespace simdbvh {

@@ -1,7 +1,7 @@
 // The wide traversal's ISA chosen by speed: a short calibration on the first
 // large batch, cached per process (where AVX-512 is slower than AVX2 on a
 // CPU, the default must not pick it).
-#include "isa_choice.h"
+#include "simdbvh/bvh8/internal/isa_choice.h"
 
 #include <algorithm>
 #include <array>

@@ -14,7 +14,7 @@
 #include <memory>
 #include <string>
 
-#include "collapse.h"
+#include "simdbvh/bvh8/internal/collapse.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/kernels/large_alloc.h"
 #include "simdbvh/kernels/parallel.h"

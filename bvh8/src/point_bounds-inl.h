@@ -20,7 +20,7 @@
 #include <cmath>
 #include <limits>
 
-#include "point_query-inl.h"
+#include "simdbvh/bvh2/internal/point_query-inl.h"
 #include "simdbvh/kernels/soa.h"
 #include "tri8_lanes-inl.h"
 

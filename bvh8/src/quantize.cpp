@@ -3,7 +3,7 @@
 // that spans the node in 255 steps; lower planes round down, upper planes up,
 // each checked (and moved by one step while needed) against the dequantized
 // value the node test computes, QBoxN::plane.
-#include "quantize.h"
+#include "simdbvh/bvh8/internal/quantize.h"
 
 #include <algorithm>
 #include <atomic>

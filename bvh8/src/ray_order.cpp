@@ -1,5 +1,5 @@
 // The traced order of a wide tree's batch (ray_order.h): keys and an LSD radix sort.
-#include "ray_order.h"
+#include "simdbvh/bvh8/internal/ray_order.h"
 
 #include <algorithm>
 #include <array>

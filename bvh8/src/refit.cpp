@@ -9,7 +9,7 @@
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/kernels/parallel.h"
-#include "quantize.h"
+#include "simdbvh/bvh8/internal/quantize.h"
 #include "tri8_lanes-inl.h"
 
 namespace simdbvh {

@@ -10,7 +10,7 @@
 #include "simdbvh/kernels/batch.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/scene/scene.h"
-#include "collapse.h"  // bvh8/src
+#include "simdbvh/bvh8/internal/collapse.h"  // bvh8/src
 
 namespace simdbvh {
 
@@ -26,7 +26,7 @@ std::vector<Aabb> root_children(const Nodes& nodes) {
 }
 
 // Shape leaves of at most this many primitives: the collapse's cost model
-// (bvh8/src/collapse.h) prices a leaf by Tri8 blocks of 8, but a shape leaf
+// (bvh8/internal/simdbvh/bvh8/internal/collapse.h) prices a leaf by Tri8 blocks of 8, but a shape leaf
 // tests its primitives one at a time in double.
 inline constexpr int kShapeLeafMax = 4;
 

@@ -10,9 +10,9 @@
 
 #include "simdbvh/kernels/box.h"
 #include "simdbvh/scene/scene.h"
-#include "query/query.h"
+#include "simdbvh/kernels/internal/query/query.h"
 #include "shape_traverse.h"
-#include "traverse.h"  // bvh8/src: the per-ISA wide traversals
+#include "simdbvh/bvh8/internal/traverse.h"  // bvh8/src: the per-ISA wide traversals
 
 namespace simdbvh::scene::detail {
 

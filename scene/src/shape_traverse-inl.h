@@ -1,6 +1,6 @@
 #pragma once
 // The wide traversal of sphere and box sets: the wide BVH's batch loop
-// (bvh8/src/traverse-inl.h: rays in flight, the N-wide SIMD node test of the
+// (bvh8/internal/simdbvh/bvh8/internal/traverse-inl.h: rays in flight, the N-wide SIMD node test of the
 // ISA, front-to-back order, culling) with a leaf intersector for gathered
 // primitives: boxes one at a time through shapes.h's hit_box (compiled once
 // without ISA flags, the function the brute force calls), spheres four at a
@@ -16,7 +16,7 @@
 #include "scene_trace-inl.h"
 #include "shape_traverse.h"
 #include "sphere_uv.h"
-#include "traverse-inl.h"  // bvh8/src
+#include "simdbvh/bvh8/internal/traverse-inl.h"  // bvh8/src
 
 namespace simdbvh::scene::detail {
 

@@ -7,7 +7,7 @@
 #include <span>
 
 #include "simdbvh/scene/scene.h"
-#include "traverse.h"  // bvh8/src: the ISA kernel types
+#include "simdbvh/bvh8/internal/traverse.h"  // bvh8/src: the ISA kernel types
 
 namespace simdbvh::scene::detail {
 

@@ -1,6 +1,6 @@
 // Scene traversal: planes first (they clamp the ray), then the top level. A
 // single ray walks the top-level BVH2 by the binary loop
-// (bvh2/src/traverse_binary-inl.h) with the slack box test and the instance
+// (bvh2/internal/simdbvh/bvh2/internal/traverse_binary-inl.h) with the slack box test and the instance
 // leaf below, which maps the world ray into each visited instance and runs
 // that geometry's bottom level; batches collect candidates from the 8-wide top
 // level and trace them in rounds (below).
@@ -16,8 +16,8 @@
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/kernels/parallel.h"
 #include "scene_trace-inl.h"
-#include "scratch_pool.h"
-#include "traverse_binary-inl.h"
+#include "simdbvh/kernels/internal/scratch_pool.h"
+#include "simdbvh/bvh2/internal/traverse_binary-inl.h"
 
 namespace simdbvh {
 
@@ -229,7 +229,7 @@ void collect_tree(const SceneBvhN<N>& s, std::span<const Ray> world, const std::
 // rays go to the bottom level as one batch, without candidates or rounds. The
 // rounds would give each live ray this one candidate, at entry -inf (never
 // culled), and the bottom level tests its own bounds first (RayFeed in
-// bvh8/src/traverse-inl.h), so a top-level box test would only repeat that
+// bvh8/internal/simdbvh/bvh8/internal/traverse-inl.h), so a top-level box test would only repeat that
 // work; the merge is the rounds' own (closer() against a plane's hit).
 template <class Query, int N>
 void trace_one_instance(const SceneBvhN<N>& s, std::span<const Ray> world, const std::vector<std::uint8_t>& live,

@@ -9,7 +9,7 @@
 #include <random>
 #include <vector>
 
-#include "../../bvh2/src/exact_predicates.h"
+#include "simdbvh/bvh2/internal/exact_predicates.h"
 #include "simdbvh/bvh2/inside.h"
 #include "simdbvh/workloads/scenes.h"
 #include "support/scene.h"

@@ -1,4 +1,4 @@
-// The point queries' visiting order (bvh2/src/point_query-inl.h
+// The point queries' visiting order (bvh2/internal/simdbvh/bvh2/internal/point_query-inl.h
 // morton_order): a permutation, sorted by 30-bit Morton code (x in the
 // highest of each 3 bits), ties in input order, non-finite points last. The
 // order never changes a result, only the speed, so only this test can see it.
@@ -9,7 +9,7 @@
 #include <random>
 #include <vector>
 
-#include "../../bvh2/src/point_query-inl.h"
+#include "simdbvh/bvh2/internal/point_query-inl.h"
 
 namespace simdbvh {
 namespace {

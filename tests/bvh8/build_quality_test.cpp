@@ -14,7 +14,7 @@
 #include <cstring>
 #include <string>
 
-#include "collapse.h"  // bvh8/src: scatter_pays
+#include "simdbvh/bvh8/internal/collapse.h"  // bvh8/src: scatter_pays
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/workloads/scenes.h"
 

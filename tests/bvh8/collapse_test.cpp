@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <string>
 
-#include "collapse.h"
+#include "simdbvh/bvh8/internal/collapse.h"
 #include "simdbvh/kernels/box.h"
 #include "simdbvh/workloads/rays.h"
 #include "simdbvh/workloads/scenes.h"

@@ -7,7 +7,7 @@
 
 #include <cmath>
 
-#include "collapse.h"
+#include "simdbvh/bvh8/internal/collapse.h"
 #include "simdbvh/bvh8/bvh8.h"
 #include "support/huge_meshes.h"
 

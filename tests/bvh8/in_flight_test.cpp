@@ -1,4 +1,4 @@
-// Rays in flight (TraceOptions::in_flight, bvh8/src/traverse.h): one ray at a
+// Rays in flight (TraceOptions::in_flight, bvh8/internal/simdbvh/bvh8/internal/traverse.h): one ray at a
 // time or eight interleaved, chosen by the tree's size or forced, give the
 // same hits at every width and ISA; anything but 0, 1 or 8 is an error.
 #include <gtest/gtest.h>
@@ -10,7 +10,7 @@
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/workloads/rays.h"
 #include "simdbvh/workloads/scenes.h"
-#include "traverse.h"
+#include "simdbvh/bvh8/internal/traverse.h"
 
 namespace simdbvh {
 namespace {

@@ -18,7 +18,7 @@
 #include <utility>
 #include <vector>
 
-#include "isa_choice.h"
+#include "simdbvh/bvh8/internal/isa_choice.h"
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/kernels/parallel.h"

@@ -1,4 +1,4 @@
-// Streams (TraceOptions::packets, bvh8/src/stream-inl.h: 32 rays per walk):
+// Streams (TraceOptions::packets, bvh8/internal/simdbvh/bvh8/internal/stream-inl.h: 32 rays per walk):
 // forced on, off or chosen automatically, every width and ISA gives the
 // BVH2's closest hits bit for bit (the BVH2 is bit-identical to brute force),
 // and an any hit is a real hit of the ray (its triangle hit at exactly that t,

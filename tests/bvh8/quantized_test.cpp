@@ -10,7 +10,7 @@
 #include <cstring>
 #include <string>
 
-#include "quantize.h"
+#include "simdbvh/bvh8/internal/quantize.h"
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/workloads/deform.h"
 #include "simdbvh/workloads/rays.h"

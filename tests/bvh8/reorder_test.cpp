@@ -1,5 +1,5 @@
 // The sorted batches of the wide trees (TraceOptions::reorder,
-// bvh8/src/ray_order.h): traced sorted, unsorted or as chosen, every width,
+// bvh8/internal/simdbvh/bvh8/internal/ray_order.h): traced sorted, unsorted or as chosen, every width,
 // ISA and thread count gives the BVH2's closest hits bit for bit at the
 // caller's positions, any hits without streams are the caller's-order ones,
 // and with streams a hit where the ray hits something; the sort is a stable
@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "ray_order.h"
+#include "simdbvh/bvh8/internal/ray_order.h"
 #include "simdbvh/bvh2/bvh2.h"
 #include "simdbvh/bvh8/batch_order.h"
 #include "simdbvh/bvh8/bvh8.h"

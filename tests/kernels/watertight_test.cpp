@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "kernel_test_util.h"
-#include "../support/sanitizer.h"
+#include "support/sanitizer.h"
 
 namespace simdbvh {
 namespace {

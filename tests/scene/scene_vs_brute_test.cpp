@@ -475,7 +475,7 @@ TEST(SceneShapes, GrazingRaysAtSpheres) {
     check_any_and_closest(d, rays);
 }
 // A sphere set too large to stay in cache (over the 4 MiB of
-// bvh8::detail::kInCacheBytes, bvh8/src/traverse.h) is traced with rays in
+// bvh8::detail::kInCacheBytes, bvh8/internal/simdbvh/bvh8/internal/traverse.h) is traced with rays in
 // flight, a small one (the tests above) one ray at a time: both give brute
 // force's hits.
 TEST(SceneShapes, LargeSphereSetWithRaysInFlight) {

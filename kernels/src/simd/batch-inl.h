@@ -4,11 +4,11 @@
 #include <algorithm>
 #include <limits>
 
-#include "simd/box8-inl.h"
-#include "simd/prepare8-inl.h"
+#include "simdbvh/kernels/internal/simd/box8-inl.h"
+#include "simdbvh/kernels/internal/simd/prepare8-inl.h"
 #include "simdbvh/kernels/batch.h"
 #include "simd/dispatch.h"
-#include "simd/tri8-inl.h"
+#include "simdbvh/kernels/internal/simd/tri8-inl.h"
 
 namespace simdbvh::simd {
 

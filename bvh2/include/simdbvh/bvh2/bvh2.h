@@ -57,7 +57,7 @@ struct TraceOptions {
     // do not depend on it; an any hit may be another real hit.
     Packets packets = Packets::automatic;
     // Wide trees (batched calls): trace the batch sorted by where its rays
-    // start and the octant they go to (bvh8/src/ray_order.h), the hits
+    // start and the octant they go to (bvh8/internal/simdbvh/bvh8/internal/ray_order.h), the hits
     // written back in the caller's order. automatic: rays scattered from
     // surfaces (diffuse bounces in pixel order: neighbours that do not share
     // a start and octant, origins inside the tree's bounds on surfaces, at

@@ -1,7 +1,7 @@
 #pragma once
 // Whether a wide tree's intersect/occluded (bvh8.h) trace a batch in a sorted
 // order (TraceOptions::reorder: `on`, or `automatic` and the batch's rays
-// scattered from surfaces, the rule of bvh8/src/ray_order.h), for callers
+// scattered from surfaces, the rule of bvh8/internal/simdbvh/bvh8/internal/ray_order.h), for callers
 // that build a batch's Ray records in pieces: sorting pays only over the
 // whole batch (the Python module builds one Ray array for a batch that sorts,
 // and converts and traces 16,384 rays at a time otherwise, so those stay in

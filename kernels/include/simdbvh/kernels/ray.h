@@ -92,7 +92,7 @@ inline bool valid_ray(const Ray& r) {
 // Both are always inlined: a per-ISA translation unit must never emit an
 // out-of-line copy (a weak symbol the linker may share with another ISA's
 // objects; tests/kernels/check_isa_objects.cmake), and GCC's flatten gave up
-// on them in the wide traversal's stream loop (bvh8/src/stream-inl.h).
+// on them in the wide traversal's stream loop (bvh8/internal/simdbvh/bvh8/internal/stream-inl.h).
 inline __attribute__((always_inline)) PreparedRay prepare_scaled(const Ray& r) {
     PreparedRay p;
     // Subnormal origin components flushed to zeros of the same sign (as the

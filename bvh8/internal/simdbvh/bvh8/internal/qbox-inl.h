@@ -7,7 +7,7 @@
 // translation units (through simd_kernels-inl.h).
 #include <cstring>
 
-#include "simd/box8-inl.h"
+#include "simdbvh/kernels/internal/simd/box8-inl.h"
 #include "simdbvh/bvh8/qnode.h"
 
 namespace simdbvh::simd {

@@ -1,7 +1,7 @@
 #pragma once
 // Internal, ISA-neutral: the query policies every traversal loop takes (the
-// N-wide loop of bvh8/src/traverse-inl.h, the binary loop of
-// bvh2/src/traverse_binary-inl.h). A query says what a leaf does to the ray
+// N-wide loop of bvh8/internal/simdbvh/bvh8/internal/traverse-inl.h, the binary loop of
+// bvh2/internal/simdbvh/bvh2/internal/traverse_binary-inl.h). A query says what a leaf does to the ray
 // (the leaf intersector shrinks the closest hit, or stops at the first hit)
 // and finish() is the one place a ray's Hit is written (a miss: Hit{}).
 // madmann91/bvh v2 passes the same choice as traverse_top_down<IsAnyHit>.

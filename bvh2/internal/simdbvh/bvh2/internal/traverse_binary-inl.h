@@ -3,7 +3,7 @@
 // node test, traverse.cpp) and the sphere hierarchy (sphere node test,
 // spheres.cpp). A loop x a width-2 node test x a leaf intersector (single
 // gathered triangles) x a query (query/query.h), as the N-wide loop of
-// bvh8/src/traverse-inl.h; one ray at a time, near child first, the closest
+// bvh8/internal/simdbvh/bvh8/internal/traverse-inl.h; one ray at a time, near child first, the closest
 // hit so far culls children and stack entries.
 //
 // NodeTest provides: bool root(PreparedRay, Node, tmax, float* entry) (the
@@ -17,7 +17,7 @@
 
 #include "simdbvh/bvh2/bvh2.h"
 #include "simdbvh/kernels/triangle.h"
-#include "query/query.h"
+#include "simdbvh/kernels/internal/query/query.h"
 
 namespace simdbvh::bvh2 {
 

@@ -11,8 +11,8 @@
 #include <cstdint>
 #include <limits>
 
-#include "simd/arch-inl.h"
-#include "simd/box8-inl.h"
+#include "simdbvh/kernels/internal/simd/arch-inl.h"
+#include "simdbvh/kernels/internal/simd/box8-inl.h"
 #include "simdbvh/kernels/aabb.h"
 #include "simdbvh/kernels/box.h"
 #include "simdbvh/kernels/ray.h"

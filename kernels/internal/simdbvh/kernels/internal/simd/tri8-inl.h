@@ -9,7 +9,7 @@
 #include <algorithm>
 #include <cstdint>
 
-#include "simd/ray-inl.h"
+#include "simdbvh/kernels/internal/simd/ray-inl.h"
 #include "simdbvh/kernels/hit.h"
 #include "simdbvh/kernels/triangle.h"
 

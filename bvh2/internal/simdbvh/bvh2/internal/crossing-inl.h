@@ -6,8 +6,8 @@
 // wide trees' (bvh8/src/inside.cpp), so both count with the same predicates.
 #include <cmath>
 
-#include "exact_predicates.h"
-#include "point_query-inl.h"  // detail::usable
+#include "simdbvh/bvh2/internal/exact_predicates.h"
+#include "simdbvh/bvh2/internal/point_query-inl.h"  // detail::usable
 #include "simdbvh/bvh2/inside.h"
 #include "simdbvh/kernels/aabb.h"
 

@@ -4,10 +4,10 @@
 // and src/avx512 translation units.
 #include <limits>
 
-#include "qbox-inl.h"
-#include "simd/box8-inl.h"
-#include "simd/prepare8-inl.h"
-#include "simd/tri8-inl.h"
+#include "simdbvh/bvh8/internal/qbox-inl.h"
+#include "simdbvh/kernels/internal/simd/box8-inl.h"
+#include "simdbvh/kernels/internal/simd/prepare8-inl.h"
+#include "simdbvh/kernels/internal/simd/tri8-inl.h"
 
 namespace simdbvh::bvh8 {
 

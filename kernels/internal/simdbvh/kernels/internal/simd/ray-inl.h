@@ -9,7 +9,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "simd/arch-inl.h"
+#include "simdbvh/kernels/internal/simd/arch-inl.h"
 #include "simdbvh/kernels/ray.h"
 #include "simdbvh/kernels/soa.h"
 

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <type_traits>
 
-#include "simd/ray-inl.h"
+#include "simdbvh/kernels/internal/simd/ray-inl.h"
 
 namespace simdbvh::simd {
 

@@ -5,7 +5,7 @@
 // GCC 12 warns that _mm512_undefined_ps() (the pass-through of _mm512_max_ps,
 // xsimd's max for zmm) may be used uninitialized: GCC PR 105593, a false positive.
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#include "simd_kernels-inl.h"
+#include "simdbvh/bvh8/internal/simd_kernels-inl.h"
 
 namespace simdbvh::bvh8::avx512 {
 struct Kernels : SimdKernels<simd::Avx512> {};

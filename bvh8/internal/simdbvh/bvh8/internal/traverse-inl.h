@@ -28,9 +28,9 @@
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/kernels/box.h"
 #include "simdbvh/kernels/error.h"
-#include "prefetch-inl.h"
-#include "traverse.h"
-#include "query/query.h"
+#include "simdbvh/bvh8/internal/prefetch-inl.h"
+#include "simdbvh/bvh8/internal/traverse.h"
+#include "simdbvh/kernels/internal/query/query.h"
 
 namespace simdbvh::bvh8::detail {
 
@@ -398,7 +398,7 @@ inline __attribute__((always_inline)) void trace_span(const BvhN<N>& bvh, std::s
 
 }  // namespace simdbvh::bvh8::detail
 
-#include "stream-inl.h"
+#include "simdbvh/bvh8/internal/stream-inl.h"
 
 namespace simdbvh::bvh8::detail {
 
