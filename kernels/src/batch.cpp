@@ -17,7 +17,7 @@ thread_local int t_last_isa = -1;
 
 void check_size(std::size_t got, std::size_t want, const char* what) {
     if (got < want)
-        throw Error(std::string("simdbvh: ") + what + " holds " + std::to_string(got) + " elements, needs " +
+        throw Error(std::string(what) + " holds " + std::to_string(got) + " elements, needs " +
                     std::to_string(want));
 }
 }  // namespace
@@ -71,7 +71,7 @@ void intersect_box8_nested(std::span<const Ray> rays, std::span<const Box8> supe
                            std::span<std::uint8_t> masks, std::span<float> entries, Isa isa) {
     require(isa);
     if (groups.size() > 8 * supers.size())
-        throw Error("simdbvh: " + std::to_string(groups.size()) + " groups need " +
+        throw Error("" + std::to_string(groups.size()) + " groups need " +
                     std::to_string((groups.size() + 7) / 8) + " supers, got " + std::to_string(supers.size()));
     check_size(masks.size(), groups.size() * rays.size(), "masks");
     check_size(entries.size(), 8 * groups.size() * rays.size(), "entries");
@@ -98,7 +98,7 @@ void collect_box8_tree(std::span<const Ray> rays, std::span<const std::uint8_t> 
         const std::uint32_t c = children[k];
         if (c == kBoxTreeEmpty || (c & kBoxTreeLeaf) != 0) continue;
         if (c <= k / 8 || c >= nodes.size() || reached[c]++ != 0)
-            throw Error("simdbvh: box tree: lane " + std::to_string(k % 8) + " of node " + std::to_string(k / 8) +
+            throw Error("box tree: lane " + std::to_string(k % 8) + " of node " + std::to_string(k / 8) +
                         " names node " + std::to_string(c) + ", which is not a later node reached once");
     }
     // Each ray reaches at most every leaf lane once: the walk stops before a
@@ -113,7 +113,7 @@ void collect_box8_tree(std::span<const Ray> rays, std::span<const std::uint8_t> 
     constexpr std::size_t kMaxOut = 0xFFFFFFFFu;  // first[] holds 32-bit offsets
     for (;;) {
         const std::size_t cap = std::max(used + leaf_lanes, used + used / 2 + 1024);
-        if (cap > kMaxOut) throw Error("simdbvh: box tree: more than 2^32 - 1 results");
+        if (cap > kMaxOut) throw Error("box tree: more than 2^32 - 1 results");
         out.resize(cap);
         const std::span<const Ray> rest = rays.subspan(done);
         const std::span<const std::uint8_t> rest_live = live.empty() ? live : live.subspan(done);
@@ -133,7 +133,7 @@ void collect_boxes(std::span<const Ray> rays, std::span<const std::uint8_t> live
     check_size(first.size(), rays.size() + 1, "first");
     if (!live.empty()) check_size(live.size(), rays.size(), "live");
     if (boxes.size() > kCollectBoxesMax)
-        throw Error("simdbvh: collect_boxes: " + std::to_string(boxes.size()) + " boxes, at most " +
+        throw Error("collect_boxes: " + std::to_string(boxes.size()) + " boxes, at most " +
                     std::to_string(kCollectBoxesMax));
     std::vector<Box8> groups((boxes.size() + 7) / 8);
     for (Box8& g : groups) g.clear();
@@ -147,7 +147,7 @@ void collect_boxes(std::span<const Ray> rays, std::span<const std::uint8_t> live
     constexpr std::size_t kMaxOut = 0xFFFFFFFFu;
     for (;;) {
         const std::size_t cap = std::max(used + 8 * boxes.size(), used + used / 2 + 1024);
-        if (cap > kMaxOut) throw Error("simdbvh: collect_boxes: more than 2^32 - 1 results");
+        if (cap > kMaxOut) throw Error("collect_boxes: more than 2^32 - 1 results");
         out.resize(cap);
         const std::span<const Ray> rest = rays.subspan(done);
         const std::span<const std::uint8_t> rest_live = live.empty() ? live : live.subspan(done);

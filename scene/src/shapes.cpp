@@ -205,7 +205,7 @@ void nearest_planes(std::span<const Ray> rays, std::span<const Plane> planes, bo
                     std::span<float> t, Isa isa) {
     require(isa);
     if (plane.size() < rays.size() || t.size() < rays.size())
-        throw Error("simdbvh: nearest_planes: output spans smaller than the rays");
+        throw Error("nearest_planes: output spans smaller than the rays");
     namespace sa = scene::detail;
     switch (isa) {
     case Isa::avx512: return sa::PlaneBatch<sa::avx512::PlaneTag>::nearest(rays, planes, any, plane.data(), t.data());
