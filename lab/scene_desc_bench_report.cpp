@@ -211,7 +211,7 @@ std::string body(const SceneDescBenchResults& r, const std::string& img, bool ch
        << h("Agreement of closest hits") << agreement_table(r).markdown()
        << "\nOurs against brute force must be the same bits on every ray. Every ray where another method differs from "
           "ours (hit/miss, object, or t beyond the reference tolerance) is refereed by the double-precision scene "
-          "reference (compare/scene_reference.h: every instance and primitive in double, the inverse transforms in "
+          "reference (reference/scene_reference.h: every instance and primitive in double, the inverse transforms in "
           "double), both answers classified (tie: another object within tolerance of the reference's t; marginal: "
           "within float rounding of the reference):\n\n"
        << referee_table(r).markdown() << "\n";

@@ -42,7 +42,7 @@ struct SceneAgreementRow {
     std::size_t only_ours = 0;     // we hit, it missed
     std::size_t only_theirs = 0;   // it hit, we missed
     // Rays where the two differ (hit/miss, object, or t beyond the reference tolerance), refereed by the double
-    // scene reference (compare/scene_reference.h), at most kMaxRefereed of them: both answers classified.
+    // scene reference (reference/scene_reference.h), at most kMaxRefereed of them: both answers classified.
     std::size_t differ = 0, refereed = 0;
     reference::SceneTally ours, theirs;
 };
