@@ -360,18 +360,24 @@ public:
     }
 
     py::dict all(const py::handle& o, const py::handle& d, const py::handle& tmin, const py::handle& tmax,
-                 std::size_t max_hits) const {
+                 std::size_t max_hits, int threads) const {
         if (max_hits < 1) throw Error("max_hits must be >= 1");
+        const int nthreads = check_threads(threads);
         const std::vector<Ray> rays = make_rays(o, d, tmin, tmax);
         std::vector<AllHits> res(rays.size());
         Interrupt interrupt;
         {
             py::gil_scoped_release nogil;
             const std::shared_lock<RwLock> hold(lock_);
+            const bool brute = method_ == "brute";
+            const Bvh2* tree = brute ? nullptr : &bvh2();
+            // Each ray's hits are its own: the same arrays for every thread count.
             for_blocks(rays.size(), kPointBlock, interrupt, [&](std::size_t b, std::size_t e) {
-                for (std::size_t i = b; i < e; ++i)
-                    res[i] = method_ == "brute" ? brute_force_intersect_all(mesh_, rays[i], max_hits)
-                                                : intersect_all(bvh2(), rays[i], max_hits);
+                parallel_for(e - b, nthreads, [&](std::size_t lo, std::size_t hi) {
+                    for (std::size_t i = b + lo; i < b + hi; ++i)
+                        res[i] = brute ? brute_force_intersect_all(mesh_, rays[i], max_hits)
+                                       : intersect_all(*tree, rays[i], max_hits);
+                });
             });
         }
         interrupt.raise_if_stopped();
@@ -583,8 +589,12 @@ PYBIND11_MODULE(_simdbvh, m) {
              py::arg("tmax") = kInf, py::arg("threads") = 1,
              "Signed crossing counts: dict of winding (int32) and crossings (uint32); every crossing once.")
         .def("intersect_all", &Bvh::all, py::arg("origins"), py::arg("directions"), py::arg("tmin") = 0.0f,
-             py::arg("tmax") = kInf, py::arg("max_hits") = 1024,
-             "Every hit: flat arrays ray, t, prim, u, v, facing sorted by ray, t, prim; dropped per ray.");
+             py::arg("tmax") = kInf, py::arg("max_hits") = 1024, py::arg("threads") = 1,
+             "Every hit: flat arrays ray, t, prim, u, v, facing sorted by ray, t, prim; dropped per ray. The rays "
+             "are spread over `threads`; the arrays are the same for every count.")
+        .def("__repr__", [](const Bvh& b) {
+            return "<simdbvh.BVH: " + std::to_string(b.mesh().size()) + " triangles, " + b.method() + "/" + b.isa() + ">";
+        });
 
     m.def("isas", [] {
         std::vector<std::string> out;

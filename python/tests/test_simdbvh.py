@@ -252,6 +252,31 @@ def test_crossings_and_all_hits(cube):
     assert a["t"].tolist() == [1.0, 0.5, 1.0]
 
 
+def test_all_hits_on_threads():
+    """intersect_all spreads its rays over threads=: every ray from outside through the centre of a closed sphere
+    crosses it exactly twice, and the arrays are the same bits for 1 and 2 threads and for the brute force."""
+    mesh = sphere_mesh(32)
+    rng = np.random.default_rng(5)
+    o = rng.normal(size=(20000, 3))
+    o = 3 * o / np.linalg.norm(o, axis=1, keepdims=True)
+    d = -o + rng.uniform(-0.01, 0.01, o.shape)
+    one = simdbvh.BVH(mesh, method="bvh2").intersect_all(o, d)
+    assert np.bincount(one["ray"], minlength=len(o)).tolist() == [2] * len(o)
+    for got in (simdbvh.BVH(mesh, method="bvh2").intersect_all(o, d, threads=2),
+                simdbvh.BVH(mesh, method="brute").intersect_all(o[:2000], d[:2000], threads=2)):
+        n = len(got["dropped"])
+        keep = one["ray"] < n
+        for k in ("ray", "t", "prim", "u", "v", "facing"):
+            assert got[k].tobytes() == one[k][keep].tobytes(), k
+    with pytest.raises(simdbvh.Error, match="threads"):
+        simdbvh.BVH(mesh).intersect_all(o[:1], d[:1], threads=0)
+
+
+def test_repr():
+    bvh = simdbvh.BVH(sphere_mesh(8), method="bvh4")
+    assert repr(bvh) == f"<simdbvh.BVH: {len(sphere_mesh(8))} triangles, bvh4/{bvh.isa}>"
+
+
 def test_dtypes_layouts_and_errors(cube):
     bvh = simdbvh.BVH(cube)
     p64 = np.asfortranarray(np.array([[0.5, 0.5, 0.25]] * 4, dtype=np.float64))
