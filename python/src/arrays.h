@@ -25,6 +25,7 @@
 #include "simdbvh/kernels/parallel.h"
 #include "simdbvh/kernels/ray.h"
 #include "simdbvh/kernels/mesh.h"
+#include "simdbvh/kernels/topology.h"
 
 namespace simdbvh::python {
 
@@ -137,8 +138,12 @@ inline float real_arg(const py::handle& obj, const std::string& what) {
 
 inline const Vec3* vec3s(const F32& a) { return reinterpret_cast<const Vec3*>(a.data()); }
 
+// threads= of every query: 1..1024, or 0 for every hardware thread of the
+// machine (as Open3D reads it).
 inline int check_threads(int threads) {
-    if (threads < 1 || threads > 1024) throw Error("threads must be 1..1024 (got " + std::to_string(threads) + ")");
+    if (threads == 0) return std::clamp(topology().logical_cpus, 1, 1024);
+    if (threads < 1 || threads > 1024)
+        throw Error("threads must be 0 (every core) or 1..1024 (got " + std::to_string(threads) + ")");
     return threads;
 }
 

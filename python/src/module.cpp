@@ -417,7 +417,7 @@ public:
         moved.positions.assign(vec3s(v), vec3s(v) + v.shape(0));
         moved.triangles = mesh_.triangles;
         validate(moved);
-        check_threads(threads);
+        threads = check_threads(threads);
         py::gil_scoped_release nogil;
         const std::unique_lock<RwLock> hold(lock_);  // waits for the running queries, holds back new ones
         if (bvh2_built_) bvh2_.refit(moved, threads);  // else built later from the moved vertices

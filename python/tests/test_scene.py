@@ -415,7 +415,7 @@ def test_query_and_loading_errors(tmp_path):
     with pytest.raises(simdbvh.Error, match="shape"):
         s.occluded(np.zeros((2, 2)), np.ones((2, 2)))
     with pytest.raises(simdbvh.Error, match="threads"):
-        s.intersect(np.zeros((2, 3)), np.ones((2, 3)), threads=0)
+        s.intersect(np.zeros((2, 3)), np.ones((2, 3)), threads=-1)
     with pytest.raises(simdbvh.Error, match="tmax"):
         s.intersect(np.zeros((2, 3)), np.ones((2, 3)), tmax=np.ones(3))
     with pytest.raises(simdbvh.Error):

@@ -269,7 +269,26 @@ def test_all_hits_on_threads():
         for k in ("ray", "t", "prim", "u", "v", "facing"):
             assert got[k].tobytes() == one[k][keep].tobytes(), k
     with pytest.raises(simdbvh.Error, match="threads"):
-        simdbvh.BVH(mesh).intersect_all(o[:1], d[:1], threads=0)
+        simdbvh.BVH(mesh).intersect_all(o[:1], d[:1], threads=-1)
+
+
+def test_threads_zero_means_every_core():
+    """threads=0 (as Open3D reads it) runs on every hardware thread: the same bits as one thread, for rays, points
+    and scenes; negative counts and counts over 1024 are refused."""
+    mesh = sphere_mesh(24)
+    rng = np.random.default_rng(8)
+    o = rng.uniform(-2, 2, (5000, 3))
+    d = -o + rng.uniform(-0.2, 0.2, o.shape)
+    bvh = simdbvh.BVH(mesh)
+    one, every = bvh.intersect(o, d, threads=1), bvh.intersect(o, d, threads=0)
+    assert all(one[k].tobytes() == every[k].tobytes() for k in one)
+    assert bvh.signed_distance(o, threads=0).tobytes() == bvh.signed_distance(o).tobytes()
+    scene = simdbvh.Scene(meshes=[mesh])
+    a, b = scene.intersect(o, d, threads=0), scene.intersect(o, d)
+    assert all(a[k].tobytes() == b[k].tobytes() for k in a)
+    for bad in (-1, 1025):
+        with pytest.raises(simdbvh.Error, match=r"threads must be 0 \(every core\) or 1..1024"):
+            bvh.contains(o, threads=bad)
 
 
 def test_repr():
@@ -297,7 +316,7 @@ def test_dtypes_layouts_and_errors(cube):
     with pytest.raises(simdbvh.Error, match="differ in length"):
         bvh.intersect(np.zeros((2, 3)), np.ones((3, 3)))
     with pytest.raises(simdbvh.Error, match="threads"):
-        bvh.contains(p64, threads=0)
+        bvh.contains(p64, threads=-1)
     with pytest.raises(simdbvh.Error, match="rule"):
         bvh.sides(p64, rule="majority")
     with pytest.raises(simdbvh.Error):
