@@ -50,12 +50,16 @@ int cmd_classify(const std::vector<std::string>& args) {
     std::mutex m;
     ParallelOptions po;
     po.grain = 256;
-    parallel_for(rays.size(), threads, [&](std::size_t b, std::size_t e) {
-        reference::Tally t;
-        for (std::size_t i = b; i < e; ++i) t.add(reference::classify(reference::reference_intersect(mesh, rays[i]), hits[i]));
-        const std::lock_guard<std::mutex> lock(m);
-        total += t;
-    }, po);
+    parallel_for(
+        rays.size(), threads,
+        [&](std::size_t b, std::size_t e) {
+            reference::Tally t;
+            for (std::size_t i = b; i < e; ++i)
+                t.add(reference::classify(reference::reference_intersect(mesh, rays[i]), hits[i]));
+            const std::lock_guard<std::mutex> lock(m);
+            total += t;
+        },
+        po);
     std::cout << "rays " << rays.size() << "  triangles " << mesh.size() << "\n" << reference::to_string(total) << "\n";
     if (!json.empty()) {
         Report r;

@@ -41,31 +41,37 @@ int cmd_info(const std::vector<std::string>& args) {
     std::printf("bounds       [%g %g %g] - [%g %g %g]\n", b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z);
     std::printf("isa          %s\n", std::string(name(spec.isa)).c_str());
     const auto expected = std::size_t(o.get_int("expected-rays", 1000000, 1, 1LL << 40));
-    std::printf("auto         %s\n", describe(choose(cost_model(spec.isa), mesh.size(), expected, spec.threads)).c_str());
+    std::printf("auto         %s\n",
+                describe(choose(cost_model(spec.isa), mesh.size(), expected, spec.threads)).c_str());
     progress("building BVH2 ...");
     const Bvh2 bvh2 = Bvh2::build(mesh, spec.build);
     const BuildStats& s = bvh2.stats();
     std::printf("\nbvh2 (%s, %d bins, %d thread%s)\n", std::string(name(spec.build.builder)).c_str(), spec.build.bins,
                 spec.build.threads, spec.build.threads == 1 ? "" : "s");
-    std::printf("  build ms        %.1f\n  nodes           %zu\n  leaves          %zu\n  depth           %d\n"
-                "  SAH cost        %.3f\n  bytes/triangle  %.1f\n",
-                s.build_ms, s.nodes, s.leaves, s.depth, s.sah_cost, s.bytes_per_triangle);
+    std::printf(
+        "  build ms        %.1f\n  nodes           %zu\n  leaves          %zu\n  depth           %d\n"
+        "  SAH cost        %.3f\n  bytes/triangle  %.1f\n",
+        s.build_ms, s.nodes, s.leaves, s.depth, s.sah_cost, s.bytes_per_triangle);
     // Every width from this same BVH2: the detail per width, then one table.
     const WideStats w4 = wide_stats<4>(bvh2, spec), w8 = wide_stats<8>(bvh2, spec), w16 = wide_stats<16>(bvh2, spec);
     for (const WideStats* e : {&w4, &w8, &w16}) {
         std::printf("\nbvh%d (%s collapse)\n", e->width, std::string(name(spec.bvh8.collapse)).c_str());
-        std::printf("  build ms        %.1f (collapse + pack; + %.1f for the BVH2)\n  nodes           %zu\n"
-                    "  leaves          %zu\n  triangle blocks %zu\n  depth           %d\n  SAH cost        %.3f\n"
-                    "  bytes/triangle  %.1f\n  fill rate       %.1f%%\n",
-                    e->build_ms, s.build_ms, e->nodes, e->leaves, e->blocks, e->depth, e->sah_cost,
-                    e->bytes_per_triangle, 100.0 * e->fill_rate);
+        std::printf(
+            "  build ms        %.1f (collapse + pack; + %.1f for the BVH2)\n  nodes           %zu\n"
+            "  leaves          %zu\n  triangle blocks %zu\n  depth           %d\n  SAH cost        %.3f\n"
+            "  bytes/triangle  %.1f\n  fill rate       %.1f%%\n",
+            e->build_ms, s.build_ms, e->nodes, e->leaves, e->blocks, e->depth, e->sah_cost, e->bytes_per_triangle,
+            100.0 * e->fill_rate);
     }
-    std::printf("\nwidths (%s collapse of the BVH2 above; bvh2 for comparison)\n", std::string(name(spec.bvh8.collapse)).c_str());
-    std::printf("  %-6s %10s %6s %10s %8s %10s %12s\n", "width", "nodes", "depth", "bytes/tri", "fill", "SAH cost", "collapse ms");
-    std::printf("  %-6s %10zu %6d %10.1f %8s %10.3f %12s\n", "2", s.nodes, s.depth, s.bytes_per_triangle, "-", s.sah_cost, "-");
+    std::printf("\nwidths (%s collapse of the BVH2 above; bvh2 for comparison)\n",
+                std::string(name(spec.bvh8.collapse)).c_str());
+    std::printf("  %-6s %10s %6s %10s %8s %10s %12s\n", "width", "nodes", "depth", "bytes/tri", "fill", "SAH cost",
+                "collapse ms");
+    std::printf("  %-6s %10zu %6d %10.1f %8s %10.3f %12s\n", "2", s.nodes, s.depth, s.bytes_per_triangle, "-",
+                s.sah_cost, "-");
     for (const WideStats* e : {&w4, &w8, &w16})
-        std::printf("  %-6d %10zu %6d %10.1f %7.1f%% %10.3f %12.1f\n", e->width, e->nodes, e->depth, e->bytes_per_triangle,
-                    100.0 * e->fill_rate, e->sah_cost, e->build_ms);
+        std::printf("  %-6d %10zu %6d %10.1f %7.1f%% %10.3f %12.1f\n", e->width, e->nodes, e->depth,
+                    e->bytes_per_triangle, 100.0 * e->fill_rate, e->sah_cost, e->build_ms);
     return 0;
 }
 

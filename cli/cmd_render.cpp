@@ -43,7 +43,8 @@ int cmd_render(const std::vector<std::string>& args) {
     const int w = int(o.get_int("width", 640, 1, 16384)), h = int(o.get_int("height", 480, 1, 16384));
     const bool heat = o.has("heatmap");
     if (heat && spec.method != "bvh2" && !is_wide(spec.method))
-        throw UsageError("--heatmap needs --method bvh2, bvh4, bvh8 or bvh16 (nodes visited are counted by our traversals)");
+        throw UsageError(
+            "--heatmap needs --method bvh2, bvh4, bvh8 or bvh16 (nodes visited are counted by our traversals)");
     check_outputs({{"--out", out}}, {.scenes = {{"--scene", scene_name}}});
     // Per pixel: a ray (32 bytes), a hit (16), a count (4), the picture (3) and its PNG (about 3).
     const std::string size_opt = "--width " + std::to_string(w) + " --height " + std::to_string(h);
@@ -61,8 +62,8 @@ int cmd_render(const std::vector<std::string>& args) {
     } catch (const std::bad_alloc&) {
         throw Error(size_opt + ": out of memory (needs about " + format_bytes(bytes) + "); ask for a smaller image");
     }
-    std::cout << "method " << spec.label() << "  isa " << tracer->ran_isa(spec, false) << "  wrote " << w << "x" << h << " "
-              << (heat ? "heat map" : "render") << " to " << out << "\n";
+    std::cout << "method " << spec.label() << "  isa " << tracer->ran_isa(spec, false) << "  wrote " << w << "x" << h
+              << " " << (heat ? "heat map" : "render") << " to " << out << "\n";
     return 0;
 }
 

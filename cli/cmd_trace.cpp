@@ -24,7 +24,8 @@ namespace {
 int gen_family_rays(const Options& o, workloads::Family fam) {
     const std::string kind_s = o.require("kind");
     if (o.has("scene") && fam != workloads::Family::random)
-        throw UsageError("--kind " + kind_s + " generates its own scene (write it with --mesh-out); --scene is for "
+        throw UsageError("--kind " + kind_s +
+                         " generates its own scene (write it with --mesh-out); --scene is for "
                          "primary, incoherent, diffuse and random");
     workloads::FamilyOptions fo;
     fo.quick = o.has("quick");
@@ -142,7 +143,8 @@ int cmd_trace(const std::vector<std::string>& args) {
     const std::string query = o.get("query", o.has("any-hit") ? "any" : "closest");
     if (query != "closest" && query != "any" && query != "all" && query != "count")
         throw UsageError("unknown --query '" + query + "' (closest, any, all, count)");
-    if (o.has("any-hit") && query != "any") throw UsageError("--any-hit and --query " + query + " contradict each other");
+    if (o.has("any-hit") && query != "any")
+        throw UsageError("--any-hit and --query " + query + " contradict each other");
     const bool crossings = query == "all" || query == "count";
     if (crossings && !o.has("method")) spec.method = "bvh2";  // auto's only tree with crossing queries
     if (crossings && spec.method != "bvh2" && spec.method != "brute")
@@ -179,11 +181,10 @@ int cmd_trace(const std::vector<std::string>& args) {
     std::size_t n_hit = 0;
     for (const Hit& h : hits) n_hit += h.hit();
     std::cout << "method " << spec.label() << "  isa " << tracer->ran_isa(spec, any) << spec.isa_note(any) << "  query "
-              << (any ? "any" : "closest")
-              << "  threads " << spec.threads << "\n"
-              << (tracer->chosen.empty() ? "" : "auto chose " + tracer->chosen + "\n")
-              << "rays " << rays.size() << "  hits " << n_hit << "  build " << tracer->build_ms << " ms  trace "
-              << secs * 1e3 << " ms  " << (secs > 0 ? double(rays.size()) / secs / 1e6 : 0.0) << " Mrays/s\n";
+              << (any ? "any" : "closest") << "  threads " << spec.threads << "\n"
+              << (tracer->chosen.empty() ? "" : "auto chose " + tracer->chosen + "\n") << "rays " << rays.size()
+              << "  hits " << n_hit << "  build " << tracer->build_ms << " ms  trace " << secs * 1e3 << " ms  "
+              << (secs > 0 ? double(rays.size()) / secs / 1e6 : 0.0) << " Mrays/s\n";
     if (o.has("stats") && stats.rays)
         std::cout << "per ray: nodes visited " << double(stats.nodes_visited) / double(stats.rays) << "  box tests "
                   << double(stats.box_tests) / double(stats.rays) << "  triangle tests "

@@ -27,8 +27,8 @@ Mesh load_scene_with_progress(const std::string& name) {
     const auto t0 = std::chrono::steady_clock::now();
     progress("loading " + name + " ...");
     Mesh m = workloads::load_scene(name);
-    progress("loaded " + name + ": " + std::to_string(m.size()) + " triangles in " +
-             std::to_string(seconds_since(t0)) + " s");
+    progress("loaded " + name + ": " + std::to_string(m.size()) + " triangles in " + std::to_string(seconds_since(t0)) +
+             " s");
     return m;
 }
 

@@ -63,8 +63,8 @@ std::string MethodSpec::builder_name() const {
 }
 
 void add_method_options(std::set<std::string>& valued, std::set<std::string>& flags) {
-    for (const char* k :
-         {"method", "isa", "builder", "bins", "collapse", "nodes", "test", "box", "quality", "threads", "packets", "reorder"})
+    for (const char* k : {"method", "isa", "builder", "bins", "collapse", "nodes", "test", "box", "quality", "threads",
+                          "packets", "reorder"})
         valued.insert(k);
     flags.insert("robust");
 }
@@ -88,9 +88,10 @@ Choice parse_wide_choice(const Options& o, const std::string& key, const std::st
 MethodSpec parse_method(const Options& o, const std::string& fallback) {
     MethodSpec s;
     s.method = o.get("method", fallback);
-    if (s.method != "auto" && s.method != "brute" && s.method != "brute8" && s.method != "bvh2" && !is_wide(s.method) && s.method != "embree" &&
-        s.method != "spheres")
-        throw UsageError("unknown --method '" + s.method + "' (auto, brute, brute8, bvh2, bvh4, bvh8, bvh16, embree, spheres)");
+    if (s.method != "auto" && s.method != "brute" && s.method != "brute8" && s.method != "bvh2" && !is_wide(s.method) &&
+        s.method != "embree" && s.method != "spheres")
+        throw UsageError("unknown --method '" + s.method +
+                         "' (auto, brute, brute8, bvh2, bvh4, bvh8, bvh16, embree, spheres)");
     if (o.has("isa")) {
         auto isa = parse_isa(o.get("isa"));
         if (!isa) throw UsageError("unknown --isa '" + o.get("isa") + "' (scalar, avx2, avx512)");
@@ -103,7 +104,9 @@ MethodSpec parse_method(const Options& o, const std::string& fallback) {
     }
     if (o.has("builder")) {
         auto b = parse_builder(o.get("builder"));
-        if (!b) throw UsageError("unknown --builder '" + o.get("builder") + "' (sah-binned, sah-sweep, midpoint, median, variance)");
+        if (!b)
+            throw UsageError("unknown --builder '" + o.get("builder") +
+                             "' (sah-binned, sah-sweep, midpoint, median, variance)");
         s.build.builder = *b;
     }
     s.build.bins = int(o.get_int("bins", 16, 2, 256));
@@ -130,7 +133,8 @@ MethodSpec parse_method(const Options& o, const std::string& fallback) {
     if (s.box == BoxTest::plain && s.method != "bvh2")
         throw UsageError("--box plain is a bvh2 variant only (" + s.method + " uses the conservative box test)");
     s.quality = o.get("quality", "medium");
-    if (s.quality != "medium" && s.quality != "high") throw UsageError("unknown --quality '" + s.quality + "' (medium, high)");
+    if (s.quality != "medium" && s.quality != "high")
+        throw UsageError("unknown --quality '" + s.quality + "' (medium, high)");
     s.robust = o.has("robust");
     // Options of one kind of method are refused on the others, never ignored.
     for (const char* k : {"quality", "robust"})
@@ -153,10 +157,14 @@ class BruteTracer final : public Tracer {
 public:
     BruteTracer(const Mesh& m, const MethodSpec& s) : mesh_(m), spec_(s) {}
     void trace(std::span<const Ray> rays, std::span<Hit> hits, bool any, TraceStats*) override {
-        parallel_for(rays.size(), spec_.threads, [&](std::size_t b, std::size_t e) {
-            for (std::size_t i = b; i < e; ++i)
-                hits[i] = any ? brute_force_occluded(mesh_, rays[i], spec_.test) : brute_force_intersect(mesh_, rays[i], spec_.test);
-        }, options_for_cost(mesh_.size()));
+        parallel_for(
+            rays.size(), spec_.threads,
+            [&](std::size_t b, std::size_t e) {
+                for (std::size_t i = b; i < e; ++i)
+                    hits[i] = any ? brute_force_occluded(mesh_, rays[i], spec_.test)
+                                  : brute_force_intersect(mesh_, rays[i], spec_.test);
+            },
+            options_for_cost(mesh_.size()));
     }
 
 private:
@@ -214,7 +222,7 @@ public:
     WideTracer(const Mesh& m, const MethodSpec& s) : spec_(s) {
         const auto t0 = std::chrono::steady_clock::now();
         WideOptions wo = s.bvh8;
-        wo.threads = s.build.threads;  // collapse + pack on the build's threads too
+        wo.threads = s.build.threads;           // collapse + pack on the build's threads too
         bvh_ = BvhN<N>::build(m, s.build, wo);  // what a user of the library waits for
         build_ms = ms_since(t0);
         const WideStats& st = bvh_.stats();
@@ -242,8 +250,11 @@ private:
 
 // The trace options of a tree method: the spec's tests, the counters (one thread when counting).
 TraceOptions trace_options(const MethodSpec& s, TraceStats* stats) {
-    return TraceOptions{
-        .test = s.test, .box = s.box, .stats = stats, .threads = stats ? 1 : s.threads, .packets = s.packets,
+    return TraceOptions{.test = s.test,
+                        .box = s.box,
+                        .stats = stats,
+                        .threads = stats ? 1 : s.threads,
+                        .packets = s.packets,
                         .reorder = s.reorder};
 }
 

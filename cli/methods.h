@@ -12,22 +12,22 @@
 namespace simdbvh::cli {
 
 struct MethodSpec {
-    std::string method = "bvh2";  // auto | brute | brute8 | bvh2 | bvh4 | bvh8 | bvh16 | embree | spheres
+    std::string method = "bvh2";    // auto | brute | brute8 | bvh2 | bvh4 | bvh8 | bvh16 | embree | spheres
     std::size_t expected_rays = 0;  // auto: the rays the choice is made for
-    Isa isa = Isa::scalar;        // the wide BVHs only (bvh2 and brute are scalar)
-    bool isa_auto = false;        // no --isa: the wide BVHs choose by speed (bvh8.h, traversal_isa_choice)
+    Isa isa = Isa::scalar;          // the wide BVHs only (bvh2 and brute are scalar)
+    bool isa_auto = false;          // no --isa: the wide BVHs choose by speed (bvh8.h, traversal_isa_choice)
     BuildOptions build;
-    WideOptions bvh8;             // collapse options of bvh4, bvh8, bvh16 (--nodes quantized: label bvh8q/...)
+    WideOptions bvh8;  // collapse options of bvh4, bvh8, bvh16 (--nodes quantized: label bvh8q/...)
     TriangleTest test = TriangleTest::watertight;
     Packets packets = Packets::automatic;  // the wide BVHs (and auto's): --packets auto | off | on
     Reorder reorder = Reorder::automatic;  // the wide BVHs (and auto's): --reorder auto | off | on
-    BoxTest box = BoxTest::conservative;  // bvh2 only (bvh8 always conservative)
-    std::string quality = "medium";  // embree: medium | high
-    bool robust = false;             // embree: RTC_SCENE_FLAG_ROBUST
-    int threads = 1;                 // trace (and build) threads
+    BoxTest box = BoxTest::conservative;   // bvh2 only (bvh8 always conservative)
+    std::string quality = "medium";        // embree: medium | high
+    bool robust = false;                   // embree: RTC_SCENE_FLAG_ROBUST
+    int threads = 1;                       // trace (and build) threads
 
-    int width() const;               // 4, 8, 16 for bvh4, bvh8, bvh16; 0 for the others
-    std::string label() const;       // e.g. "bvh8/avx2" ("bvh8" without --isa), "embree/medium/robust"
+    int width() const;          // 4, 8, 16 for bvh4, bvh8, bvh16; 0 for the others
+    std::string label() const;  // e.g. "bvh8/avx2" ("bvh8" without --isa), "embree/medium/robust"
     // The ISA a trace of this query runs with (the wide trees without --isa: their choice for that query).
     std::string isa_name(bool any_hit = false) const;
     // Why that ISA, for the wide trees without --isa: " (forced)", " (timed on any-hit traces)", or " (the

@@ -46,8 +46,9 @@ void check_outputs(const NamedPaths& outputs, const Inputs& inputs, bool create_
     for (const auto& [opt, path] : inputs.files) read.emplace_back(opt + " " + path, path);
     for (const auto& [opt, name] : inputs.scenes)
         for (const workloads::SceneInput& in : workloads::scene_input_files(name))
-            read.emplace_back(in.via.empty() ? opt + " " + name
-                                             : in.path.string() + ", which " + opt + " " + name + " reads (" + in.via + ")",
+            read.emplace_back(in.via.empty()
+                                  ? opt + " " + name
+                                  : in.path.string() + ", which " + opt + " " + name + " reads (" + in.via + ")",
                               in.path.string());
     for (std::size_t i = 0; i < outputs.size(); ++i) {
         const auto& [opt, path] = outputs[i];

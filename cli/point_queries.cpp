@@ -14,8 +14,8 @@ bool report_closure(const std::string& scene_name, const Mesh& mesh) {
         return true;
     }
     std::cout << "warning: mesh " << scene_name << " is not a closed, consistently oriented surface ("
-              << c.boundary_edges << " boundary, " << c.nonmanifold_edges << " non-manifold, "
-              << c.misoriented_edges << " misoriented of " << c.edges
+              << c.boundary_edges << " boundary, " << c.nonmanifold_edges << " non-manifold, " << c.misoriented_edges
+              << " misoriented of " << c.edges
               << " edges): inside/outside follows the crossing rule and may be wrong near those edges\n";
     return false;
 }

@@ -37,10 +37,12 @@ struct PointTree {
     // f(the tree): the BVH2 or the wide tree.
     template <class F>
     void visit(F&& f) const {
-        std::visit([&](const auto& t) {
-            if constexpr (std::is_same_v<std::decay_t<decltype(t)>, std::monostate>) f(bvh2);
-            else f(t);
-        }, wide);
+        std::visit(
+            [&](const auto& t) {
+                if constexpr (std::is_same_v<std::decay_t<decltype(t)>, std::monostate>) f(bvh2);
+                else f(t);
+            },
+            wide);
     }
 };
 

@@ -44,7 +44,8 @@ std::string fmt(const char* format, double v) {
     return buf;
 }
 
-Table::Table(std::vector<std::string> header, std::string align) : header_(std::move(header)), align_(std::move(align)) {
+Table::Table(std::vector<std::string> header, std::string align)
+    : header_(std::move(header)), align_(std::move(align)) {
     if (align_.empty()) align_.push_back('l');
     align_.resize(header_.size(), 'r');
 }
@@ -151,7 +152,7 @@ bool ReportFiles::add_charts(const std::string& script, const std::string& json,
     try {
         staging.emplace();
         io::write_file_atomic(staging->path() / json_name,
-                                 std::span(reinterpret_cast<const unsigned char*>(json.data()), json.size()));
+                              std::span(reinterpret_cast<const unsigned char*>(json.data()), json.size()));
     } catch (const Error& e) {
         std::cerr << "[simdbvh] warning: no charts (" << e.what() << "); the report has tables only\n";
         return false;
@@ -229,8 +230,9 @@ PythonRun run_python_script(const std::string& script, const std::vector<std::st
         if (!replaced) envp.push_back(*e);
     }
     for (const std::string& o : options.env) envp.push_back(o.c_str());
-    const bool bytecode_set = std::any_of(options.env.begin(), options.env.end(),
-                                          [](const std::string& o) { return o.rfind("PYTHONDONTWRITEBYTECODE=", 0) == 0; });
+    const bool bytecode_set = std::any_of(options.env.begin(), options.env.end(), [](const std::string& o) {
+        return o.rfind("PYTHONDONTWRITEBYTECODE=", 0) == 0;
+    });
     if (!bytecode_set) envp.push_back("PYTHONDONTWRITEBYTECODE=1");
     envp.push_back(nullptr);
     std::cout.flush();
@@ -254,8 +256,7 @@ PythonRun run_python_script(const std::string& script, const std::vector<std::st
         ~Forget() { g_running_script.store(0); }
     } forget;
     if (options.timeout_seconds <= 0) {
-        while (::waitpid(pid, &run.status, 0) < 0 && errno == EINTR) {
-        }
+        while (::waitpid(pid, &run.status, 0) < 0 && errno == EINTR) {}
         return run;
     }
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(options.timeout_seconds);
@@ -278,7 +279,8 @@ bool run_chart_script(const std::string& script, const std::string& json_file, c
     const PythonRun run = run_python_script(script, {json_file, out_dir});
     if (!run.ok())
         std::cerr << "[simdbvh] warning: chart script failed (scripts/" << script << " " << json_file << " " << out_dir
-                  << ": " << run.describe() << "; needs /usr/bin/python3 with matplotlib); the report has tables only\n";
+                  << ": " << run.describe()
+                  << "; needs /usr/bin/python3 with matplotlib); the report has tables only\n";
     return run.ok();
 }
 

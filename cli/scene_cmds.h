@@ -29,8 +29,7 @@ int trace_scene(const Options& o, const std::string& name, const std::string& ra
 Mesh scene_bounds_proxy(const std::string& name);
 
 // Eye-light picture (|cos| of ray and normal), tinted per instance; planes grey.
-Image render_scene_image(const std::string& name, const MethodSpec& spec, InstanceBounds bounds, int width,
-                         int height);
+Image render_scene_image(const std::string& name, const MethodSpec& spec, InstanceBounds bounds, int width, int height);
 // The same written to `out` (PNG).
 int render_scene(const std::string& name, const MethodSpec& spec, InstanceBounds bounds, int width, int height,
                  const std::string& out);

@@ -10,8 +10,8 @@
 namespace simdbvh::cli {
 
 struct CrossingQuery {
-    bool all = false;          // all hits (else counts)
-    std::size_t cap = 1024;    // --max-hits
+    bool all = false;        // all hits (else counts)
+    std::size_t cap = 1024;  // --max-hits
 };
 
 // Runs the query, writes `out`, prints the summary. spec.method: bvh2 or brute.

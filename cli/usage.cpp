@@ -14,7 +14,8 @@ struct CommandText {
 };
 
 constexpr CommandText kCommands[] = {
-    {"info", R"(info     --scene S [--builder B] [--bins N] [--collapse sah|greedy]   triangles, bounds, the BVH2's statistics
+    {"info",
+     R"(info     --scene S [--builder B] [--bins N] [--collapse sah|greedy]   triangles, bounds, the BVH2's statistics
            and every width's (bvh4, bvh8, bvh16: nodes, depth, bytes/triangle, fill), all from the same BVH2;
            [--expected-rays N] (default 1000000): what --method auto would choose for N rays, and why
 )"},
@@ -25,7 +26,8 @@ constexpr CommandText kCommands[] = {
               direction-scale
            diffuse rays bounce off primary hits: a scene the camera does not hit is an error
 )"},
-    {"trace", R"(trace    --scene S --rays RAYS.bin --out HITS.bin [--method M] [--query Q] [--any-hit] [--stats] [--threads N]
+    {"trace",
+     R"(trace    --scene S --rays RAYS.bin --out HITS.bin [--method M] [--query Q] [--any-hit] [--stats] [--threads N]
            [--isa I] [--builder B] [--bins N] [--collapse C] [--test watertight|moller]
            [--box conservative|plain] [--quality medium|high] [--robust] [--drop-invalid] [--packets auto|off|on]
            [--reorder auto|off|on]
@@ -79,14 +81,16 @@ bench --sweep [--quick] [--threads N] [--reps N] [--build-reps N] [--budget-ms M
     {"panel", R"(panel    [--scene S] [--quick] [--json FILE] [--report DIR]          build quality per builder
            [--threads N] [--reps N] [--rays N] [--stats-rays N] [--no-report]
 )"},
-    {"accuracy", R"(accuracy [--quick] [--family F] [--report DIR] [--json FILE] [--no-embree]   ray families x method variants
+    {"accuracy",
+     R"(accuracy [--quick] [--family F] [--report DIR] [--json FILE] [--no-embree]   ray families x method variants
            [--seed K] [--threads N] [--scene S (for the random family)] [--inside] [--no-open3d]
            and the inside/outside panel (ours vs Embree hit parity and Open3D's compute_occupancy against CGAL;
            without --family, or --inside)
 )"},
 };
 
-constexpr const char* kFooter = R"(S is a scene name (dragon, dragon-res2..4, bunny, teapot, icosphere[-N], soup[-N], terrain) or a mesh file
+constexpr const char* kFooter =
+    R"(S is a scene name (dragon, dragon-res2..4, bunny, teapot, icosphere[-N], soup[-N], terrain) or a mesh file
 (.ply .obj .stl .off, optionally .gz). SIMDBVH_ISA=scalar|avx2|avx512 or --isa forces the ISA.
 Outputs (--out, --mesh-out, --json, --report) are checked before any work, must not be an input (nor a file a
 scene leads to), and are replaced only when complete, several outputs all at once (symlinks written through,

@@ -46,7 +46,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         simdbvh::io::LoadReport report;
         const simdbvh::Mesh m = simdbvh::io::load_mesh(path, opts, &report);
         simdbvh::validate(m);  // what the loader returns must be a valid mesh
-    } catch (const simdbvh::Error&) {
-    }
+    } catch (const simdbvh::Error&) {}
     return 0;
 }

@@ -12,12 +12,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     try {
         const auto rays = simdbvh::io::read_rays(path);
         if (rays.size() * 32 != size) std::abort();
-    } catch (const simdbvh::Error&) {
-    }
+    } catch (const simdbvh::Error&) {}
     try {
         const auto hits = simdbvh::io::read_hits(path);
         if (hits.size() * 16 != size) std::abort();
-    } catch (const simdbvh::Error&) {
-    }
+    } catch (const simdbvh::Error&) {}
     return 0;
 }

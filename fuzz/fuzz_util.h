@@ -14,7 +14,8 @@ namespace simdbvh::fuzz {
 inline const std::filesystem::path& scratch() {
     static const std::filesystem::path dir = [] {
         std::error_code ec;
-        std::filesystem::path base = std::filesystem::is_directory("/dev/shm", ec) ? "/dev/shm" : std::filesystem::temp_directory_path();
+        std::filesystem::path base =
+            std::filesystem::is_directory("/dev/shm", ec) ? "/dev/shm" : std::filesystem::temp_directory_path();
         auto d = base / ("simdbvh_fuzz_" + std::to_string(::getpid()));
         std::filesystem::create_directories(d);
         return d;

@@ -27,8 +27,8 @@ double time_trace(Tracer& tr, std::span<const Ray> rays, std::span<Hit> hits, do
 }
 
 // The family's own expectations and the classification against the reference.
-void check_hits(const workloads::FamilyCase& c, const std::vector<reference::Reference>& refs, const std::vector<Hit>& hits,
-                AccuracyRow& r) {
+void check_hits(const workloads::FamilyCase& c, const std::vector<reference::Reference>& refs,
+                const std::vector<Hit>& hits, AccuracyRow& r) {
     for (std::size_t i = 0; i < hits.size(); ++i) {
         const Hit& h = hits[i];
         r.tally.add(reference::classify(refs[i], h));
@@ -98,7 +98,8 @@ void AccuracyRow::add(const AccuracyRow& o) {
     nan_outputs += o.nan_outputs;
     if (o.differ_from_default != kNone)
         differ_from_default = (differ_from_default == kNone ? 0 : differ_from_default) + o.differ_from_default;
-    if (o.nodes_per_ray >= 0) nodes_per_ray = nodes_per_ray < 0 ? o.nodes_per_ray : std::max(nodes_per_ray, o.nodes_per_ray);
+    if (o.nodes_per_ray >= 0)
+        nodes_per_ray = nodes_per_ray < 0 ? o.nodes_per_ray : std::max(nodes_per_ray, o.nodes_per_ray);
     max_rel_t_error = std::max(max_rel_t_error, o.max_rel_t_error);
     depth = std::max(depth, o.depth);
 }
@@ -142,9 +143,8 @@ std::vector<Variant> accuracy_variants(bool with_embree) {
 AccuracyResults run_accuracy(const AccuracyConfig& c) {
     std::vector<Variant> methods = accuracy_variants(c.embree);
     if (!c.only.empty())
-        std::erase_if(methods, [&](const Variant& v) {
-            return std::find(c.only.begin(), c.only.end(), v.name) == c.only.end();
-        });
+        std::erase_if(
+            methods, [&](const Variant& v) { return std::find(c.only.begin(), c.only.end(), v.name) == c.only.end(); });
     const double min_seconds = c.quick ? 0.01 : 0.05;
     AccuracyResults out;
     for (workloads::Family fam : c.which) {
@@ -160,7 +160,8 @@ AccuracyResults run_accuracy(const AccuracyConfig& c) {
             for (std::size_t m = 0; m < methods.size(); ++m) {
                 AccuracyRow r = run_case(fc, refs, methods[m], default_hits, min_seconds);
                 add_into(sum, m, methods.size(), r, fname, 0.0);
-                if (fam == workloads::Family::offsets) add_into(out.offsets[fc.offset], m, methods.size(), r, fname, fc.offset);
+                if (fam == workloads::Family::offsets)
+                    add_into(out.offsets[fc.offset], m, methods.size(), r, fname, fc.offset);
                 out.cases.push_back(std::move(r));
             }
         }

@@ -19,7 +19,7 @@ struct AccuracyConfig {
     bool embree = true;
     bool open3d = true;  // Open3D's rows in the inside/outside panel (--no-open3d leaves them out)
     bool inside = true;  // the inside/outside panel (default without --family; --inside adds it)
-    int threads = 2;  // the double reference only; traces run on one thread
+    int threads = 2;     // the double reference only; traces run on one thread
     workloads::FamilyOptions families;
     std::vector<workloads::Family> which;
     // Only these variants (accuracy_variants names), in that list's order; empty: every variant. The first

@@ -16,7 +16,7 @@ inline constexpr const char* kBenchPictures[] = {"render_bvh8.png", "heat_bvh2.p
 
 struct Pictures {
     int width = 0, height = 0;
-    std::size_t differ_bvh2_bvh8 = 0, differ_bvh8_embree = 0;  // pixels
+    std::size_t differ_bvh2_bvh8 = 0, differ_bvh8_embree = 0;             // pixels
     std::vector<std::pair<std::string, std::vector<unsigned char>>> png;  // (file name, PNG bytes), as above
 };
 

@@ -56,18 +56,10 @@ std::uint64_t hard_disagreements(const reference::Tally& t) {
 }
 
 Json bench_json(const BenchConfig& c, const Mesh& mesh, const BenchResults& res) {
-    Json j{{"scene", c.scene},
-           {"triangles", mesh.size()},
-           {"machine", c.machine},
-           {"command", c.command},
-           {"threads_all", c.threads_all},
-           {"reps", c.reps},
-           {"build_reps", c.build_reps},
-           {"rays_per_kind", c.rays},
-           {"stats_rays", c.stats_rays},
-           {"records", Json::array()},
-           {"width_scenes", Json::array()},
-           {"widths", Json::array()}};
+    Json j{{"scene", c.scene},           {"triangles", mesh.size()},      {"machine", c.machine},
+           {"command", c.command},       {"threads_all", c.threads_all},  {"reps", c.reps},
+           {"build_reps", c.build_reps}, {"rays_per_kind", c.rays},       {"stats_rays", c.stats_rays},
+           {"records", Json::array()},   {"width_scenes", Json::array()}, {"widths", Json::array()}};
     for (const Record& r : res.records) j["records"].push_back(json_record(r));
     for (const auto& [s, n] : res.width_scene_sizes) j["width_scenes"].push_back({{"scene", s}, {"triangles", n}});
     for (const Record& r : res.widths) j["widths"].push_back(json_record(r));
@@ -136,10 +128,13 @@ void bench_markdown(const BenchConfig& c, const Mesh& mesh, const BenchResults& 
           "sample only.\n\n## One thread\n\n"
        << speed_table(recs, 1).markdown() << "\n";
     if (c.threads_all > 1)
-        md << "## All cores (" << c.threads_all << " threads, pinned)\n\n" << speed_table(recs, c.threads_all).markdown() << "\n";
-    md << "## Builds\n\n" << build_table(recs, c.threads_all).markdown() << "\n"
+        md << "## All cores (" << c.threads_all << " threads, pinned)\n\n"
+           << speed_table(recs, c.threads_all).markdown() << "\n";
+    md << "## Builds\n\n"
+       << build_table(recs, c.threads_all).markdown() << "\n"
        << (res.refit.empty() ? "" : "## Refit against rebuild\n\n" + refit_markdown(res.refit, "", charts))
-       << "## Wide vs binary\n\n" << width_section(c, res, "", charts, "### ")
+       << "## Wide vs binary\n\n"
+       << width_section(c, res, "", charts, "### ")
        << "## Accuracy against the brute-force reference (sample, all ray kinds and queries, one thread)\n\n"
        << accuracy_table(recs).markdown()
        << "\nOur paths are compared bit for bit with the float brute force; differences (and all of Embree's) are "
@@ -153,8 +148,8 @@ void bench_markdown(const BenchConfig& c, const Mesh& mesh, const BenchResults& 
     md << "## Pictures (" << p.width << "x" << p.height << " primary rays)\n\n"
        << "| BVH8 render | BVH2 nodes visited | BVH8 nodes visited |\n|---|---|---|\n"
        << "| ![render](render_bvh8.png) | ![bvh2](heat_bvh2.png) | ![bvh8](heat_bvh8.png) |\n\n"
-       << "Disagreement pixels (red): BVH2 vs BVH8 " << p.differ_bvh2_bvh8 << ", BVH8 vs Embree " << p.differ_bvh8_embree
-       << ".\n\n| BVH2 vs BVH8 | BVH8 vs Embree |\n|---|---|\n"
+       << "Disagreement pixels (red): BVH2 vs BVH8 " << p.differ_bvh2_bvh8 << ", BVH8 vs Embree "
+       << p.differ_bvh8_embree << ".\n\n| BVH2 vs BVH8 | BVH8 vs Embree |\n|---|---|\n"
        << "| ![](disagree_bvh2_bvh8.png) | ![](disagree_bvh8_embree.png) |\n";
 }
 
@@ -168,12 +163,16 @@ std::string results_block(const BenchConfig& c, const Mesh& mesh, const BenchRes
           << " In parentheses the ratio to Embree 3 medium in the same run._\n\nOne thread:\n\n"
           << speed_table(recs, 1).markdown() << "\n";
     if (c.threads_all > 1)
-        block << "All cores (" << c.threads_all << " threads):\n\n" << speed_table(recs, c.threads_all).markdown() << "\n";
-    block << "Builds:\n\n" << build_table(recs, c.threads_all).markdown() << "\n"
+        block << "All cores (" << c.threads_all << " threads):\n\n"
+              << speed_table(recs, c.threads_all).markdown() << "\n";
+    block << "Builds:\n\n"
+          << build_table(recs, c.threads_all).markdown() << "\n"
           << (res.refit.empty() ? "" : "Refit against rebuild:\n\n" + refit_markdown(res.refit, link, charts))
-          << "Wide vs binary:\n\n" << width_section(c, res, link, charts, "**")
-          << "Accuracy on the sample, all ray kinds and queries:\n\n" << accuracy_table(recs).markdown() << "\n";
-    if (charts) block << "![Mrays/s](" << link << "mrays.png)\n![speed against accuracy](" << link << "speed_accuracy.png)\n";
+          << "Wide vs binary:\n\n"
+          << width_section(c, res, link, charts, "**") << "Accuracy on the sample, all ray kinds and queries:\n\n"
+          << accuracy_table(recs).markdown() << "\n";
+    if (charts)
+        block << "![Mrays/s](" << link << "mrays.png)\n![speed against accuracy](" << link << "speed_accuracy.png)\n";
     block << "![render](" << link << "render_bvh8.png) ![BVH2 nodes](" << link << "heat_bvh2.png) "
           << "![BVH8 nodes](" << link << "heat_bvh8.png)\n";
     return block.str();
@@ -205,7 +204,7 @@ void print_summary(const BenchConfig& c, const BenchResults& res) {
 }
 
 const char* kCharts[] = {"mrays.png", "speed_accuracy.png", "speedup.png", "build.png", "widths.png", "refit.png"};
-const char* kDocPictures[] = {"mrays.png",  "speed_accuracy.png", "speedup.png",   "build.png",    "widths.png",
+const char* kDocPictures[] = {"mrays.png", "speed_accuracy.png", "speedup.png",   "build.png",    "widths.png",
                               "refit.png", "render_bvh8.png",    "heat_bvh2.png", "heat_bvh8.png"};
 
 }  // namespace
@@ -245,8 +244,8 @@ void report_bench(const BenchConfig& c, const Mesh& mesh, const BenchResults& re
         std::vector<std::pair<std::string, std::string>> pictures;
         for (const char* name : kDocPictures) pictures.emplace_back(name, name);
         add_results_docs(
-            set, c.docs, kBenchBlock, [&](const std::string& link) { return results_block(c, mesh, res, charts, link); },
-            dir, pictures);
+            set, c.docs, kBenchBlock,
+            [&](const std::string& link) { return results_block(c, mesh, res, charts, link); }, dir, pictures);
     }
     set.commit();
     std::cout << "\nwrote " << c.json_file << "\n";

@@ -89,7 +89,8 @@ struct Built {
 Built build_method(const Mesh& mesh, MethodSpec spec, int threads, int warm_reps) {
     spec.threads = threads;
     spec.build.threads = threads;
-    progress("building " + spec.label() + " (" + std::to_string(threads) + " thread" + (threads > 1 ? "s)" : ")"), true);
+    progress("building " + spec.label() + " (" + std::to_string(threads) + " thread" + (threads > 1 ? "s)" : ")"),
+             true);
     Built b;
     b.tracer = make_tracer(mesh, spec);
     b.cold_ms = b.tracer->build_ms;

@@ -20,8 +20,8 @@ struct BenchConfig {
     std::vector<std::string> width_scenes;  // further scenes for the wide-vs-binary chart (tree methods only)
     bool quick = false;
     int threads_all = 1;
-    int reps = 5;        // timed traces per row (median), after one untimed warm-up; methods interleaved
-    int build_reps = 3;  // warm builds per method (median), after the cold (first) one
+    int reps = 5;           // timed traces per row (median), after one untimed warm-up; methods interleaved
+    int build_reps = 3;     // warm builds per method (median), after the cold (first) one
     int refit_frames = 20;  // the refit sequence (refit_run.h); 0: none
     std::size_t rays = 262144, sample = 1000, stats_rays = 16384;
     std::string json_file, report_dir;  // report_dir empty: --no-report
@@ -48,7 +48,7 @@ struct BenchResults {
     std::vector<Record> records;  // every method on c.scene
     std::vector<Record> widths;   // bvh2 and bvhN per ISA, one thread, on c.scene and every width scene
     std::vector<std::pair<std::string, std::size_t>> width_scene_sizes;  // (scene, triangles)
-    std::vector<RefitFrame> refit;  // the refit sequence on c.scene
+    std::vector<RefitFrame> refit;                                       // the refit sequence on c.scene
     // The hard accuracy families (quick cases, `simdbvh accuracy --quick --family ...`) for our default
     // paths and Embree's: family -> one row per method, summed over the family's cases.
     std::map<std::string, std::vector<AccuracyRow>> hard;
@@ -62,7 +62,7 @@ struct NamedMesh {
 // `mesh` is c.scene; `width_meshes` the width scenes (loaded up front, so a bad one fails before the run).
 // The families whose disagreements the speed-against-accuracy chart shows (the bench's own rays agree).
 inline constexpr workloads::Family kHardFamilies[] = {workloads::Family::watertight, workloads::Family::grazing,
-                                                  workloads::Family::offsets, workloads::Family::direction_scale};
+                                                      workloads::Family::offsets, workloads::Family::direction_scale};
 // Runs them on one thread per trace (the reference on `threads`).
 std::map<std::string, std::vector<AccuracyRow>> run_hard_families(int threads);
 // The bench label ("bvh2", "bvh8/avx2", "embree/medium/default") an accuracy variant's row measures; empty

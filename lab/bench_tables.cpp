@@ -37,7 +37,8 @@ std::vector<Record> of_scene(const std::vector<Record>& recs, const std::string&
 double collapse_median(const std::vector<Record>& recs, int width) {
     std::vector<double> v;
     for (const Record& r : recs)
-        if (r.width == width && r.ray_kind == "primary" && r.query == "closest" && r.threads == 1) v.push_back(r.collapse_ms);
+        if (r.width == width && r.ray_kind == "primary" && r.query == "closest" && r.threads == 1)
+            v.push_back(r.collapse_ms);
     std::sort(v.begin(), v.end());
     return v.empty() ? 0.0 : v[v.size() / 2];
 }

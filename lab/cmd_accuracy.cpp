@@ -24,7 +24,8 @@ std::vector<workloads::Family> parse_families(const Options& o) {
     while (std::getline(ss, f, ',')) {
         const auto p = workloads::parse_family(f);
         if (!p)
-            throw UsageError("unknown --family '" + f + "' (watertight, offsets, axis-aligned, surface-start, grazing, "
+            throw UsageError("unknown --family '" + f +
+                             "' (watertight, offsets, axis-aligned, surface-start, grazing, "
                              "needles, degenerate, random, direction-scale)");
         fams.push_back(*p);
     }
@@ -32,7 +33,8 @@ std::vector<workloads::Family> parse_families(const Options& o) {
 }
 
 AccuracyConfig parse_accuracy(const std::vector<std::string>& args) {
-    const Options o("accuracy", args, {"report", "json", "seed", "family", "threads", "scene"}, {"quick", "no-embree", "no-open3d", "inside"});
+    const Options o("accuracy", args, {"report", "json", "seed", "family", "threads", "scene"},
+                    {"quick", "no-embree", "no-open3d", "inside"});
     AccuracyConfig c;
     c.quick = o.has("quick");
     c.embree = !o.has("no-embree");
@@ -50,7 +52,8 @@ AccuracyConfig parse_accuracy(const std::vector<std::string>& args) {
     NamedPaths outputs;
     if (o.has("json")) outputs.emplace_back("--json", c.json_file);
     if (o.has("report"))
-        for (const char* f : {"accuracy.md", "accuracy.json", "speed_vs_accuracy.png", "offsets.png", "inside_outside.png"})
+        for (const char* f :
+             {"accuracy.md", "accuracy.json", "speed_vs_accuracy.png", "offsets.png", "inside_outside.png"})
             outputs.emplace_back("--report", (std::filesystem::path(c.report_dir) / f).string());
     // The random family's scene: --scene, else dragon-res4 when cached (family_random.cpp).
     const bool random = std::find(c.which.begin(), c.which.end(), workloads::Family::random) != c.which.end();

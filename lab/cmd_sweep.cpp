@@ -14,8 +14,8 @@
 namespace simdbvh::cli {
 
 int cmd_bench_sweep(const std::vector<std::string>& args) {
-    const Options o("bench --sweep", args, {"threads", "json", "report", "reps", "build-reps", "budget-ms", "model-out", "readme",
-                                                  "publish"},
+    const Options o("bench --sweep", args,
+                    {"threads", "json", "report", "reps", "build-reps", "budget-ms", "model-out", "readme", "publish"},
                     {"sweep", "quick", "no-report"});
     SweepConfig c;
     c.quick = o.has("quick");

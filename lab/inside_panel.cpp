@@ -58,8 +58,7 @@ void run_mesh(const MeshCase& mc, bool embree, const Open3dAnswer* o3d, std::vec
         }
     for (std::size_t k = 0; k < mc.sets.size(); ++k) {
         const PointSet& set = mc.sets[k];
-        progress("inside/outside: " + mc.name + ", " + set.name + " (" + std::to_string(set.points.size()) +
-                     " points)",
+        progress("inside/outside: " + mc.name + ", " + set.name + " (" + std::to_string(set.points.size()) + " points)",
                  true);
         const std::vector<Side> ref = reference::cgal_sides(mesh, set.points);
         std::size_t surface = 0;
@@ -72,10 +71,10 @@ void run_mesh(const MeshCase& mc, bool embree, const Open3dAnswer* o3d, std::vec
         };
         // Along +z, the ray the families are built to break (through vertices
         // and along edges), with both rules; and the default ray (shortest).
-        for (auto [rule, ray, name] : {std::tuple{InsideOptions::Rule::winding, CountRay::plus_z, "simdbvh (winding)"},
-                                       std::tuple{InsideOptions::Rule::parity, CountRay::plus_z, "simdbvh (parity)"},
-                                       std::tuple{InsideOptions::Rule::winding, CountRay::shortest,
-                                                  "simdbvh (winding, shortest ray)"}}) {
+        for (auto [rule, ray, name] :
+             {std::tuple{InsideOptions::Rule::winding, CountRay::plus_z, "simdbvh (winding)"},
+              std::tuple{InsideOptions::Rule::parity, CountRay::plus_z, "simdbvh (parity)"},
+              std::tuple{InsideOptions::Rule::winding, CountRay::shortest, "simdbvh (winding, shortest ray)"}}) {
             std::vector<PointSide> out(set.points.size());
             InsideOptions o;
             o.rule = rule;
@@ -95,10 +94,8 @@ void run_mesh(const MeshCase& mc, bool embree, const Open3dAnswer* o3d, std::vec
         }
         if (!o3d) continue;
         const Open3dAnswer& a = o3d[k];
-        if (a.error.empty())
-            tally(kOpen3dMethod, a.seconds, [&](std::size_t i) { return a.sides[i]; });
-        else
-            rows.push_back({mc.name, set.name, kOpen3dMethod, set.points.size() - surface, surface, 0, 0, a.error});
+        if (a.error.empty()) tally(kOpen3dMethod, a.seconds, [&](std::size_t i) { return a.sides[i]; });
+        else rows.push_back({mc.name, set.name, kOpen3dMethod, set.points.size() - surface, surface, 0, 0, a.error});
     }
 }
 

@@ -69,7 +69,8 @@ Open3dAnswer parse_occupancy(std::span<const unsigned char> bytes, std::size_t p
     a.sides.resize(points);
     for (std::size_t i = 0; i < points; ++i) {
         const unsigned char b = bytes[8 + i];
-        if (b > 1) throw Error("Open3D worker output: byte " + std::to_string(int(b)) + " for point " + std::to_string(i));
+        if (b > 1)
+            throw Error("Open3D worker output: byte " + std::to_string(int(b)) + " for point " + std::to_string(i));
         a.sides[i] = b ? Side::inside : Side::outside;
     }
     return a;

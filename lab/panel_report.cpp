@@ -108,7 +108,8 @@ void panel_markdown(const PanelConfig& c, const Mesh& mesh, const std::vector<Pa
         if (!r.skipped && r.name == "spheres") md << "- spheres: " << r.note << "; no BVH8 for spheres.\n";
     }
     md << "- Every row's frame hits are compared bit for bit with the " << rows[0].name << " row: mismatches " << mism
-       << ".\n\n## Leaf sizes (BVH2 leaves by triangle count)\n\n" << leaf_table(rows).markdown() << "\n";
+       << ".\n\n## Leaf sizes (BVH2 leaves by triangle count)\n\n"
+       << leaf_table(rows).markdown() << "\n";
     if (charts)
         md << "## Charts\n\n![build time against trace speed](build_vs_trace.png)\n\n"
               "![SAH cost against measured speed](sah_vs_mrays.png)\n\n![leaf sizes](leaf_hist.png)\n";
@@ -122,8 +123,9 @@ void report_panel(const PanelConfig& c, const Mesh& mesh, const std::vector<Pane
               << c.rays << " rays per kind (best of " << c.reps << "; builds best of " << c.build_reps
               << "); nodes/ray on " << c.stats_rays << " evenly spaced rays; frame = " << kFrameW << "x" << kFrameH
               << " primary rays\n"
-              << speed_table(rows, c.threads_all).text() << "frame diff = frame hits (BVH2 + BVH8) not bit-identical to the "
-              << rows[0].name << " row (0 expected)\n";
+              << speed_table(rows, c.threads_all).text()
+              << "frame diff = frame hits (BVH2 + BVH8) not bit-identical to the " << rows[0].name
+              << " row (0 expected)\n";
     // One set, written at the end (ReportFiles).
     Report rep;
     rep.json = panel_json(c, mesh, rows);
@@ -132,8 +134,8 @@ void report_panel(const PanelConfig& c, const Mesh& mesh, const std::vector<Pane
     set.add(c.json_file, json);
     const std::filesystem::path md = std::filesystem::path(c.report_dir) / "panel.md";
     if (!c.report_dir.empty()) {
-        const bool charts = set.add_charts("plot_panel.py", json, std::filesystem::path(c.json_file).filename().string(),
-                                           c.report_dir);
+        const bool charts =
+            set.add_charts("plot_panel.py", json, std::filesystem::path(c.json_file).filename().string(), c.report_dir);
         panel_markdown(c, mesh, rows, charts, rep.markdown);
         set.add(md, rep.markdown.str());
     }

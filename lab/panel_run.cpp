@@ -115,7 +115,8 @@ Tree timed_builds(const PanelConfig& c, const Mesh& mesh, const BuildOptions& bo
     progress("building " + row.name + " (1 thread)", true);
     Tree t = Tree::build(mesh, bo);
     row.build_ms_1 = t.stats().build_ms;
-    for (int r = 1; r < c.build_reps; ++r) row.build_ms_1 = std::min(row.build_ms_1, Tree::build(mesh, bo).stats().build_ms);
+    for (int r = 1; r < c.build_reps; ++r)
+        row.build_ms_1 = std::min(row.build_ms_1, Tree::build(mesh, bo).stats().build_ms);
     BuildOptions many = bo;
     many.threads = c.threads_all;
     progress("building " + row.name + " (" + std::to_string(c.threads_all) + " threads)", true);
@@ -196,10 +197,8 @@ std::vector<PanelRow> run_panel(const PanelConfig& c, const Mesh& mesh) {
         BuildOptions bo;
         bo.builder = *parse_builder(row.builder);
         if (row.bins) bo.bins = row.bins;
-        if (row.name == "spheres")
-            spheres_row(c, mesh, bo, row, rt);
-        else
-            builder_row(c, mesh, bo, row, rt);
+        if (row.name == "spheres") spheres_row(c, mesh, bo, row, rt);
+        else builder_row(c, mesh, bo, row, rt);
     }
     return rows;
 }

@@ -16,10 +16,10 @@ struct BenchConfig;
 
 struct RefitFrame {
     int frame = 0;
-    double radians = 0;  // twist of this frame (top of the mesh against its bottom)
+    double radians = 0;                                     // twist of this frame (top of the mesh against its bottom)
     double refit_ms = 0, refit_ms_all = 0, rebuild_ms = 0;  // ours: BVH8 refit (1 thread, all cores), Bvh8::build
-    double embree_refit_ms = 0, embree_rebuild_ms = 0;       // update_vertices: copy + rtcCommitScene
-    double sah_refit = 0, sah_rebuild = 0;                   // BVH8 SAH cost after each
+    double embree_refit_ms = 0, embree_rebuild_ms = 0;      // update_vertices: copy + rtcCommitScene
+    double sah_refit = 0, sah_rebuild = 0;                  // BVH8 SAH cost after each
     // Mrays/s per ray kind (primary, incoherent), closest hit, one thread.
     double mrays_refit[2] = {}, mrays_rebuild[2] = {}, mrays_embree_refit[2] = {}, mrays_embree_rebuild[2] = {};
     std::size_t differ = 0;  // rays whose refit hit differs in any bit from the rebuild's (must be 0)

@@ -23,7 +23,8 @@ DocState state_of(const ResultsDoc& d, const Block& b) {
         return DocState::has_block;
     } catch (const Error& e) {
         // Only a readable file without the markers may get the block appended.
-        if (!d.create || std::string(e.what()).find(": no '") == std::string::npos) throw Error(d.option + ": " + e.what());
+        if (!d.create || std::string(e.what()).find(": no '") == std::string::npos)
+            throw Error(d.option + ": " + e.what());
         return DocState::lacks_block;
     }
 }
@@ -42,7 +43,8 @@ std::vector<ResultsDoc> parse_results_docs(const Options& o, bool no_report) {
     std::vector<ResultsDoc> docs;
     for (const char* opt : {"readme", "publish"})
         if (o.has(opt) && no_report)
-            throw UsageError(std::string("--") + opt + " writes the report's pictures too: it needs the report (drop --no-report)");
+            throw UsageError(std::string("--") + opt +
+                             " writes the report's pictures too: it needs the report (drop --no-report)");
     if (o.has("readme")) {
         const fs::path f = o.get("readme");
         docs.push_back({"--readme", f, (f.has_parent_path() ? f.parent_path() : fs::path(".")) / "docs" / "results",

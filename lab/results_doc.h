@@ -16,11 +16,11 @@
 namespace simdbvh::cli {
 
 struct ResultsDoc {
-    std::string option;     // "--readme" or "--publish"
+    std::string option;               // "--readme" or "--publish"
     std::filesystem::path file;       // FILE, or DIR/results.md
     std::filesystem::path image_dir;  // FILE's folder/docs/results, or DIR/results
     std::string link;                 // the pictures' path in the block: "docs/results/" or "results/"
-    bool create = false;    // --publish: a missing file is created, one without the block gets it appended
+    bool create = false;              // --publish: a missing file is created, one without the block gets it appended
 };
 
 // --readme FILE and --publish DIR (either, both or neither). Both need the report's pictures: a UsageError

@@ -54,22 +54,40 @@ Json results_json(const BenchConfig& c, const SceneDescBenchResults& r) {
            {"plane_rows", Json::array()},
            {"sphere_precision", sphere_precision_json(r.sphere_precision)}};
     for (const auto& b : r.builds)
-        j["builds"].push_back({{"method", b.method}, {"build_ms", b.build_ms}, {"bytes", b.bytes}, {"estimated", b.estimated}});
+        j["builds"].push_back(
+            {{"method", b.method}, {"build_ms", b.build_ms}, {"bytes", b.bytes}, {"estimated", b.estimated}});
     for (const auto& s : r.speed)
-        j["speed"].push_back({{"method", s.method}, {"rays", s.rays}, {"query", s.query}, {"mrays_per_s", s.mrays_per_s}});
+        j["speed"].push_back(
+            {{"method", s.method}, {"rays", s.rays}, {"query", s.query}, {"mrays_per_s", s.mrays_per_s}});
     for (const auto& a : r.agreement)
-        j["agreement"].push_back({{"method", a.method}, {"rays", a.rays}, {"count", a.count}, {"same", a.same},
-                                  {"same_bits", a.same_bits}, {"other_object", a.other_object},
-                                  {"only_ours", a.only_ours}, {"only_theirs", a.only_theirs}, {"differ", a.differ},
-                                  {"refereed", a.refereed}, {"ours", tally_json(a.ours)}, {"theirs", tally_json(a.theirs)}});
+        j["agreement"].push_back({{"method", a.method},
+                                  {"rays", a.rays},
+                                  {"count", a.count},
+                                  {"same", a.same},
+                                  {"same_bits", a.same_bits},
+                                  {"other_object", a.other_object},
+                                  {"only_ours", a.only_ours},
+                                  {"only_theirs", a.only_theirs},
+                                  {"differ", a.differ},
+                                  {"refereed", a.refereed},
+                                  {"ours", tally_json(a.ours)},
+                                  {"theirs", tally_json(a.theirs)}});
     for (const auto& t : r.tessellation)
-        j["tessellation"].push_back({{"method", t.method}, {"level", t.level}, {"triangles", t.triangles},
-                                     {"bytes", t.bytes}, {"mrays_primary", t.mrays_primary},
-                                     {"mrays_incoherent", t.mrays_incoherent}, {"same_sphere", t.same_sphere},
-                                     {"median_err", t.median_err}, {"max_err", t.max_err}});
+        j["tessellation"].push_back({{"method", t.method},
+                                     {"level", t.level},
+                                     {"triangles", t.triangles},
+                                     {"bytes", t.bytes},
+                                     {"mrays_primary", t.mrays_primary},
+                                     {"mrays_incoherent", t.mrays_incoherent},
+                                     {"same_sphere", t.same_sphere},
+                                     {"median_err", t.median_err},
+                                     {"max_err", t.max_err}});
     for (const auto& p : r.planes)
-        j["plane_rows"].push_back({{"method", p.method}, {"rays", p.rays}, {"mrays_per_s", p.mrays_per_s},
-                                   {"count", p.count}, {"same_t", p.same_t}});
+        j["plane_rows"].push_back({{"method", p.method},
+                                   {"rays", p.rays},
+                                   {"mrays_per_s", p.mrays_per_s},
+                                   {"count", p.count},
+                                   {"same_t", p.same_t}});
     return j;
 }
 
@@ -89,7 +107,8 @@ Table speed_table(const SceneDescBenchResults& r) {
         for (const char* rays : {"primary", "incoherent"})
             for (const char* q : {"closest", "any"}) {
                 const double v = find(m, rays, q), e = find("Embree instanced", rays, q);
-                row.push_back(fmt("%.2f", v) + (m != "Embree instanced" && e > 0 ? " (" + fmt("%.2fx", v / e) + ")" : ""));
+                row.push_back(fmt("%.2f", v) +
+                              (m != "Embree instanced" && e > 0 ? " (" + fmt("%.2fx", v / e) + ")" : ""));
             }
         t.row(row);
     }
@@ -116,14 +135,17 @@ Table agreement_table(const SceneDescBenchResults& r) {
 std::string labels(const reference::SceneTally& t) {
     std::string s;
     for (int i = 2; i < 6; ++i)
-        if (t.count[i]) s += (s.empty() ? "" : ", ") + std::string(reference::name(reference::SceneLabel(i))) + " " + std::to_string(t.count[i]);
+        if (t.count[i])
+            s += (s.empty() ? "" : ", ") + std::string(reference::name(reference::SceneLabel(i))) + " " +
+                 std::to_string(t.count[i]);
     if (s.empty()) return "none";
     return s + (t.marginal ? " (" + std::to_string(t.marginal) + " marginal)" : "");
 }
 
 // The differing rays, both answers classified against the double reference.
 Table referee_table(const SceneDescBenchResults& r) {
-    Table t({"ours against", "rays", "differ", "refereed", "ours: agree / tie", "ours wrong", "it: agree / tie", "it wrong"});
+    Table t({"ours against", "rays", "differ", "refereed", "ours: agree / tie", "ours wrong", "it: agree / tie",
+             "it wrong"});
     for (const auto& a : r.agreement) {
         if (a.method == "brute force") continue;
         t.row({a.method, a.rays, std::to_string(a.differ), std::to_string(a.refereed),
@@ -146,7 +168,8 @@ Table tessellation_table(const SceneDescBenchResults& r) {
 Table planes_table(const SceneDescBenchResults& r) {
     Table t({"method", "rays", "Mrays/s", "same t as planes out"});
     for (const auto& p : r.planes)
-        t.row({p.method, p.rays, fmt("%.2f", p.mrays_per_s), std::to_string(p.same_t) + " / " + std::to_string(p.count)});
+        t.row(
+            {p.method, p.rays, fmt("%.2f", p.mrays_per_s), std::to_string(p.same_t) + " / " + std::to_string(p.count)});
     return t;
 }
 
@@ -154,8 +177,9 @@ Table precision_table(const SceneDescBenchResults& r) {
     Table t({"distance / radius", "naive: misses", "median err", "robust: misses", "median err", "Embree: misses",
              "median err"});
     for (const auto& p : r.sphere_precision)
-        t.row({fmt("%.3g", p.ratio), fmt("%.4f", p.miss_naive), fmt("%.2e", p.median_err_naive), fmt("%.4f", p.miss_robust),
-               fmt("%.2e", p.median_err_robust), fmt("%.4f", p.miss_embree), fmt("%.2e", p.median_err_embree)});
+        t.row({fmt("%.3g", p.ratio), fmt("%.4f", p.miss_naive), fmt("%.2e", p.median_err_naive),
+               fmt("%.4f", p.miss_robust), fmt("%.2e", p.median_err_robust), fmt("%.4f", p.miss_embree),
+               fmt("%.2e", p.median_err_embree)});
     return t;
 }
 
@@ -175,7 +199,8 @@ std::string summary(const std::vector<SpherePrecisionRow>& rows) {
     std::ostringstream s;
     s << "First false miss: naive float quadratic " << first_miss([](const auto& p) { return p.miss_naive; })
       << ", robust " << first_miss([](const auto& p) { return p.miss_robust; }) << ", Embree "
-      << first_miss([](const auto& p) { return p.miss_embree; }) << ". Median relative error at 10^3 / 10^6 radii: naive "
+      << first_miss([](const auto& p) { return p.miss_embree; })
+      << ". Median relative error at 10^3 / 10^6 radii: naive "
       << err_at(1e3, [](const auto& p) { return p.median_err_naive; }) << " / "
       << err_at(1e6, [](const auto& p) { return p.median_err_naive; }) << ", robust "
       << err_at(1e3, [](const auto& p) { return p.median_err_robust; }) << " / "
@@ -225,14 +250,16 @@ std::string body(const SceneDescBenchResults& r, const std::string& img, bool ch
     if (!r.sphere_precision.empty()) {
         md << h("Sphere precision: distance against radius");
         if (!readme) md << precision_table(r).markdown() << "\n";  // the README keeps the chart and the summary
-        md << summary(r.sphere_precision) << "\n\nEach row: rays from a random origin aimed at random points of the disc of radius 0.9 r around the "
+        md << summary(r.sphere_precision)
+           << "\n\nEach row: rays from a random origin aimed at random points of the disc of radius 0.9 r around the "
               "centre (every one should hit); error | |p - c| - r | / r at the hit point; misses are false misses.\n\n";
         if (charts) md << "![sphere precision](" << img << "sphere_precision.png)\n\n";
     }
     if (!r.planes.empty())
         md << h("Planes kept out of the tree against put in it") << r.planes_in_tree
            << " axis-aligned planes as flat boxes 2000x the scene's size across, in the top-level tree (ours) or as "
-              "quads (Embree). \"Same t\": against the same method with the planes kept out (our slab test computes the plane "
+              "quads (Embree). \"Same t\": against the same method with the planes kept out (our slab test computes "
+              "the plane "
               "test's t; Embree's float quad test does not).\n\n"
            << planes_table(r).markdown() << "\n";
     if (charts) md << "![speed](" << img << "scene_speed.png)\n\n";
@@ -259,9 +286,11 @@ void add_scene_desc_bench_outputs(const BenchConfig& c, NamedPaths& outputs) {
 }
 
 void report_scene_desc_bench(const BenchConfig& c, const SceneDescBenchResults& r) {
-    std::cout << "\nscene " << r.scene << "; " << c.machine << "\n\nMrays/s, one thread:\n" << speed_table(r).text()
-              << "\nbuilds:\n" << build_table(r).text() << "\nagreement:\n" << agreement_table(r).text()
-              << "\nrefereed in double:\n" << referee_table(r).text();
+    std::cout << "\nscene " << r.scene << "; " << c.machine << "\n\nMrays/s, one thread:\n"
+              << speed_table(r).text() << "\nbuilds:\n"
+              << build_table(r).text() << "\nagreement:\n"
+              << agreement_table(r).text() << "\nrefereed in double:\n"
+              << referee_table(r).text();
     if (!r.tessellation.empty()) std::cout << "\ntessellation:\n" << tessellation_table(r).text();
     if (!r.sphere_precision.empty()) std::cout << "\nsphere precision:\n" << precision_table(r).text();
     if (!r.planes.empty()) std::cout << "\nplanes:\n" << planes_table(r).text();
@@ -277,7 +306,8 @@ void report_scene_desc_bench(const BenchConfig& c, const SceneDescBenchResults& 
         MethodSpec spec;
         spec.method = "bvh8";
         spec.isa = active_isa();
-        set.add(dir / "scene_render.png", encode_png(render_scene_image(c.scene, spec, InstanceBounds::child_corners, 640, 480)));
+        set.add(dir / "scene_render.png",
+                encode_png(render_scene_image(c.scene, spec, InstanceBounds::child_corners, 640, 480)));
         rep.markdown << "# simdbvh bench report: scene " << r.scene << "\n\nMachine: " << c.machine << "\n\nCommand: `"
                      << c.command << "`\n\nEmbree " << reference::EmbreeScene::version() << ". " << kNote << "\n\n"
                      << body(r, "", charts, false) << "![render](scene_render.png)\n";

@@ -86,7 +86,9 @@ SceneHit scene_hit_of(const Hit& h, const SceneDesc& d, const std::vector<std::u
     return SceneHit{h.t, h.u, h.v, h.prim - first[inst], d.instances[inst].geometry, inst};
 }
 
-std::size_t wide_bytes(const Bvh8& b) { return b.nodes().size() * sizeof(Bvh8::Node) + b.blocks().size() * sizeof(Tri8); }
+std::size_t wide_bytes(const Bvh8& b) {
+    return b.nodes().size() * sizeof(Bvh8::Node) + b.blocks().size() * sizeof(Tri8);
+}
 
 Method scene_method(std::string name, const SceneBvhN<8>& s, std::vector<SceneHit>& buf) {
     return Method{std::move(name),
@@ -197,7 +199,8 @@ void tessellation(const BenchConfig& c, const SphereSet& all, SceneDescBenchResu
     std::vector<Method> methods;
     methods.push_back(scene_method(rows[0].method, trees[0], bufs[0]));
     methods.push_back(embree_method(rows[1].method, embree, bufs[1]));
-    for (std::size_t i = 1; i < trees.size(); ++i) methods.push_back(scene_method(rows[i + 1].method, trees[i], bufs[i + 1]));
+    for (std::size_t i = 1; i < trees.size(); ++i)
+        methods.push_back(scene_method(rows[i + 1].method, trees[i], bufs[i + 1]));
     std::vector<Method*> ptrs;
     for (Method& m : methods) ptrs.push_back(&m);
     const auto mp = time_methods(ptrs, primary, false, c.reps);
@@ -278,7 +281,8 @@ void planes(const BenchConfig& c, const SceneDesc& desc, const std::vector<Ray> 
             PlaneRow row{ms[j].name, kinds[k], mr[j], rays[k].size(), 0};
             for (std::size_t i = 0; i < rays[k].size(); ++i) {  // each "in" row against its own "out" row
                 const SceneHit a = ms[j & ~std::size_t(1)].hit(i), h = ms[j].hit(i);
-                row.same_t += a.hit() == h.hit() && std::bit_cast<std::uint32_t>(a.t) == std::bit_cast<std::uint32_t>(h.t);
+                row.same_t +=
+                    a.hit() == h.hit() && std::bit_cast<std::uint32_t>(a.t) == std::bit_cast<std::uint32_t>(h.t);
             }
             res.planes.push_back(row);
         }
@@ -294,9 +298,10 @@ SceneDescBenchResults run_scene_desc_bench(const BenchConfig& c, const SceneDesc
     SceneOptions child, corners;
     corners.bounds = InstanceBounds::corners;
     SceneBvhN<8> ours, ours_corners;
-    const double ms_child = build_median(c.build_reps, [&] { return timed_ms([&] { ours = SceneBvhN<8>::build(desc, child); }); });
-    const double ms_corners =
-        build_median(c.build_reps, [&] { return timed_ms([&] { ours_corners = SceneBvhN<8>::build(desc, corners); }); });
+    const double ms_child =
+        build_median(c.build_reps, [&] { return timed_ms([&] { ours = SceneBvhN<8>::build(desc, child); }); });
+    const double ms_corners = build_median(
+        c.build_reps, [&] { return timed_ms([&] { ours_corners = SceneBvhN<8>::build(desc, corners); }); });
     std::unique_ptr<reference::EmbreeInstanceScene> embree;
     const double ms_embree = build_median(c.build_reps, [&] {
         embree.reset();
@@ -322,7 +327,8 @@ SceneDescBenchResults run_scene_desc_bench(const BenchConfig& c, const SceneDesc
         if (flat_tris <= kMaxFlattenedTriangles) {
             progress("flattening " + std::to_string(flat_tris) + " triangles", true);
             const Mesh mesh = flatten(desc, &first);
-            const double ms_flat = build_median(c.build_reps, [&] { return timed_ms([&] { flat = Bvh8::build(mesh); }); });
+            const double ms_flat =
+                build_median(c.build_reps, [&] { return timed_ms([&] { flat = Bvh8::build(mesh); }); });
             const double ms_eflat = build_median(c.build_reps, [&] {
                 embree_flat.reset();
                 return timed_ms([&] { embree_flat = std::make_unique<reference::EmbreeScene>(mesh); });
@@ -330,13 +336,14 @@ SceneDescBenchResults run_scene_desc_bench(const BenchConfig& c, const SceneDesc
             res.builds.push_back({"BVH8 flattened", ms_flat, wide_bytes(flat)});
             const auto& es = embree_flat->stats();
             res.builds.push_back({"Embree flattened", ms_eflat, std::size_t(es.buffer_bytes + es.bvh_bytes)});
-            methods.push_back(Method{"BVH8 flattened",
-                                     [&](std::span<const Ray> rays, bool any) {
-                                         flat_hits.resize(rays.size());
-                                         any ? occluded(flat, rays, std::span<Hit>(flat_hits), TraceOptions{}, active_isa())
-                                             : intersect(flat, rays, std::span<Hit>(flat_hits), TraceOptions{}, active_isa());
-                                     },
-                                     [&](std::size_t i) { return scene_hit_of(flat_hits[i], desc, first); }});
+            methods.push_back(
+                Method{"BVH8 flattened",
+                       [&](std::span<const Ray> rays, bool any) {
+                           flat_hits.resize(rays.size());
+                           any ? occluded(flat, rays, std::span<Hit>(flat_hits), TraceOptions{}, active_isa())
+                               : intersect(flat, rays, std::span<Hit>(flat_hits), TraceOptions{}, active_isa());
+                       },
+                       [&](std::size_t i) { return scene_hit_of(flat_hits[i], desc, first); }});
             methods.push_back(Method{"Embree flattened",
                                      [&](std::span<const Ray> rays, bool any) {
                                          if (any) {
@@ -358,7 +365,8 @@ SceneDescBenchResults run_scene_desc_bench(const BenchConfig& c, const SceneDesc
     }
 
     const Aabb box = world_bounds(desc);
-    const std::vector<Ray> rays[2] = {workloads::scene_camera_rays(desc, c.rays), workloads::interior_rays(box, c.rays, 9)};
+    const std::vector<Ray> rays[2] = {workloads::scene_camera_rays(desc, c.rays),
+                                      workloads::interior_rays(box, c.rays, 9)};
     res.rays = rays[1].size();
     const char* kinds[2] = {"primary", "incoherent"};
     std::vector<Method*> ptrs;
@@ -379,12 +387,14 @@ SceneDescBenchResults run_scene_desc_bench(const BenchConfig& c, const SceneDesc
         for (std::size_t i = 1; i < methods.size(); ++i)
             agreement(methods[i].name, kinds[k], rays[k], methods[0], methods[i].hit, &referee, res.agreement);
         const double budget = 2e9 / double(std::max<std::size_t>(1, flat_tris + desc.planes.size()));
-        const std::size_t n = std::min<std::size_t>({c.sample, rays[k].size(), std::max<std::size_t>(16, std::size_t(budget))});
+        const std::size_t n =
+            std::min<std::size_t>({c.sample, rays[k].size(), std::max<std::size_t>(16, std::size_t(budget))});
         progress(std::string("brute force on ") + std::to_string(n) + " " + kinds[k] + " rays", true);
         std::vector<SceneHit> brute(n);
         brute_force_intersect(desc, std::span<const Ray>(rays[k]).first(n), brute);
-        agreement("brute force", kinds[k], std::span<const Ray>(rays[k]).first(n), methods[0],
-                  [&](std::size_t i) { return brute[i]; }, nullptr, res.agreement);
+        agreement(
+            "brute force", kinds[k], std::span<const Ray>(rays[k]).first(n), methods[0],
+            [&](std::size_t i) { return brute[i]; }, nullptr, res.agreement);
     }
 
     for (const Geometry& g : desc.geometries)

@@ -18,9 +18,9 @@
 namespace simdbvh::cli {
 
 struct SceneSpeedRow {
-    std::string method;  // "BVH8 scene (child-corners)", "Embree instanced", ...
-    std::string rays;    // primary | incoherent
-    std::string query;   // closest | any
+    std::string method;      // "BVH8 scene (child-corners)", "Embree instanced", ...
+    std::string rays;        // primary | incoherent
+    std::string query;       // closest | any
     double mrays_per_s = 0;  // median of c.reps after a warm-up, methods interleaved
 };
 
@@ -55,8 +55,8 @@ struct TessellationRow {
     int level = -1;      // -1: analytic
     std::size_t triangles = 0, bytes = 0;
     double mrays_primary = 0, mrays_incoherent = 0;
-    double same_sphere = 0;               // fraction of rays hitting the same sphere as the analytic test (or both missing)
-    double median_err = 0, max_err = 0;   // | |p - c| - r | / r at the hit point, over the rays it hit
+    double same_sphere = 0;  // fraction of rays hitting the same sphere as the analytic test (or both missing)
+    double median_err = 0, max_err = 0;  // | |p - c| - r | / r at the hit point, over the rays it hit
 };
 
 struct PlaneRow {
@@ -75,7 +75,7 @@ struct SceneDescBenchResults {
     std::vector<SceneAgreementRow> agreement;
     std::vector<TessellationRow> tessellation;  // empty without sphere sets
     std::size_t tessellation_spheres = 0;
-    std::vector<PlaneRow> planes;               // empty without axis-aligned planes
+    std::vector<PlaneRow> planes;  // empty without axis-aligned planes
     std::size_t planes_in_tree = 0;
     std::vector<SpherePrecisionRow> sphere_precision;  // empty without sphere sets
 };

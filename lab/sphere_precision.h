@@ -13,8 +13,8 @@
 namespace simdbvh::cli {
 
 struct SpherePrecisionRow {
-    double ratio;             // distance from ray origin to sphere centre / radius
-    std::size_t rays;         // rays at this ratio (all aimed to hit)
+    double ratio;      // distance from ray origin to sphere centre / radius
+    std::size_t rays;  // rays at this ratio (all aimed to hit)
     // per method: fraction of rays that missed (false misses), and the median and max relative hit-point error
     // | |p - c| - r | / r, with p = o + t d evaluated in double from the method's float t, over the rays it hit
     // (NaN, written as null, when a method hit none)

@@ -111,7 +111,8 @@ CostModel fit_cost_model(const std::vector<SweepRow>& rows, Isa isa) {
                 by.push_back(r.build_ms);
             }
             const double n_rays = double(r.rays);
-            tx.push_back({1.0, n_rays, n_rays * ray_size_term(m, r.triangles), n_rays * ray_cache_term(m, r.triangles)});
+            tx.push_back(
+                {1.0, n_rays, n_rays * ray_size_term(m, r.triangles), n_rays * ray_cache_term(m, r.triangles)});
             ty.push_back(r.trace_ms);
         }
         MethodCost& c = model.cost[std::size_t(m)];

@@ -78,8 +78,8 @@ Table crossover_table(const SweepResults& r, int threads, const std::string& kin
 }
 
 Table check_table(const std::vector<SweepCheck>& checks) {
-    Table t({"scene", "triangles", "rays", "threads", "rays kind", "auto", "predicted ms", "auto ms", "best",
-             "best ms", "auto/best", "within 1.25x", "embree ms"});
+    Table t({"scene", "triangles", "rays", "threads", "rays kind", "auto", "predicted ms", "auto ms", "best", "best ms",
+             "auto/best", "within 1.25x", "embree ms"});
     for (const SweepCheck& c : checks)
         t.row({c.scene, std::to_string(c.triangles), std::to_string(c.rays), std::to_string(c.threads), c.ray_kind,
                c.chosen, fmt("%.3g", c.predicted_ms), fmt("%.3g", c.chosen_ms), c.best, fmt("%.3g", c.best_ms),
@@ -88,7 +88,8 @@ Table check_table(const std::vector<SweepCheck>& checks) {
 }
 
 std::size_t passed(const std::vector<SweepCheck>& checks) {
-    return std::size_t(std::count_if(checks.begin(), checks.end(), [](const SweepCheck& c) { return c.ratio() <= kCheckRatio; }));
+    return std::size_t(
+        std::count_if(checks.begin(), checks.end(), [](const SweepCheck& c) { return c.ratio() <= kCheckRatio; }));
 }
 
 Table model_table(const CostModel& m) {
@@ -111,23 +112,39 @@ Json sweep_json(const SweepConfig& c, const SweepResults& r) {
     j["build_reps"] = c.build_reps;
     j["budget_ms"] = c.budget_ms;
     for (const SweepScene& s : r.scenes)
-        j["scenes"].push_back({{"scene", s.name}, {"triangles", s.triangles}, {"held_out", s.held_out}, {"rays", s.rays}});
+        j["scenes"].push_back(
+            {{"scene", s.name}, {"triangles", s.triangles}, {"held_out", s.held_out}, {"rays", s.rays}});
     for (const SweepRow& row : r.rows)
-        j["rows"].push_back({{"scene", row.scene}, {"triangles", row.triangles}, {"held_out", row.held_out},
-                             {"method", row.method}, {"threads", row.threads}, {"ray_kind", row.ray_kind},
-                             {"rays", row.rays}, {"traced_rays", row.traced_rays}, {"build_ms", row.build_ms},
-                             {"trace_ms", row.trace_ms}, {"total_ms", row.total_ms()}});
+        j["rows"].push_back({{"scene", row.scene},
+                             {"triangles", row.triangles},
+                             {"held_out", row.held_out},
+                             {"method", row.method},
+                             {"threads", row.threads},
+                             {"ray_kind", row.ray_kind},
+                             {"rays", row.rays},
+                             {"traced_rays", row.traced_rays},
+                             {"build_ms", row.build_ms},
+                             {"trace_ms", row.trace_ms},
+                             {"total_ms", row.total_ms()}});
     for (AccelMethod a : kAccelMethods) {
         const MethodCost& mc = r.model.cost[std::size_t(a)];
-        j["model"][std::string(name(a))] = {{"build0", mc.build0}, {"build1", mc.build1}, {"call", mc.call},
-                                            {"ray0", mc.ray0}, {"ray1", mc.ray1}, {"ray2", mc.ray2},
+        j["model"][std::string(name(a))] = {{"build0", mc.build0},      {"build1", mc.build1}, {"call", mc.call},
+                                            {"ray0", mc.ray0},          {"ray1", mc.ray1},     {"ray2", mc.ray2},
                                             {"build_par", mc.build_par}};
     }
     for (const SweepCheck& ck : r.checks)
-        j["check"].push_back({{"scene", ck.scene}, {"triangles", ck.triangles}, {"rays", ck.rays},
-                              {"threads", ck.threads}, {"ray_kind", ck.ray_kind}, {"auto", ck.chosen},
-                              {"predicted_ms", ck.predicted_ms}, {"auto_ms", ck.chosen_ms}, {"best", ck.best},
-                              {"best_ms", ck.best_ms}, {"ratio", ck.ratio()}, {"ok", ck.ratio() <= kCheckRatio},
+        j["check"].push_back({{"scene", ck.scene},
+                              {"triangles", ck.triangles},
+                              {"rays", ck.rays},
+                              {"threads", ck.threads},
+                              {"ray_kind", ck.ray_kind},
+                              {"auto", ck.chosen},
+                              {"predicted_ms", ck.predicted_ms},
+                              {"auto_ms", ck.chosen_ms},
+                              {"best", ck.best},
+                              {"best_ms", ck.best_ms},
+                              {"ratio", ck.ratio()},
+                              {"ok", ck.ratio() <= kCheckRatio},
                               {"embree_ms", ck.embree_ms}});
     j["check_passed"] = passed(r.checks);
     j["check_points"] = r.checks.size();
@@ -138,7 +155,9 @@ Json sweep_json(const SweepConfig& c, const SweepResults& r) {
 std::string model_block(const SweepConfig& c, const CostModel& m) {
     const std::string isa(name(c.isa));
     std::string s = "\n// " + c.command + "\n// " + c.machine + "\nconstexpr FittedSet k" +
-                    std::string(isa == "scalar" ? "Scalar" : isa == "avx2" ? "Avx2" : "Avx512") +
+                    std::string(isa == "scalar" ? "Scalar"
+                                : isa == "avx2" ? "Avx2"
+                                                : "Avx512") +
                     "{true, {Isa::" + isa + ", {{";
     for (AccelMethod a : kAccelMethods) {
         const MethodCost& mc = m.cost[std::size_t(a)];
@@ -155,7 +174,8 @@ std::string sweep_markdown(const SweepConfig& c, const SweepResults& r, const st
     md << "_Generated by `" << c.command << "`; machine: " << c.machine << "; ISA " << name(c.isa)
        << ". Time to answer = build (median of " << c.build_reps << " warm builds) + trace (median of " << c.reps
        << " after a warm-up, methods interleaved); traces longer than " << c.budget_ms
-       << " ms timed on evenly spaced rays and scaled. Fit: soup-N, icosphere-N and dragon-res3 (when cached); held out: the other scenes._\n\n";
+       << " ms timed on evenly spaced rays and scaled. Fit: soup-N, icosphere-N and dragon-res3 (when cached); held "
+          "out: the other scenes._\n\n";
     if (charts)
         md << "![winner map](" << img << "sweep_winners.png)\n![time to answer](" << img << "sweep_time.png)\n\n";
     for (const std::string kind : {"incoherent", "primary"})
@@ -204,9 +224,10 @@ void report_sweep(const SweepConfig& c, const SweepResults& r) {
         std::cout << "\nwinner (time to answer), " << kind << " rays, 1 thread:\n" << winner_table(r, 1, kind).text();
         std::cout << "crossovers:\n" << crossover_table(r, 1, kind).text();
     }
-    std::cout << "\nfitted cost model (" << name(c.isa) << "):\n" << model_table(r.model).text()
-              << "\nauto check (held-out points): " << passed(r.checks) << " of " << r.checks.size()
-              << " within 1.25x of the best\n" << check_table(r.checks).text();
+    std::cout << "\nfitted cost model (" << name(c.isa) << "):\n"
+              << model_table(r.model).text() << "\nauto check (held-out points): " << passed(r.checks) << " of "
+              << r.checks.size() << " within 1.25x of the best\n"
+              << check_table(r.checks).text();
     // One set, written at the end (ReportFiles): the --model-out source is not touched unless everything
     // else is written with it.
     Report rep;
@@ -226,15 +247,16 @@ void report_sweep(const SweepConfig& c, const SweepResults& r) {
         for (const std::string kind : {"incoherent", "primary"})
             for (int threads : {1, c.threads_all}) {
                 if (threads != 1 && c.threads_all == 1) break;
-                rep.markdown << kind << ", " << threads << " thread(s):\n\n" << winner_table(r, threads, kind).markdown()
-                             << "\n";
+                rep.markdown << kind << ", " << threads << " thread(s):\n\n"
+                             << winner_table(r, threads, kind).markdown() << "\n";
             }
         rep.markdown << "Fitted cost model (ms; cost_model.h has the formula):\n\n" << model_table(r.model).markdown();
         set.add(dir / "sweep.md", rep.markdown.str());
         std::vector<std::pair<std::string, std::string>> pictures;
         for (const char* p : kSweepPictures) pictures.emplace_back(p, p);
         add_results_docs(
-            set, c.docs, kSweepBlock, [&](const std::string& link) {
+            set, c.docs, kSweepBlock,
+            [&](const std::string& link) {
                 std::string block(1, '\n');  // (GCC 12 warns falsely on "literal" + string)
                 return block += sweep_markdown(c, r, link, charts);
             },

@@ -182,8 +182,8 @@ std::vector<SweepScene> sweep_scenes(bool quick) {
     // A real mesh among the fit scenes: scanned meshes cost more per incoherent ray than soups and spheres of
     // the same size (deeper overlap), which moves the BVH2 / wide-tree crossover. Not one of the held-out scenes.
     if (!quick && workloads::is_cached("dragon-res3")) s.push_back({"dragon-res3", 0, false, rays});
-    const std::vector<std::size_t> held_rays = quick ? std::vector<std::size_t>{3, 300, 3000, 30000}
-                                                     : std::vector<std::size_t>{3, 300, 30000, 300000};
+    const std::vector<std::size_t> held_rays =
+        quick ? std::vector<std::size_t>{3, 300, 3000, 30000} : std::vector<std::size_t>{3, 300, 30000, 300000};
     const char* held[] = {"dragon", "dragon-res2", "dragon-res4", "bunny", "teapot"};
     const char* fallback[] = {"icosphere-7", "icosphere-5", "icosphere-3", "icosphere-1", "soup-3000"};
     for (int i = 0; i < 5; ++i) {

@@ -16,8 +16,8 @@ namespace simdbvh::cli {
 struct SweepConfig {
     bool quick = false;
     int threads_all = 1;
-    int reps = 5;          // timed traces per row (median), after one untimed warm-up; methods interleaved
-    int build_reps = 3;    // warm builds per method (median), after the cold one
+    int reps = 5;           // timed traces per row (median), after one untimed warm-up; methods interleaved
+    int build_reps = 3;     // warm builds per method (median), after the cold one
     double budget_ms = 40;  // a trace expected to take longer is timed on evenly spaced rays and scaled
     Isa isa = Isa::scalar;  // brute8 and the wide trees run with it (SIMDBVH_ISA forces another)
     std::string json_file, report_dir, model_out;
@@ -28,7 +28,7 @@ struct SweepConfig {
 struct SweepScene {
     std::string name;
     std::size_t triangles = 0;
-    bool held_out = false;  // not used for fitting: the auto check's points
+    bool held_out = false;          // not used for fitting: the auto check's points
     std::vector<std::size_t> rays;  // the ray counts measured on it
 };
 

@@ -5,9 +5,9 @@ set -euo pipefail
 pkgs=(build-essential cmake pkg-config git ca-certificates
       libxsimd-dev libembree-dev libhwloc-dev libbenchmark-dev libgtest-dev googletest
       zlib1g-dev libstb-dev python3 python3-matplotlib assimp-testmodels nodejs npm binutils
-      clang libclang-rt-14-dev  # clang + its sanitizer/libFuzzer runtime: scripts/fuzz.sh
+      clang libclang-rt-14-dev clang-format  # clang + its sanitizer/libFuzzer runtime (scripts/fuzz.sh), the formatter (scripts/check_format.sh)
       libcgal-dev python3-open3d python3-numpy nlohmann-json3-dev  # JSON report layer (cli/report.cpp)
-      pybind11-dev python3-dev python3-pytest python3-setuptools python3-wheel python3-pip python3-venv)  # references for the point queries (tests/compare, scripts/compare_points.py)
+      pybind11-dev python3-dev python3-pytest python3-setuptools python3-wheel python3-pip python3-venv)  # the Python module, its tests and pip install
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -159,11 +159,13 @@ void BM_Build(benchmark::State& st, Row row, std::string scene, bool all, std::s
     st.counters["cold_ms"] = cold[key];
     const double tris = double(std::max<std::size_t>(1, mesh->size()));
     if (peak[key] >= 0) st.counters["peak_B_per_tri"] = peak[key] / tris;
-    st.counters["mesh_B_per_tri"] = double(mesh->positions.size() * sizeof(simdbvh::Vec3) +
-                                           mesh->triangles.size() * sizeof(simdbvh::Triangle)) / tris;
+    st.counters["mesh_B_per_tri"] =
+        double(mesh->positions.size() * sizeof(simdbvh::Vec3) + mesh->triangles.size() * sizeof(simdbvh::Triangle)) /
+        tris;
     if (t.final_bytes > 0) st.counters["final_B_per_tri"] = t.final_bytes / tris;
     st.counters["threads"] = threads;
-    st.counters["Mtri/s"] = benchmark::Counter(double(mesh->size()) * 1e-6, benchmark::Counter::kIsIterationInvariantRate);
+    st.counters["Mtri/s"] =
+        benchmark::Counter(double(mesh->size()) * 1e-6, benchmark::Counter::kIsIterationInvariantRate);
     if (t.sah > 0) st.counters["sah"] = t.sah;
     // The collapse + pack inside this Bvh8::build(mesh), and its share (the build target: at most 15%).
     if (t.collapse_ms > 0) {
@@ -218,7 +220,8 @@ void BM_Refit(benchmark::State& st, Refit what, std::string scene, bool all) {
     refit_once(what, r, *mesh, threads);
     for (auto _ : st) st.SetIterationTime(refit_once(what, r, *mesh, threads) / 1000.0);
     st.counters["threads"] = threads;
-    st.counters["Mtri/s"] = benchmark::Counter(double(mesh->size()) * 1e-6, benchmark::Counter::kIsIterationInvariantRate);
+    st.counters["Mtri/s"] =
+        benchmark::Counter(double(mesh->size()) * 1e-6, benchmark::Counter::kIsIterationInvariantRate);
 }
 
 std::vector<std::string> scenes() {
@@ -243,7 +246,9 @@ int build_reps() {
     char* end = nullptr;
     const long reps = std::strtol(env, &end, 10);
     if (*end != '\0' || reps < 3 || reps > 100) {
-        std::fprintf(stderr, "SIMDBVH_BENCH_BUILD_REPS='%s': expected an integer from 3 to 100 (builds are medians of >= 3)\n", env);
+        std::fprintf(stderr,
+                     "SIMDBVH_BENCH_BUILD_REPS='%s': expected an integer from 3 to 100 (builds are medians of >= 3)\n",
+                     env);
         std::exit(2);
     }
     return int(reps);
@@ -265,7 +270,8 @@ void register_all() {
                     ->Repetitions(build_reps())
                     ->DisplayAggregatesOnly(true);
             }
-    const std::pair<Refit, const char*> refits[] = {{Refit::bvh2, "bvh2"}, {Refit::bvh8, "bvh8"}, {Refit::embree, "embree"}};
+    const std::pair<Refit, const char*> refits[] = {
+        {Refit::bvh2, "bvh2"}, {Refit::bvh8, "bvh8"}, {Refit::embree, "embree"}};
     for (const std::string& s : scenes())
         for (bool all : {false, true})
             for (const auto& [what, label] : refits) {

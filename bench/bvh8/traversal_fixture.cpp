@@ -31,7 +31,8 @@ const TraversalScene& traversal_scene() {
         t.bvh16q = Bvh16::build(t.bvh2, q);
         const char* n = std::getenv("SIMDBVH_BENCH_RAYS");
         const std::size_t count = n && *n ? std::strtoull(n, nullptr, 10) : 100000;
-        for (workloads::RayKind k : {workloads::RayKind::primary, workloads::RayKind::incoherent, workloads::RayKind::diffuse})
+        for (workloads::RayKind k :
+             {workloads::RayKind::primary, workloads::RayKind::incoherent, workloads::RayKind::diffuse})
             t.rays[static_cast<int>(k)] = workloads::generate_rays(t.mesh, k, count, /*seed=*/1);
         const char* hd = std::getenv("SIMDBVH_BENCH_HD_SIDE");
         const int side = hd && *hd ? std::atoi(hd) : 1000;
@@ -61,22 +62,17 @@ int main(int argc, char** argv) {
     benchmark::AddCustomContext("bvh2", "nodes=" + std::to_string(b2.nodes) + " depth=" + std::to_string(b2.depth) +
                                             " sah=" + std::to_string(b2.sah_cost) +
                                             " build_ms=" + std::to_string(b2.build_ms));
-    const std::pair<const char*, const simdbvh::WideStats*> wide[] = {{"bvh4_sah", &s.bvh4.stats()},
-                                                                      {"bvh8_sah", &s.bvh8.stats()},
-                                                                      {"bvh8_greedy", &s.bvh8_greedy.stats()},
-                                                                      {"bvh16_sah", &s.bvh16.stats()},
-                                                                      {"bvh8_quantized", &s.bvh8q.stats()},
-                                                                      {"bvh16_quantized", &s.bvh16q.stats()}};
+    const std::pair<const char*, const simdbvh::WideStats*> wide[] = {
+        {"bvh4_sah", &s.bvh4.stats()},   {"bvh8_sah", &s.bvh8.stats()},        {"bvh8_greedy", &s.bvh8_greedy.stats()},
+        {"bvh16_sah", &s.bvh16.stats()}, {"bvh8_quantized", &s.bvh8q.stats()}, {"bvh16_quantized", &s.bvh16q.stats()}};
     for (const auto& [label, stats] : wide) {
         const auto& st = *stats;
-        benchmark::AddCustomContext(label,
-                                    "nodes=" + std::to_string(st.nodes) + " leaves=" + std::to_string(st.leaves) +
-                                        " blocks=" + std::to_string(st.blocks) + " depth=" + std::to_string(st.depth) +
-                                        " sah=" + std::to_string(st.sah_cost) +
-                                        " fill=" + std::to_string(st.fill_rate) +
-                                        " block_fill=" + std::to_string(st.block_fill) +
-                                        " bytes/tri=" + std::to_string(st.bytes_per_triangle) +
-                                        " build_ms=" + std::to_string(st.build_ms));
+        benchmark::AddCustomContext(
+            label, "nodes=" + std::to_string(st.nodes) + " leaves=" + std::to_string(st.leaves) +
+                       " blocks=" + std::to_string(st.blocks) + " depth=" + std::to_string(st.depth) +
+                       " sah=" + std::to_string(st.sah_cost) + " fill=" + std::to_string(st.fill_rate) +
+                       " block_fill=" + std::to_string(st.block_fill) + " bytes/tri=" +
+                       std::to_string(st.bytes_per_triangle) + " build_ms=" + std::to_string(st.build_ms));
     }
     benchmark::RunSpecifiedBenchmarks();
     benchmark::Shutdown();

@@ -47,12 +47,13 @@ void run_wide(benchmark::State& st, const simdbvh::BvhN<N>& bvh, Isa isa, Collap
     st.counters["boxes/ray"] = double(ts.box_tests) / n;
     st.counters["tris/ray"] = double(ts.triangle_tests) / n;
     st.SetLabel("bvh" + std::to_string(N) + (bvh.qnodes().empty() ? "" : " quantized") + " " +
-                std::string(simdbvh::name(isa)) + " " +
-                std::string(simdbvh::name(collapse)) + " " + std::string(simdbvh::workloads::name(kind)) +
-                (any ? " any" : " closest") + (timed.test == simdbvh::TriangleTest::moller ? " moller" : "") +
+                std::string(simdbvh::name(isa)) + " " + std::string(simdbvh::name(collapse)) + " " +
+                std::string(simdbvh::workloads::name(kind)) + (any ? " any" : " closest") +
+                (timed.test == simdbvh::TriangleTest::moller ? " moller" : "") +
                 (timed.in_flight != 0 ? " in_flight " + std::to_string(timed.in_flight) : std::string()) +
-                (timed.reorder == simdbvh::Reorder::off ? " caller's order"
-                 : timed.reorder == simdbvh::Reorder::on ? " sorted" : ""));
+                (timed.reorder == simdbvh::Reorder::off  ? " caller's order"
+                 : timed.reorder == simdbvh::Reorder::on ? " sorted"
+                                                         : ""));
 }
 
 void BM_Bvh8(benchmark::State& st, Isa isa, Collapse collapse, RayKind kind, bool any) {
@@ -94,20 +95,20 @@ void BM_Bvh16Order(benchmark::State& st, Isa isa, simdbvh::Reorder r, RayKind ki
     o.reorder = r;
     run_wide<16>(st, bench::traversal_scene().bvh16, isa, Collapse::sah, kind, any, o);
 }
-#define SIMDBVH_ORDER_BENCH(fn, isa, order)                                                                        \
+#define SIMDBVH_ORDER_BENCH(fn, isa, order)                                                                            \
     BENCHMARK_CAPTURE(fn, isa##_##order##_primary_closest, Isa::isa, simdbvh::Reorder::order, RayKind::primary, false) \
-        ->Unit(benchmark::kMillisecond);                                                                            \
-    BENCHMARK_CAPTURE(fn, isa##_##order##_incoherent_closest, Isa::isa, simdbvh::Reorder::order,                   \
-                      RayKind::incoherent, false)                                                                   \
-        ->Unit(benchmark::kMillisecond);                                                                            \
+        ->Unit(benchmark::kMillisecond);                                                                               \
+    BENCHMARK_CAPTURE(fn, isa##_##order##_incoherent_closest, Isa::isa, simdbvh::Reorder::order, RayKind::incoherent,  \
+                      false)                                                                                           \
+        ->Unit(benchmark::kMillisecond);                                                                               \
     BENCHMARK_CAPTURE(fn, isa##_##order##_diffuse_closest, Isa::isa, simdbvh::Reorder::order, RayKind::diffuse, false) \
-        ->Unit(benchmark::kMillisecond);                                                                            \
-    BENCHMARK_CAPTURE(fn, isa##_##order##_primary_any, Isa::isa, simdbvh::Reorder::order, RayKind::primary, true)   \
-        ->Unit(benchmark::kMillisecond);                                                                            \
-    BENCHMARK_CAPTURE(fn, isa##_##order##_incoherent_any, Isa::isa, simdbvh::Reorder::order, RayKind::incoherent,  \
-                      true)                                                                                         \
-        ->Unit(benchmark::kMillisecond);                                                                            \
-    BENCHMARK_CAPTURE(fn, isa##_##order##_diffuse_any, Isa::isa, simdbvh::Reorder::order, RayKind::diffuse, true)   \
+        ->Unit(benchmark::kMillisecond);                                                                               \
+    BENCHMARK_CAPTURE(fn, isa##_##order##_primary_any, Isa::isa, simdbvh::Reorder::order, RayKind::primary, true)      \
+        ->Unit(benchmark::kMillisecond);                                                                               \
+    BENCHMARK_CAPTURE(fn, isa##_##order##_incoherent_any, Isa::isa, simdbvh::Reorder::order, RayKind::incoherent,      \
+                      true)                                                                                            \
+        ->Unit(benchmark::kMillisecond);                                                                               \
+    BENCHMARK_CAPTURE(fn, isa##_##order##_diffuse_any, Isa::isa, simdbvh::Reorder::order, RayKind::diffuse, true)      \
         ->Unit(benchmark::kMillisecond)
 SIMDBVH_ORDER_BENCH(BM_Bvh8Order, avx512, off);
 SIMDBVH_ORDER_BENCH(BM_Bvh8Order, avx512, on);
@@ -123,22 +124,24 @@ void BM_Bvh8Moller(benchmark::State& st, Isa isa, Collapse collapse, RayKind kin
     o.test = simdbvh::TriangleTest::moller;
     run_wide<8>(st, bench::traversal_scene().bvh8, isa, collapse, kind, any, o);
 }
-#define SIMDBVH_FLIGHT_BENCH(isa, flight)                                                                           \
-    BENCHMARK_CAPTURE(BM_Bvh8InFlight, isa##_in_flight##flight##_primary_closest, Isa::isa, flight, RayKind::primary,  \
-                      false)                                                                                        \
-        ->Unit(benchmark::kMillisecond);                                                                            \
-    BENCHMARK_CAPTURE(BM_Bvh8InFlight, isa##_in_flight##flight##_incoherent_closest, Isa::isa, flight,                 \
-                      RayKind::incoherent, false)                                                                   \
-        ->Unit(benchmark::kMillisecond);                                                                            \
-    BENCHMARK_CAPTURE(BM_Bvh8InFlight, isa##_in_flight##flight##_diffuse_closest, Isa::isa, flight, RayKind::diffuse,  \
-                      false)                                                                                        \
-        ->Unit(benchmark::kMillisecond);                                                                            \
-    BENCHMARK_CAPTURE(BM_Bvh8InFlight, isa##_in_flight##flight##_primary_any, Isa::isa, flight, RayKind::primary, true) \
-        ->Unit(benchmark::kMillisecond);                                                                            \
-    BENCHMARK_CAPTURE(BM_Bvh8InFlight, isa##_in_flight##flight##_incoherent_any, Isa::isa, flight,                     \
-                      RayKind::incoherent, true)                                                                    \
-        ->Unit(benchmark::kMillisecond);                                                                            \
-    BENCHMARK_CAPTURE(BM_Bvh8InFlight, isa##_in_flight##flight##_diffuse_any, Isa::isa, flight, RayKind::diffuse, true) \
+#define SIMDBVH_FLIGHT_BENCH(isa, flight)                                                                             \
+    BENCHMARK_CAPTURE(BM_Bvh8InFlight, isa##_in_flight##flight##_primary_closest, Isa::isa, flight, RayKind::primary, \
+                      false)                                                                                          \
+        ->Unit(benchmark::kMillisecond);                                                                              \
+    BENCHMARK_CAPTURE(BM_Bvh8InFlight, isa##_in_flight##flight##_incoherent_closest, Isa::isa, flight,                \
+                      RayKind::incoherent, false)                                                                     \
+        ->Unit(benchmark::kMillisecond);                                                                              \
+    BENCHMARK_CAPTURE(BM_Bvh8InFlight, isa##_in_flight##flight##_diffuse_closest, Isa::isa, flight, RayKind::diffuse, \
+                      false)                                                                                          \
+        ->Unit(benchmark::kMillisecond);                                                                              \
+    BENCHMARK_CAPTURE(BM_Bvh8InFlight, isa##_in_flight##flight##_primary_any, Isa::isa, flight, RayKind::primary,     \
+                      true)                                                                                           \
+        ->Unit(benchmark::kMillisecond);                                                                              \
+    BENCHMARK_CAPTURE(BM_Bvh8InFlight, isa##_in_flight##flight##_incoherent_any, Isa::isa, flight,                    \
+                      RayKind::incoherent, true)                                                                      \
+        ->Unit(benchmark::kMillisecond);                                                                              \
+    BENCHMARK_CAPTURE(BM_Bvh8InFlight, isa##_in_flight##flight##_diffuse_any, Isa::isa, flight, RayKind::diffuse,     \
+                      true)                                                                                           \
         ->Unit(benchmark::kMillisecond)
 
 // A 1000 x 1000 camera's primary rays in image order (the fixture's
@@ -170,30 +173,31 @@ void BM_Bvh8Hd(benchmark::State& st, Isa isa, bool any, simdbvh::Packets packets
 void BM_Bvh16Hd(benchmark::State& st, Isa isa, bool any, simdbvh::Packets packets) {
     run_hd<16>(st, bench::traversal_scene().bvh16, isa, any, packets);
 }
-#define SIMDBVH_HD_BENCH(fn, isa)                                                                                   \
-    BENCHMARK_CAPTURE(fn, isa##_streams_closest, Isa::isa, false, simdbvh::Packets::automatic)                     \
-        ->Unit(benchmark::kMillisecond);                                                                            \
-    BENCHMARK_CAPTURE(fn, isa##_single_closest, Isa::isa, false, simdbvh::Packets::off)->Unit(benchmark::kMillisecond); \
-    BENCHMARK_CAPTURE(fn, isa##_streams_any, Isa::isa, true, simdbvh::Packets::automatic)                          \
-        ->Unit(benchmark::kMillisecond);                                                                            \
+#define SIMDBVH_HD_BENCH(fn, isa)                                                              \
+    BENCHMARK_CAPTURE(fn, isa##_streams_closest, Isa::isa, false, simdbvh::Packets::automatic) \
+        ->Unit(benchmark::kMillisecond);                                                       \
+    BENCHMARK_CAPTURE(fn, isa##_single_closest, Isa::isa, false, simdbvh::Packets::off)        \
+        ->Unit(benchmark::kMillisecond);                                                       \
+    BENCHMARK_CAPTURE(fn, isa##_streams_any, Isa::isa, true, simdbvh::Packets::automatic)      \
+        ->Unit(benchmark::kMillisecond);                                                       \
     BENCHMARK_CAPTURE(fn, isa##_single_any, Isa::isa, true, simdbvh::Packets::off)->Unit(benchmark::kMillisecond)
 SIMDBVH_HD_BENCH(BM_Bvh8Hd, avx2);
 SIMDBVH_HD_BENCH(BM_Bvh8Hd, avx512);
 SIMDBVH_HD_BENCH(BM_Bvh16Hd, avx512);
 
-#define SIMDBVH_WIDE_BENCH(fn, isa, collapse)                                                                      \
-    BENCHMARK_CAPTURE(fn, isa##_##collapse##_primary_closest, Isa::isa, Collapse::collapse, RayKind::primary, false)    \
-        ->Unit(benchmark::kMillisecond);                                                                            \
-    BENCHMARK_CAPTURE(fn, isa##_##collapse##_incoherent_closest, Isa::isa, Collapse::collapse, RayKind::incoherent,    \
-                      false)                                                                                        \
-        ->Unit(benchmark::kMillisecond);                                                                            \
-    BENCHMARK_CAPTURE(fn, isa##_##collapse##_diffuse_closest, Isa::isa, Collapse::collapse, RayKind::diffuse, false)    \
-        ->Unit(benchmark::kMillisecond);                                                                            \
-    BENCHMARK_CAPTURE(fn, isa##_##collapse##_primary_any, Isa::isa, Collapse::collapse, RayKind::primary, true)         \
-        ->Unit(benchmark::kMillisecond);                                                                            \
-    BENCHMARK_CAPTURE(fn, isa##_##collapse##_incoherent_any, Isa::isa, Collapse::collapse, RayKind::incoherent, true)   \
-        ->Unit(benchmark::kMillisecond);                                                                            \
-    BENCHMARK_CAPTURE(fn, isa##_##collapse##_diffuse_any, Isa::isa, Collapse::collapse, RayKind::diffuse, true)         \
+#define SIMDBVH_WIDE_BENCH(fn, isa, collapse)                                                                         \
+    BENCHMARK_CAPTURE(fn, isa##_##collapse##_primary_closest, Isa::isa, Collapse::collapse, RayKind::primary, false)  \
+        ->Unit(benchmark::kMillisecond);                                                                              \
+    BENCHMARK_CAPTURE(fn, isa##_##collapse##_incoherent_closest, Isa::isa, Collapse::collapse, RayKind::incoherent,   \
+                      false)                                                                                          \
+        ->Unit(benchmark::kMillisecond);                                                                              \
+    BENCHMARK_CAPTURE(fn, isa##_##collapse##_diffuse_closest, Isa::isa, Collapse::collapse, RayKind::diffuse, false)  \
+        ->Unit(benchmark::kMillisecond);                                                                              \
+    BENCHMARK_CAPTURE(fn, isa##_##collapse##_primary_any, Isa::isa, Collapse::collapse, RayKind::primary, true)       \
+        ->Unit(benchmark::kMillisecond);                                                                              \
+    BENCHMARK_CAPTURE(fn, isa##_##collapse##_incoherent_any, Isa::isa, Collapse::collapse, RayKind::incoherent, true) \
+        ->Unit(benchmark::kMillisecond);                                                                              \
+    BENCHMARK_CAPTURE(fn, isa##_##collapse##_diffuse_any, Isa::isa, Collapse::collapse, RayKind::diffuse, true)       \
         ->Unit(benchmark::kMillisecond)
 
 // Without an explicit ISA: the choice by speed (bvh8.h, traversal_isa_choice;
@@ -214,13 +218,15 @@ void BM_Bvh8Auto(benchmark::State& st, RayKind kind, bool any) {
     st.counters["rays/s"] = benchmark::Counter(double(rays.size()), benchmark::Counter::kIsIterationInvariantRate);
     const simdbvh::TraversalIsaChoice c = simdbvh::traversal_isa_choice(8, any);
     std::ostringstream label;
-    label << "bvh8 auto->" << simdbvh::name(c.isa) << " (" << (c.forced ? "forced" : (c.calibrated ? "calibrated" : "detected"));
+    label << "bvh8 auto->" << simdbvh::name(c.isa) << " ("
+          << (c.forced ? "forced" : (c.calibrated ? "calibrated" : "detected"));
     for (Isa isa : simdbvh::kAllIsas)
-        if (c.ns_per_ray[int(isa)] > 0) label << " " << simdbvh::name(isa) << "=" << int(c.ns_per_ray[int(isa)]) << "ns";
+        if (c.ns_per_ray[int(isa)] > 0)
+            label << " " << simdbvh::name(isa) << "=" << int(c.ns_per_ray[int(isa)]) << "ns";
     label << ") " << simdbvh::workloads::name(kind) << (any ? " any" : " closest");
     st.SetLabel(label.str());
 }
-#define SIMDBVH_AUTO_BENCH(kind)                                                                                   \
+#define SIMDBVH_AUTO_BENCH(kind)                                                                                    \
     BENCHMARK_CAPTURE(BM_Bvh8Auto, auto_sah_##kind##_closest, RayKind::kind, false)->Unit(benchmark::kMillisecond); \
     BENCHMARK_CAPTURE(BM_Bvh8Auto, auto_sah_##kind##_any, RayKind::kind, true)->Unit(benchmark::kMillisecond)
 SIMDBVH_AUTO_BENCH(primary);

@@ -175,7 +175,8 @@ void register_all() {
             for (Isa isa : kAllIsas)
                 if (isa != Isa::scalar)
                     benchmark::RegisterBenchmark((std::string(tiled ? "brute8_tiled/" : "brute8_per_ray/") +
-                                                  std::string(name(isa)) + (mem ? "/mem" : "/l3")).c_str(),
+                                                  std::string(name(isa)) + (mem ? "/mem" : "/l3"))
+                                                     .c_str(),
                                                  BM_Brute8, tiled, isa, mem);
     for (bool mem : {false, true}) {
         const std::string size = mem ? "/mem" : "/l1";

@@ -32,7 +32,8 @@ void run_embree(benchmark::State& st, const std::vector<simdbvh::Ray>& rays, con
     std::vector<std::uint8_t> occ(rays.size());
     auto pass = [&] {
         if (mode == 3) any ? scene.occluded_packets8(rays, occ) : scene.intersect_packets8(rays, hits);
-        else if (mode > 0) any ? scene.occluded_stream(rays, occ, mode == 2) : scene.intersect_stream(rays, hits, mode == 2);
+        else if (mode > 0)
+            any ? scene.occluded_stream(rays, occ, mode == 2) : scene.intersect_stream(rays, hits, mode == 2);
         else if (any) scene.occluded(rays, occ);
         else scene.intersect(rays, hits);
     };
@@ -42,8 +43,7 @@ void run_embree(benchmark::State& st, const std::vector<simdbvh::Ray>& rays, con
         benchmark::DoNotOptimize(hits.data());
         benchmark::DoNotOptimize(occ.data());
     }
-    st.counters["rays/s"] =
-        benchmark::Counter(double(rays.size()), benchmark::Counter::kIsIterationInvariantRate);
+    st.counters["rays/s"] = benchmark::Counter(double(rays.size()), benchmark::Counter::kIsIterationInvariantRate);
     static const char* kModes[] = {"embree-medium ", "embree-medium-stream ", "embree-medium-stream-coherent ",
                                    "embree-medium-packets8 "};
     st.SetLabel(std::string(kModes[mode]) + what + (any ? " any" : " closest"));
@@ -69,7 +69,7 @@ BENCHMARK_CAPTURE(BM_EmbreeHd, packets8_any, true, 3)->Unit(benchmark::kMillisec
 // medium_*: rtcIntersect1 / rtcOccluded1 per ray; stream_*: rtcIntersect1M /
 // rtcOccluded1M, 256 rays per call (how Open3D calls Embree), where Embree may
 // trace coherent rays as packets: the stronger baseline for primary rays.
-#define SIMDBVH_EMBREE_BENCH(kind)                                                                                      \
+#define SIMDBVH_EMBREE_BENCH(kind)                                                                                     \
     BENCHMARK_CAPTURE(BM_Embree, medium_##kind##_closest, RayKind::kind, false, false)->Unit(benchmark::kMillisecond); \
     BENCHMARK_CAPTURE(BM_Embree, medium_##kind##_any, RayKind::kind, true, false)->Unit(benchmark::kMillisecond);      \
     BENCHMARK_CAPTURE(BM_Embree, stream_##kind##_closest, RayKind::kind, false, true)->Unit(benchmark::kMillisecond);  \

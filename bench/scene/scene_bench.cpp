@@ -36,7 +36,9 @@ Mesh flatten(const SceneDesc& d) {
     return flat;
 }
 
-std::size_t wide_bytes(const Bvh8& b) { return b.nodes().size() * sizeof(Bvh8::Node) + b.blocks().size() * sizeof(Tri8); }
+std::size_t wide_bytes(const Bvh8& b) {
+    return b.nodes().size() * sizeof(Bvh8::Node) + b.blocks().size() * sizeof(Tri8);
+}
 
 struct Fixture {
     std::string name;
@@ -145,9 +147,9 @@ int main(int argc, char** argv) {
     const Bvh8 one = Bvh8::build(std::get<Mesh>(f.desc.geometries[0]));
     const SceneBvhN<8> k = SceneBvhN<8>::build(workloads::instances_scene(std::get<Mesh>(f.desc.geometries[0]), 1000));
     benchmark::AddCustomContext("one_bvh8_bytes", std::to_string(wide_bytes(one)));
-    benchmark::AddCustomContext("instances1000_bytes", std::to_string(k.stats().bytes) + " (" +
-                                                           std::to_string(k.stats().bytes_per_instance) +
-                                                           " per instance)");
+    benchmark::AddCustomContext(
+        "instances1000_bytes",
+        std::to_string(k.stats().bytes) + " (" + std::to_string(k.stats().bytes_per_instance) + " per instance)");
     benchmark::RunSpecifiedBenchmarks();
     benchmark::Shutdown();
     return 0;

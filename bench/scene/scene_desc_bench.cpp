@@ -95,13 +95,13 @@ void BM_Embree(benchmark::State& st, int kind, bool any) {
 
 // BM_Ours/<isa>_<kind>_<query> is the BVH8 (the rows of earlier notes);
 // BM_Bvh4 and BM_Bvh16 the other widths.
-#define SIMDBVH_SCENE_QUERY(kind_name, kind, q, any)                                                                  \
+#define SIMDBVH_SCENE_QUERY(kind_name, kind, q, any)                                                              \
     BENCHMARK_CAPTURE(BM_Ours, avx2_##kind_name##_##q, Isa::avx2, kind, any)->Unit(benchmark::kMillisecond);      \
     BENCHMARK_CAPTURE(BM_Ours, avx512_##kind_name##_##q, Isa::avx512, kind, any)->Unit(benchmark::kMillisecond);  \
     BENCHMARK_CAPTURE(BM_Bvh4, avx2_##kind_name##_##q, Isa::avx2, kind, any)->Unit(benchmark::kMillisecond);      \
     BENCHMARK_CAPTURE(BM_Bvh16, avx512_##kind_name##_##q, Isa::avx512, kind, any)->Unit(benchmark::kMillisecond); \
     BENCHMARK_CAPTURE(BM_Embree, kind_name##_##q, kind, any)->Unit(benchmark::kMillisecond);
-#define SIMDBVH_SCENE_ROWS(kind_name, kind)                \
+#define SIMDBVH_SCENE_ROWS(kind_name, kind)              \
     SIMDBVH_SCENE_QUERY(kind_name, kind, closest, false) \
     SIMDBVH_SCENE_QUERY(kind_name, kind, any, true)
 SIMDBVH_SCENE_ROWS(primary, 0)

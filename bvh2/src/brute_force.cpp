@@ -17,8 +17,8 @@ Hit brute(const Mesh& mesh, const Ray& ray) {
         const Triangle& tri = mesh.triangles[i];
         if (tri[0] >= nv || tri[1] >= nv || tri[2] >= nv) continue;  // invalid: never hit
         float t, u, v;
-        if (intersect_triangle<kTest>(r, mesh.positions[tri[0]], mesh.positions[tri[1]], mesh.positions[tri[2]],
-                                      best.t, &t, &u, &v)) {
+        if (intersect_triangle<kTest>(r, mesh.positions[tri[0]], mesh.positions[tri[1]], mesh.positions[tri[2]], best.t,
+                                      &t, &u, &v)) {
             if (kAnyHit) return to_caller(r, Hit{t, u, v, std::uint32_t(i)});
             if (closer(t, std::uint32_t(i), best)) best = {t, u, v, std::uint32_t(i)};
         }

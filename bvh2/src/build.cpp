@@ -76,7 +76,8 @@ Bvh2Topology build_topology(std::span<const Aabb> boxes, std::span<const Vec3> c
     ctx.opts.threads = build_threads(opts.threads, boxes.size());
     ctx.refs.reserve(boxes.size());
     for (std::size_t i = 0; i < boxes.size(); ++i)
-        if (!boxes[i].is_empty()) ctx.refs.push_back({boxes[i].lo, std::uint32_t(i), boxes[i].hi, 0.0f, centroids[i], 0.0f});
+        if (!boxes[i].is_empty())
+            ctx.refs.push_back({boxes[i].lo, std::uint32_t(i), boxes[i].hi, 0.0f, centroids[i], 0.0f});
     return build_refs(ctx);
 }
 
@@ -98,23 +99,26 @@ Bvh2Topology build_topology(const Mesh& mesh, const BuildOptions& opts) {
     std::atomic<bool> any_empty{false};
     ParallelOptions po = build_parallel();
     po.grain = 1;
-    parallel_for(nblocks, ctx.opts.threads, [&](std::size_t b0, std::size_t e0) {
-        bool empty = false;
-        for (std::size_t blk = b0; blk < e0; ++blk) {
-            detail::Bounds bb;
-            for (std::size_t i = blk * kBlock, e = std::min(n, i + kBlock); i < e; ++i) {
-                Aabb box;
-                for (int k = 0; k < 3; ++k) box.grow(mesh.vertex(i, k));
-                empty |= box.is_empty();
-                const Vec3 c = box.center();
-                ctx.refs[i] = {box.lo, std::uint32_t(i), box.hi, 0.0f, c, 0.0f};
-                bb.box.grow(box);
-                bb.cbox.grow(c);
+    parallel_for(
+        nblocks, ctx.opts.threads,
+        [&](std::size_t b0, std::size_t e0) {
+            bool empty = false;
+            for (std::size_t blk = b0; blk < e0; ++blk) {
+                detail::Bounds bb;
+                for (std::size_t i = blk * kBlock, e = std::min(n, i + kBlock); i < e; ++i) {
+                    Aabb box;
+                    for (int k = 0; k < 3; ++k) box.grow(mesh.vertex(i, k));
+                    empty |= box.is_empty();
+                    const Vec3 c = box.center();
+                    ctx.refs[i] = {box.lo, std::uint32_t(i), box.hi, 0.0f, c, 0.0f};
+                    bb.box.grow(box);
+                    bb.cbox.grow(c);
+                }
+                block_bounds[blk] = bb;
             }
-            block_bounds[blk] = bb;
-        }
-        if (empty) any_empty = true;
-    }, po);
+            if (empty) any_empty = true;
+        },
+        po);
     if (any_empty) {  // primitives with an empty box are left out (they can never be hit)
         std::erase_if(ctx.refs, [](const detail::PrimRef& r) { return r.box().is_empty(); });
         return build_refs(ctx);
@@ -150,12 +154,15 @@ Bvh2 Bvh2::build(const Mesh& mesh, const BuildOptions& opts) {
     bvh.opts_ = opts;
     bvh.tris_.resize(topo.prim_ids.size());
     const int threads = build_threads(opts.threads, topo.prim_ids.size());
-    parallel_for(topo.prim_ids.size(), threads, [&](std::size_t b, std::size_t e) {
-        for (std::size_t i = b; i < e; ++i) {
-            const std::uint32_t p = topo.prim_ids[i];
-            bvh.tris_[i] = {mesh.vertex(p, 0), mesh.vertex(p, 1), mesh.vertex(p, 2)};
-        }
-    }, build_parallel());
+    parallel_for(
+        topo.prim_ids.size(), threads,
+        [&](std::size_t b, std::size_t e) {
+            for (std::size_t i = b; i < e; ++i) {
+                const std::uint32_t p = topo.prim_ids[i];
+                bvh.tris_[i] = {mesh.vertex(p, 0), mesh.vertex(p, 1), mesh.vertex(p, 2)};
+            }
+        },
+        build_parallel());
     const auto t1 = std::chrono::steady_clock::now();
     BuildStats& s = bvh.stats_;
     s.build_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
@@ -165,10 +172,10 @@ Bvh2 Bvh2::build(const Mesh& mesh, const BuildOptions& opts) {
     const detail::TreeShape shape = detail::tree_shape(topo.nodes);
     s.depth = shape.depth;
     s.leaves = shape.leaves;
-    s.bytes_per_triangle =
-        n ? double(topo.nodes.size() * sizeof(Node2) + topo.prim_ids.size() * (sizeof(std::uint32_t) + sizeof(TriangleVerts))) /
-                double(n)
-          : 0.0;
+    s.bytes_per_triangle = n ? double(topo.nodes.size() * sizeof(Node2) +
+                                      topo.prim_ids.size() * (sizeof(std::uint32_t) + sizeof(TriangleVerts))) /
+                                   double(n)
+                             : 0.0;
     bvh.nodes_ = std::move(topo.nodes);
     bvh.prim_ids_ = std::move(topo.prim_ids);
     return bvh;

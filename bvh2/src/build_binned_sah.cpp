@@ -198,7 +198,7 @@ void sweep_axis(int axis, int k, BoxAt box, CountAt count, IndexAt index, Best<T
         cnt += count(j - 1);
         const T num = half_area<T>(acc) * T(cnt) + right_area[j] * T(right_count[j]);
         // Selects with masks, not branches (the outcome is unpredictable).
-        const int keep = int(num < best.num) - 1;  // 0: take the new split, -1: keep the best
+        const int keep = int(num < best.num) - 1;    // 0: take the new split, -1: keep the best
         best.num = num < best.num ? num : best.num;  // minss
         best.axis = (best.axis & keep) | (axis & ~keep);
         best.bin = (best.bin & keep) | ((index(j - 1) + 1) & ~keep);
@@ -238,8 +238,9 @@ Split best_split(const BuildContext& ctx, const Bins3& bins, int nbins, const fl
             }
         }
         if (k < 2) continue;
-        sweep_axis<T>(axis, k, [&](int j) -> const Box4& { return bn[used[j]].box; },
-                      [&](int j) { return bn[used[j]].count; }, [&](int j) { return used[j]; }, best);
+        sweep_axis<T>(
+            axis, k, [&](int j) -> const Box4& { return bn[used[j]].box; }, [&](int j) { return bn[used[j]].count; },
+            [&](int j) { return used[j]; }, best);
     }
     return finish(ctx, best, node_box, n);
 }
@@ -427,7 +428,8 @@ SplitResult partition_flags(BuildContext& ctx, std::uint32_t begin, std::uint32_
     return r;
 }
 
-SplitResult partition(BuildContext& ctx, std::uint32_t begin, std::uint32_t end, const Binner& binner, const Split& best) {
+SplitResult partition(BuildContext& ctx, std::uint32_t begin, std::uint32_t end, const Binner& binner,
+                      const Split& best) {
     return end - begin <= kFlagPartitionMax ? partition_flags(ctx, begin, end, binner, best)
                                             : partition_scan(ctx, begin, end, binner, best);
 }

@@ -34,8 +34,8 @@ void sort_axis(BuildContext& ctx, std::uint32_t begin, std::uint32_t end, int ax
 
 // Seed 000, first version: longest axis of the centroid bounds, split at its
 // midpoint, leaf at <= 4 triangles (or the depth cap).
-SplitResult split_midpoint(BuildContext& ctx, std::uint32_t begin, std::uint32_t end, const Aabb&,
-                           const Aabb& cbox, int) {
+SplitResult split_midpoint(BuildContext& ctx, std::uint32_t begin, std::uint32_t end, const Aabb&, const Aabb& cbox,
+                           int) {
     if (end - begin <= 4) return leaf_result();
     const int axis = cbox.largest_axis();
     return partition_at(ctx, begin, end, axis, cbox.center()[axis]);
@@ -55,8 +55,7 @@ SplitResult split_median(BuildContext& ctx, std::uint32_t begin, std::uint32_t e
 
 // Seed 002: the axis of greatest centroid variance (Welford's method), split
 // at the mean; leaf when at most max_leaf_size triangles remain.
-SplitResult split_variance(BuildContext& ctx, std::uint32_t begin, std::uint32_t end, const Aabb&, const Aabb&,
-                           int) {
+SplitResult split_variance(BuildContext& ctx, std::uint32_t begin, std::uint32_t end, const Aabb&, const Aabb&, int) {
     if (end - begin <= std::uint32_t(ctx.opts.max_leaf_size)) return leaf_result();
     double mean[3] = {0, 0, 0}, m2[3] = {0, 0, 0};
     double k = 0;

@@ -33,8 +33,9 @@ SplitResult split_sweep(BuildContext& ctx, std::uint32_t begin, std::uint32_t en
         acc = Aabb{};
         for (std::uint32_t i = 1; i < n; ++i) {
             acc.grow(sorted[axis][i - 1].box());
-            const T cost = T(ctx.opts.traversal_cost) +
-                           T(ctx.opts.intersection_cost) * (sah_area<T>(acc) * T(i) + right_area[i] * T(n - i)) / parent_area;
+            const T cost = T(ctx.opts.traversal_cost) + T(ctx.opts.intersection_cost) *
+                                                            (sah_area<T>(acc) * T(i) + right_area[i] * T(n - i)) /
+                                                            parent_area;
             if (cost < best_cost) {
                 best_cost = cost;
                 best_axis = axis;

@@ -31,7 +31,10 @@ struct Builder {
         const Aabb& cbox = bounds.cbox;
         nodes[at].box = box;
         const std::uint32_t n = end - begin;
-        auto make_leaf = [&] { nodes[at].first = begin; nodes[at].count = n; };
+        auto make_leaf = [&] {
+            nodes[at].first = begin;
+            nodes[at].count = n;
+        };
         if (n <= std::uint32_t(std::max(1, ctx.opts.min_leaf_size)) || depth + 1 >= ctx.opts.max_depth)
             return make_leaf();
         SplitResult r = split(ctx, begin, end, box, cbox, depth);
@@ -123,9 +126,12 @@ Bvh2Topology build_top_down(BuildContext& ctx, SplitFn split, std::uint32_t leaf
     ParallelOptions po;
     po.grain = 64 * 1024;
     po.pin = false;
-    parallel_for(ctx.refs.size(), ctx.opts.threads, [&](std::size_t b0, std::size_t e0) {
-        for (std::size_t i = b0; i < e0; ++i) topo.prim_ids[i] = ctx.refs[i].id;
-    }, po);
+    parallel_for(
+        ctx.refs.size(), ctx.opts.threads,
+        [&](std::size_t b0, std::size_t e0) {
+            for (std::size_t i = b0; i < e0; ++i) topo.prim_ids[i] = ctx.refs[i].id;
+        },
+        po);
     return topo;
 }
 

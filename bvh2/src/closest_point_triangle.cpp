@@ -57,7 +57,7 @@ TrianglePoint closest_point_on_triangle(const Vec3& pf, const Vec3& v0, const Ve
     const double d3 = dot(ab, bp), d4 = dot(ac, bp);
     if (d3 >= 0.0 && d4 <= d3) return make(p, b, 1.0, 0.0);  // vertex v1
     const double vc = d1 * d4 - d3 * d2;
-    if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {  // edge v0 v1
+    if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {                  // edge v0 v1
         if (!(d1 - d3 > 0.0)) return nearest_edge(p, a, b, c);  // rounding (a far point): no 0/0
         const double s = d1 / (d1 - d3);
         return make(p, a + ab * s, s, 0.0);
@@ -79,7 +79,7 @@ TrianglePoint closest_point_on_triangle(const Vec3& pf, const Vec3& v0, const Ve
     }
     const double sum = va + vb + vc;
     if (!(sum > 0.0)) return nearest_edge(p, a, b, c);  // rounding at a sliver
-    const double v = vb / sum, w = vc / sum;  // face
+    const double v = vb / sum, w = vc / sum;            // face
     return make(p, a + ab * v + ac * w, v, w);
 }
 

@@ -66,9 +66,12 @@ void classify_points(const Bvh2& bvh, std::span<const Vec3> points, std::span<Po
     // Morton order (point_query-inl.h): neighbouring points walk the same
     // nodes while they are in cache. The order changes the speed only.
     const std::vector<std::uint32_t> order = detail::morton_order(points, opts.threads);
-    parallel_for(points.size(), opts.threads, [&](std::size_t b, std::size_t e) {
-        for (std::size_t k = b; k < e; ++k) out[order[k]] = classify(bvh, points[order[k]], opts);
-    }, ParallelOptions{.grain = 1024});
+    parallel_for(
+        points.size(), opts.threads,
+        [&](std::size_t b, std::size_t e) {
+            for (std::size_t k = b; k < e; ++k) out[order[k]] = classify(bvh, points[order[k]], opts);
+        },
+        ParallelOptions{.grain = 1024});
 }
 
 PointSide brute_force_classify_point(const Mesh& mesh, const Vec3& p, const InsideOptions& opts) {

@@ -27,7 +27,9 @@ MeshClosure mesh_closure(const Mesh& mesh) {
     struct Edge {
         std::uint32_t lo, hi;
         bool forward;
-        bool operator<(const Edge& o) const { return lo != o.lo ? lo < o.lo : (hi != o.hi ? hi < o.hi : forward < o.forward); }
+        bool operator<(const Edge& o) const {
+            return lo != o.lo ? lo < o.lo : (hi != o.hi ? hi < o.hi : forward < o.forward);
+        }
     };
     std::vector<Edge> edges;
     edges.reserve(mesh.triangles.size() * 3);

@@ -37,19 +37,22 @@ void Bvh2::refit(const Mesh& mesh, int threads) {
     ParallelOptions po;
     po.grain = 1024;
     po.pin = false;
-    parallel_for(n, threads, [&](std::size_t b, std::size_t e) {
-        for (std::size_t i = b; i < e; ++i) {
-            Node2& nd = nodes_[i];
-            if (!nd.is_leaf()) continue;
-            Aabb box;
-            for (std::uint32_t k = nd.first; k < nd.first + nd.count; ++k) {
-                const std::uint32_t p = prim_ids_[k];
-                tris_[k] = {mesh.vertex(p, 0), mesh.vertex(p, 1), mesh.vertex(p, 2)};
-                box.grow(triangle_box(tris_[k]));
+    parallel_for(
+        n, threads,
+        [&](std::size_t b, std::size_t e) {
+            for (std::size_t i = b; i < e; ++i) {
+                Node2& nd = nodes_[i];
+                if (!nd.is_leaf()) continue;
+                Aabb box;
+                for (std::uint32_t k = nd.first; k < nd.first + nd.count; ++k) {
+                    const std::uint32_t p = prim_ids_[k];
+                    tris_[k] = {mesh.vertex(p, 0), mesh.vertex(p, 1), mesh.vertex(p, 2)};
+                    box.grow(triangle_box(tris_[k]));
+                }
+                nd.box = box;
             }
-            nd.box = box;
-        }
-    }, po);
+        },
+        po);
     for (std::size_t i = n; i-- > 0;) {
         Node2& nd = nodes_[i];
         if (nd.is_leaf()) continue;

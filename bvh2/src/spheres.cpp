@@ -77,21 +77,24 @@ SphereBvh SphereBvh::build(const Mesh& mesh, const BuildOptions& in) {
     bvh.nodes_.resize(nn);
     ParallelOptions po;
     po.grain = 64;
-    parallel_for(nn, std::max(1, opts.threads), [&](std::size_t b, std::size_t e) {
-        for (std::size_t j = b; j < e; ++j) {
-            const double cnt = 3.0 * double(hi[j] - lo[j]);
-            const Vec3 c{float(sum[j][0] / cnt), float(sum[j][1] / cnt), float(sum[j][2] / cnt)};
-            double r2 = 0;
-            for (std::uint32_t i = lo[j]; i < hi[j]; ++i)
-                for (const Vec3& v : {bvh.tris_[i].v0, bvh.tris_[i].v1, bvh.tris_[i].v2}) {
-                    const double dx = double(v.x) - double(c.x), dy = double(v.y) - double(c.y),
-                                 dz = double(v.z) - double(c.z);
-                    r2 = std::max(r2, dx * dx + dy * dy + dz * dz);
-                }
-            const Node2& nd = topo.nodes[j];
-            bvh.nodes_[j] = SphereNode{c, round_up(std::sqrt(r2)), nd.first, nd.count};
-        }
-    }, po);
+    parallel_for(
+        nn, std::max(1, opts.threads),
+        [&](std::size_t b, std::size_t e) {
+            for (std::size_t j = b; j < e; ++j) {
+                const double cnt = 3.0 * double(hi[j] - lo[j]);
+                const Vec3 c{float(sum[j][0] / cnt), float(sum[j][1] / cnt), float(sum[j][2] / cnt)};
+                double r2 = 0;
+                for (std::uint32_t i = lo[j]; i < hi[j]; ++i)
+                    for (const Vec3& v : {bvh.tris_[i].v0, bvh.tris_[i].v1, bvh.tris_[i].v2}) {
+                        const double dx = double(v.x) - double(c.x), dy = double(v.y) - double(c.y),
+                                     dz = double(v.z) - double(c.z);
+                        r2 = std::max(r2, dx * dx + dy * dy + dz * dz);
+                    }
+                const Node2& nd = topo.nodes[j];
+                bvh.nodes_[j] = SphereNode{c, round_up(std::sqrt(r2)), nd.first, nd.count};
+            }
+        },
+        po);
 
     const auto t1 = std::chrono::steady_clock::now();
     SphereBuildStats& s = bvh.stats_;

@@ -58,18 +58,15 @@ decltype(auto) with_variant(const TraceOptions& o, F&& f) {
 template <bool kAnyHit>
 Hit dispatch(const Bvh2& bvh, const Ray& ray, const TraceOptions& o) {
     if (o.stats)
-        return with_variant<true>(o, [&](auto v) {
-            return traverse<decltype(v)::test, decltype(v)::box, kAnyHit, true>(bvh, ray, o.stats);
-        });
-    return with_variant<false>(o, [&](auto v) {
-        return traverse<decltype(v)::test, decltype(v)::box, kAnyHit, false>(bvh, ray, nullptr);
-    });
+        return with_variant<true>(
+            o, [&](auto v) { return traverse<decltype(v)::test, decltype(v)::box, kAnyHit, true>(bvh, ray, o.stats); });
+    return with_variant<false>(
+        o, [&](auto v) { return traverse<decltype(v)::test, decltype(v)::box, kAnyHit, false>(bvh, ray, nullptr); });
 }
 
 template <TriangleTest kTest, BoxTest kBox, bool kAnyHit, bool kStats>
 void traverse_span(const Bvh2& bvh, std::span<const Ray> rays, std::span<Hit> hits, TraceStats* stats) {
-    for (std::size_t i = 0; i < rays.size(); ++i)
-        hits[i] = traverse<kTest, kBox, kAnyHit, kStats>(bvh, rays[i], stats);
+    for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = traverse<kTest, kBox, kAnyHit, kStats>(bvh, rays[i], stats);
 }
 
 template <bool kAnyHit>

@@ -26,7 +26,10 @@ TreeShape tree_shape(const std::vector<Node, Alloc>& nodes) {
     for (std::size_t i = 0; i < nodes.size() && ordered; ++i) {
         const Node& n = nodes[i];
         const int d = depth[i];
-        if (d == 0) { ordered = false; break; }  // not reached from the root in index order
+        if (d == 0) {
+            ordered = false;
+            break;
+        }  // not reached from the root in index order
         s.depth = std::max(s.depth, d);
         if (n.count != 0) {
             ++s.leaves;

@@ -59,11 +59,14 @@ void trace(const Accel& a, const auto& impl, std::span<const Ray> rays, std::spa
     using T = std::decay_t<decltype(impl)>;
     if constexpr (requires { impl.mesh; }) {
         if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
-        parallel_for(rays.size(), o.threads, [&](std::size_t b, std::size_t e) {
-            for (std::size_t i = b; i < e; ++i)
-                hits[i] = Any ? brute_force_occluded(impl.mesh, rays[i], o.test)
-                              : brute_force_intersect(impl.mesh, rays[i], o.test);
-        }, options_for_cost(impl.mesh.size()));
+        parallel_for(
+            rays.size(), o.threads,
+            [&](std::size_t b, std::size_t e) {
+                for (std::size_t i = b; i < e; ++i)
+                    hits[i] = Any ? brute_force_occluded(impl.mesh, rays[i], o.test)
+                                  : brute_force_intersect(impl.mesh, rays[i], o.test);
+            },
+            options_for_cost(impl.mesh.size()));
     } else if constexpr (std::is_same_v<T, Bvh2>) {
         Any ? occluded(impl, rays, hits, o) : intersect(impl, rays, hits, o);
     } else {

@@ -33,19 +33,25 @@ void intersect(const BruteForce8& brute, std::span<const Ray> rays, std::span<Hi
                Isa isa) {
     if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
     require(isa);
-    parallel_for(rays.size(), o.threads, [&](std::size_t b, std::size_t e) {
-        kernels::intersect_tri8(rays.subspan(b, e - b), brute.blocks(), o.test, hits.subspan(b, e - b), isa);
-    }, options_for_cost(brute.triangles(), kernels::kBruteRayTile));
+    parallel_for(
+        rays.size(), o.threads,
+        [&](std::size_t b, std::size_t e) {
+            kernels::intersect_tri8(rays.subspan(b, e - b), brute.blocks(), o.test, hits.subspan(b, e - b), isa);
+        },
+        options_for_cost(brute.triangles(), kernels::kBruteRayTile));
 }
 
 void occluded(const BruteForce8& brute, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o,
               Isa isa) {
     if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
     require(isa);
-    parallel_for(rays.size(), o.threads, [&](std::size_t b, std::size_t e) {
-        std::vector<std::uint8_t> flags(e - b);
-        kernels::occluded_tri8(rays.subspan(b, e - b), brute.blocks(), o.test, flags, hits.subspan(b, e - b), isa);
-    }, options_for_cost(brute.triangles(), kernels::kBruteRayTile));
+    parallel_for(
+        rays.size(), o.threads,
+        [&](std::size_t b, std::size_t e) {
+            std::vector<std::uint8_t> flags(e - b);
+            kernels::occluded_tri8(rays.subspan(b, e - b), brute.blocks(), o.test, flags, hits.subspan(b, e - b), isa);
+        },
+        options_for_cost(brute.triangles(), kernels::kBruteRayTile));
 }
 
 }  // namespace simdbvh

@@ -101,9 +101,9 @@ void closest_point(const BvhN<N>& bvh, std::span<const Vec3> points, std::span<C
     });
 }
 
-#define SIMDBVH_WIDTH(N)                                                                                      \
-    template ClosestPoint closest_point<N>(const BvhN<N>&, const Vec3&, const PointQueryOptions&);           \
-    template void closest_point<N>(const BvhN<N>&, std::span<const Vec3>, std::span<ClosestPoint>,            \
+#define SIMDBVH_WIDTH(N)                                                                           \
+    template ClosestPoint closest_point<N>(const BvhN<N>&, const Vec3&, const PointQueryOptions&); \
+    template void closest_point<N>(const BvhN<N>&, std::span<const Vec3>, std::span<ClosestPoint>, \
                                    const PointQueryOptions&);
 SIMDBVH_WIDTH(4)
 SIMDBVH_WIDTH(8)

@@ -49,10 +49,10 @@ struct Collapser {
     // SAH tables (index i - 1 for i = 1..N). The costs C(n, i) live only on
     // the recursion (a parent needs its children's), not in a table per node.
     using Costs = std::array<double, N>;
-    Costs root_left{}, root_right{};                 // C(left(0), .), C(right(0), .): the root's leaf test
-    LargeVector<std::array<std::uint8_t, N>> from;   // i >= 2: 0 = same as i - 1, k = C_dist split (k left slots)
-    LargeVector<std::uint8_t> distn;                 // split of C_dist(n, N) (the children of an inner node)
-    LargeVector<std::uint8_t> leaf1;                 // C(n, 1) is a leaf
+    Costs root_left{}, root_right{};                // C(left(0), .), C(right(0), .): the root's leaf test
+    LargeVector<std::array<std::uint8_t, N>> from;  // i >= 2: 0 = same as i - 1, k = C_dist split (k left slots)
+    LargeVector<std::uint8_t> distn;                // split of C_dist(n, N) (the children of an inner node)
+    LargeVector<std::uint8_t> leaf1;                // C(n, 1) is a leaf
     WideTopology<N> topo;
 
     Collapser(std::span<const Node2> nodes, std::size_t p, const WideOptions& o) : prims(p), opts(o), n2(nodes) {}
@@ -135,7 +135,10 @@ struct Collapser {
         leaves = ll + lr;
         count = nl + nr;
         const int budget = int(std::min<std::uint32_t>(leaves, N));  // slots worth computing
-        if (n == 0) { root_left = cl; root_right = cr; }
+        if (n == 0) {
+            root_left = cl;
+            root_right = cr;
+        }
         // Costs are finite for finite boxes (areas in double), so a split is
         // always recorded; should one not be (all +inf), k = 1 still names
         // a valid partition of the j slots: resolve never sees slot 0.
@@ -145,7 +148,7 @@ struct Collapser {
             dist[j] = kInf;
             split[j] = 1;
             if (j > budget && j < N) continue;  // saturated: see above
-            for (int k = 1; k < j; ++k) {  // selects, not branches (unpredictable)
+            for (int k = 1; k < j; ++k) {       // selects, not branches (unpredictable)
                 const double d = cl[k - 1] + cr[j - k - 1];
                 const bool better = d < dist[j];
                 dist[j] = better ? d : dist[j];
@@ -160,8 +163,13 @@ struct Collapser {
         auto& f = from[n];
         f[0] = 0;
         for (int i = 2; i <= N; ++i) {
-            if (i <= budget && dist[i] < c[i - 2]) { c[i - 1] = dist[i]; f[i - 1] = split[i]; }
-            else { c[i - 1] = c[i - 2]; f[i - 1] = 0; }
+            if (i <= budget && dist[i] < c[i - 2]) {
+                c[i - 1] = dist[i];
+                f[i - 1] = split[i];
+            } else {
+                c[i - 1] = c[i - 2];
+                f[i - 1] = 0;
+            }
         }
         return c;
     }
@@ -169,9 +177,13 @@ struct Collapser {
     // The BVH2 nodes that fill at most i slots for n's subtree (SAH tables).
     void resolve(std::uint32_t n, int i, std::vector<std::uint32_t>& out) const {
         if (i < 1 || i > N)
-            throw Error("BVH" + std::to_string(N) + " collapse: slot budget " + std::to_string(i) + " outside 1.." + std::to_string(N));
+            throw Error("BVH" + std::to_string(N) + " collapse: slot budget " + std::to_string(i) + " outside 1.." +
+                        std::to_string(N));
         while (i > 1 && from[n][i - 1] == 0) --i;
-        if (i == 1) { out.push_back(n); return; }
+        if (i == 1) {
+            out.push_back(n);
+            return;
+        }
         const int k = from[n][i - 1];
         resolve(left(n), k, out);
         resolve(right(n), i - k, out);
@@ -189,7 +201,10 @@ struct Collapser {
             for (int c = 0; c < int(out.size()); ++c) {
                 if (greedy_leaf(out[c])) continue;
                 const double a = area(out[c]);
-                if (a > best_area) { best_area = a; best = c; }
+                if (a > best_area) {
+                    best_area = a;
+                    best = c;
+                }
             }
             if (best < 0) break;
             const std::uint32_t m = out[best];
@@ -198,9 +213,7 @@ struct Collapser {
         }
     }
 
-    bool slot_is_leaf(std::uint32_t n) const {
-        return opts.collapse == Collapse::sah ? leaf1[n] != 0 : greedy_leaf(n);
-    }
+    bool slot_is_leaf(std::uint32_t n) const { return opts.collapse == Collapse::sah ? leaf1[n] != 0 : greedy_leaf(n); }
     void inner_slots(std::uint32_t n, std::vector<std::uint32_t>& out) const {
         out.clear();
         if (opts.collapse == Collapse::sah) {
@@ -263,7 +276,9 @@ struct Collapser {
         bool root_leaf = n2[0].is_leaf();
         if (!root_leaf) {
             if (opts.collapse == Collapse::sah) {
-                root_leaf = leafable(std::uint32_t(prims)) && leaf_cost(0, std::uint32_t(prims)) <= root_left[distn[0] - 1] + root_right[N - distn[0] - 1];
+                root_leaf =
+                    leafable(std::uint32_t(prims)) &&
+                    leaf_cost(0, std::uint32_t(prims)) <= root_left[distn[0] - 1] + root_right[N - distn[0] - 1];
             } else {
                 root_leaf = greedy_leaf(0);
             }
@@ -347,16 +362,15 @@ double sah_cost(const WideTopology<N>& topo, const WideOptions& opts) {
         c += double(opts.node_cost) * (flat ? 1.0 : area(n.box)) / root;
         for (int k = 0; k < n.child_count; ++k) {
             const WideChild& ch = n.children[k];
-            if (ch.is_leaf())
-                c += double(opts.block_cost) * blocks_of(ch.count) * (flat ? 1.0 : area(ch.box)) / root;
+            if (ch.is_leaf()) c += double(opts.block_cost) * blocks_of(ch.count) * (flat ? 1.0 : area(ch.box)) / root;
         }
     }
     return c;
 }
 
-#define SIMDBVH_WIDTH(N)                                                          \
-    template WideTopology<N> collapse<N>(const Bvh2&, const WideOptions&);                            \
-    template WideTopology<N> collapse<N>(std::span<const Node2>, std::size_t, const WideOptions&);     \
+#define SIMDBVH_WIDTH(N)                                                                           \
+    template WideTopology<N> collapse<N>(const Bvh2&, const WideOptions&);                         \
+    template WideTopology<N> collapse<N>(std::span<const Node2>, std::size_t, const WideOptions&); \
     template double sah_cost<N>(const WideTopology<N>&, const WideOptions&);
 SIMDBVH_WIDTH(4)
 SIMDBVH_WIDTH(8)

@@ -17,7 +17,7 @@ namespace {
 // a fraction of BVH8's build (choose()): 5.7% and 7.7% measured, rounded up.
 constexpr double kWidthBuildError = 0.08;
 constexpr std::string_view kNames[kAccelMethodCount] = {"brute", "brute8", "bvh2", "bvh4", "bvh8", "bvh16"};
-}
+}  // namespace
 
 std::string_view name(AccelMethod m) { return kNames[std::size_t(m)]; }
 

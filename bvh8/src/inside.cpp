@@ -217,15 +217,15 @@ void classify_points(const BvhN<N>& bvh, std::span<const Vec3> points, std::span
     // Morton order: neighbouring points walk the same nodes while they are in
     // cache. The order changes the speed only.
     const std::vector<std::uint32_t> order = detail::morton_order(points, opts.threads);
-    parallel_for(points.size(), opts.threads, [&](std::size_t b, std::size_t e) {
-        classify_span(bvh, points, order.data(), b, e, out, opts);
-    }, ParallelOptions{.grain = 1024});
+    parallel_for(
+        points.size(), opts.threads,
+        [&](std::size_t b, std::size_t e) { classify_span(bvh, points, order.data(), b, e, out, opts); },
+        ParallelOptions{.grain = 1024});
 }
 
-#define SIMDBVH_INSTANTIATE(N)                                                                              \
-    template PointSide classify_point<N>(const BvhN<N>&, const Vec3&, const InsideOptions&);                \
-    template void classify_points<N>(const BvhN<N>&, std::span<const Vec3>, std::span<PointSide>,           \
-                                     const InsideOptions&);
+#define SIMDBVH_INSTANTIATE(N)                                                               \
+    template PointSide classify_point<N>(const BvhN<N>&, const Vec3&, const InsideOptions&); \
+    template void classify_points<N>(const BvhN<N>&, std::span<const Vec3>, std::span<PointSide>, const InsideOptions&);
 SIMDBVH_INSTANTIATE(4)
 SIMDBVH_INSTANTIATE(8)
 SIMDBVH_INSTANTIATE(16)

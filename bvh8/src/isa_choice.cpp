@@ -146,7 +146,8 @@ void Calibration::run(const std::function<void(Isa, std::size_t, std::size_t)>& 
             }
             cycles.push_back(std::exp(log_sum / double(k_isas)));
         }
-        const std::size_t wins = std::size_t(std::count_if(cycles.begin(), cycles.end(), [](double x) { return x < 1.0; }));
+        const std::size_t wins =
+            std::size_t(std::count_if(cycles.begin(), cycles.end(), [](double x) { return x < 1.0; }));
         const double r = median(cycles);
         if (r < kMargin && wins >= n_cycles - n_cycles / 8 && r < best_ratio) {
             best = isa;
@@ -171,8 +172,7 @@ void Calibration::run(const std::function<void(Isa, std::size_t, std::size_t)>& 
 void forget_choice(int width, bool any_hit) {
     Slot& s = slot(width, any_hit);
     int state = s.state.load(std::memory_order_acquire);
-    while (state >= 0 && !s.state.compare_exchange_weak(state, kUnknown, std::memory_order_acq_rel)) {
-    }
+    while (state >= 0 && !s.state.compare_exchange_weak(state, kUnknown, std::memory_order_acq_rel)) {}
 }
 
 bool calibrate(int width, bool any_hit, std::size_t rays,
@@ -188,7 +188,8 @@ bool calibrate(int width, bool any_hit, std::size_t rays,
 namespace simdbvh {
 
 TraversalIsaChoice traversal_isa_choice(int width, bool any_hit) {
-    if (width != 4 && width != 8 && width != 16) throw Error("node widths: 4, 8, 16 (got " + std::to_string(width) + ")");
+    if (width != 4 && width != 8 && width != 16)
+        throw Error("node widths: 4, 8, 16 (got " + std::to_string(width) + ")");
     TraversalIsaChoice out;
     if (const auto f = forced_isa()) {
         out.isa = *f;

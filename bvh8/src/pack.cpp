@@ -30,8 +30,8 @@ constexpr std::uint32_t kLanes = kBlockWidth;
 template <int N>
 struct NodePacking {
     int bins = 0;
-    int bin_of[N], lane_of[N];       // per slot (small leaves only)
-    std::uint32_t bin_slots[N] = {}; // slots per bin
+    int bin_of[N], lane_of[N];        // per slot (small leaves only)
+    std::uint32_t bin_slots[N] = {};  // slots per bin
 };
 
 bool is_small(const WideChild& c) { return c.is_leaf() && c.count <= kLanes; }
@@ -104,8 +104,8 @@ std::uint32_t own_blocks(const WideChild& c) { return (c.count + kLanes - 1u) / 
 // `set_tri(pos, blk, lane)` writes the triangle at BVH2 leaf position pos;
 // `clear(blk)` empties a block before its lanes are written.
 template <int N, class SetTri, class ClearBlock>
-void pack_with(const WideTopology<N>& topo, NodesN<N>& nodes, Tri8Blocks& blocks, WideStats& stats,
-               int threads, SetTri set_tri, ClearBlock clear) {
+void pack_with(const WideTopology<N>& topo, NodesN<N>& nodes, Tri8Blocks& blocks, WideStats& stats, int threads,
+               SetTri set_tri, ClearBlock clear) {
     using Child = ChildN<N>;
     ParallelOptions po;
     po.grain = 256;
@@ -113,34 +113,37 @@ void pack_with(const WideTopology<N>& topo, NodesN<N>& nodes, Tri8Blocks& blocks
     // Each node's packing and block count (independent, in parallel), then
     // the prefix sum of the counts: each node's first block. The nodes are
     // then independent.
-    LargeVector<NodePacking<N>> packing(topo.nodes.size());  // each written below
+    LargeVector<NodePacking<N>> packing(topo.nodes.size());         // each written below
     std::vector<std::uint32_t> first_block(topo.nodes.size() + 1);  // a node's block count, then its first block
     std::atomic<std::size_t> used_slots{0}, leaves{0}, shared{0};
     std::atomic<std::uint32_t> too_large{0};  // the largest leaf over Child::kMaxBlocks blocks (deterministic message)
-    parallel_for(topo.nodes.size(), threads, [&](std::size_t b, std::size_t e) {
-        std::size_t used = 0, nleaves = 0, nshared = 0;
-        std::uint32_t largest = 0;
-        for (std::size_t i = b; i < e; ++i) {
-            const WideNode<N>& w = topo.nodes[i];
-            const NodePacking<N>& p = packing[i] = pack_node(w);
-            std::uint32_t count = std::uint32_t(p.bins);
-            for (int k = 0; k < p.bins; ++k) nshared += __builtin_popcount(p.bin_slots[k]) > 1;
-            used += std::size_t(w.child_count);
-            for (int c = 0; c < w.child_count; ++c) {
-                const WideChild& wc = w.children[c];
-                if (!wc.is_leaf()) continue;
-                ++nleaves;
-                if (is_small(wc)) continue;
-                if (own_blocks(wc) > Child::kMaxBlocks) largest = std::max(largest, wc.count);
-                else count += own_blocks(wc);  // <= N * kMaxBlocks: no overflow
+    parallel_for(
+        topo.nodes.size(), threads,
+        [&](std::size_t b, std::size_t e) {
+            std::size_t used = 0, nleaves = 0, nshared = 0;
+            std::uint32_t largest = 0;
+            for (std::size_t i = b; i < e; ++i) {
+                const WideNode<N>& w = topo.nodes[i];
+                const NodePacking<N>& p = packing[i] = pack_node(w);
+                std::uint32_t count = std::uint32_t(p.bins);
+                for (int k = 0; k < p.bins; ++k) nshared += __builtin_popcount(p.bin_slots[k]) > 1;
+                used += std::size_t(w.child_count);
+                for (int c = 0; c < w.child_count; ++c) {
+                    const WideChild& wc = w.children[c];
+                    if (!wc.is_leaf()) continue;
+                    ++nleaves;
+                    if (is_small(wc)) continue;
+                    if (own_blocks(wc) > Child::kMaxBlocks) largest = std::max(largest, wc.count);
+                    else count += own_blocks(wc);  // <= N * kMaxBlocks: no overflow
+                }
+                first_block[i] = count;
             }
-            first_block[i] = count;
-        }
-        used_slots += used;
-        leaves += nleaves;
-        shared += nshared;
-        for (std::uint32_t t = too_large.load(); largest > t && !too_large.compare_exchange_weak(t, largest);) {}
-    }, po);
+            used_slots += used;
+            leaves += nleaves;
+            shared += nshared;
+            for (std::uint32_t t = too_large.load(); largest > t && !too_large.compare_exchange_weak(t, largest);) {}
+        },
+        po);
     if (too_large.load())
         throw Error("BVH" + std::to_string(N) + " leaf of " + std::to_string(too_large.load()) + " triangles exceeds " +
                     std::to_string(Child::kMaxBlocks) + " Tri8 blocks");
@@ -190,9 +193,12 @@ void pack_with(const WideTopology<N>& topo, NodesN<N>& nodes, Tri8Blocks& blocks
             next += count;
         }
     };
-    parallel_for(topo.nodes.size(), threads, [&](std::size_t b, std::size_t e) {
-        for (std::size_t i = b; i < e; ++i) pack_one(i);
-    }, po);
+    parallel_for(
+        topo.nodes.size(), threads,
+        [&](std::size_t b, std::size_t e) {
+            for (std::size_t i = b; i < e; ++i) pack_one(i);
+        },
+        po);
     stats.nodes = nodes.size();
     stats.leaves = leaves;
     stats.blocks = blocks.size();
@@ -209,14 +215,17 @@ void pack_with(const WideTopology<N>& topo, NodesN<N>& nodes, Tri8Blocks& blocks
 }
 
 template <int N>
-void pack(const Bvh2& bvh2, const WideTopology<N>& topo, NodesN<N>& nodes, Tri8Blocks& blocks,
-          WideStats& stats, int threads) {
+void pack(const Bvh2& bvh2, const WideTopology<N>& topo, NodesN<N>& nodes, Tri8Blocks& blocks, WideStats& stats,
+          int threads) {
     const auto& tris = bvh2.triangles();
     const auto& ids = bvh2.prim_ids();
-    pack_with(topo, nodes, blocks, stats, threads, [&](std::uint32_t pos, Tri8& blk, int lane) {
-        const TriangleVerts& tv = tris[pos];
-        blk.set(lane, tv.v0, tv.v1, tv.v2, ids[pos]);
-    }, [](Tri8& blk) { blk.clear(); });
+    pack_with(
+        topo, nodes, blocks, stats, threads,
+        [&](std::uint32_t pos, Tri8& blk, int lane) {
+            const TriangleVerts& tv = tris[pos];
+            blk.set(lane, tv.v0, tv.v1, tv.v2, ids[pos]);
+        },
+        [](Tri8& blk) { blk.clear(); });
 }
 
 namespace {
@@ -297,41 +306,47 @@ void scatter_by_buckets(const Mesh& mesh, std::span<const std::uint32_t> lane_of
     ParallelOptions po;
     po.grain = 8;
     po.pin = false;
-    parallel_for(buckets, threads, [&](std::size_t b0, std::size_t b1) {
-        constexpr float kNan = std::numeric_limits<float>::quiet_NaN();
-        const LaneRecord empty{{kNan, kNan, kNan, kNan, kNan, kNan, kNan, kNan, kNan}, kInvalidPrim};
-        const std::unique_ptr<LaneRecord[]> aside(new LaneRecord[kBucketLanes]);  // not zeroed
-        for (std::size_t b = b0; b < b1; ++b) {
-            const std::size_t first = b * kBucketLanes, count = filled[b];
-            const std::size_t end = std::min(lanes, first + kBucketLanes);
-            std::memcpy(aside.get(), rec + first, count * sizeof(LaneRecord));
-            std::fill(rec + first, rec + end, empty);
-            for (std::size_t k = 0; k < count; ++k) rec[first + slot[first + k]] = aside[k];
-            for (std::size_t k = first / kLanes; k < end / kLanes; ++k) transpose(blocks[k]);
-        }
-    }, po);
+    parallel_for(
+        buckets, threads,
+        [&](std::size_t b0, std::size_t b1) {
+            constexpr float kNan = std::numeric_limits<float>::quiet_NaN();
+            const LaneRecord empty{{kNan, kNan, kNan, kNan, kNan, kNan, kNan, kNan, kNan}, kInvalidPrim};
+            const std::unique_ptr<LaneRecord[]> aside(new LaneRecord[kBucketLanes]);  // not zeroed
+            for (std::size_t b = b0; b < b1; ++b) {
+                const std::size_t first = b * kBucketLanes, count = filled[b];
+                const std::size_t end = std::min(lanes, first + kBucketLanes);
+                std::memcpy(aside.get(), rec + first, count * sizeof(LaneRecord));
+                std::fill(rec + first, rec + end, empty);
+                for (std::size_t k = 0; k < count; ++k) rec[first + slot[first + k]] = aside[k];
+                for (std::size_t k = first / kLanes; k < end / kLanes; ++k) transpose(blocks[k]);
+            }
+        },
+        po);
 }
 
 }  // namespace
 
 template <int N>
-void pack(const Mesh& mesh, std::span<const std::uint32_t> prim_ids, const WideTopology<N>& topo,
-          NodesN<N>& nodes, Tri8Blocks& blocks, WideStats& stats, int threads) {
+void pack(const Mesh& mesh, std::span<const std::uint32_t> prim_ids, const WideTopology<N>& topo, NodesN<N>& nodes,
+          Tri8Blocks& blocks, WideStats& stats, int threads) {
     const std::size_t n = mesh.triangles.size();
     if (!scatter_pays(prim_ids, n)) {
         // The gather waits on three dependent loads per triangle (its id, its
         // vertex indices, its vertices): the indices are fetched 16 positions
         // ahead and the vertices 8 ahead (leaves are runs of positions).
         const std::size_t m = prim_ids.size();
-        pack_with(topo, nodes, blocks, stats, threads, [&](std::uint32_t pos, Tri8& blk, int lane) {
-            if (pos + 16u < m) __builtin_prefetch(&mesh.triangles[prim_ids[pos + 16u]]);
-            if (pos + 8u < m) {
-                const Triangle& t = mesh.triangles[prim_ids[pos + 8u]];
-                for (int k = 0; k < 3; ++k) __builtin_prefetch(&mesh.positions[t[k]]);
-            }
-            const std::uint32_t p = prim_ids[pos];
-            blk.set(lane, mesh.vertex(p, 0), mesh.vertex(p, 1), mesh.vertex(p, 2), p);
-        }, [](Tri8& blk) { blk.clear(); });
+        pack_with(
+            topo, nodes, blocks, stats, threads,
+            [&](std::uint32_t pos, Tri8& blk, int lane) {
+                if (pos + 16u < m) __builtin_prefetch(&mesh.triangles[prim_ids[pos + 16u]]);
+                if (pos + 8u < m) {
+                    const Triangle& t = mesh.triangles[prim_ids[pos + 8u]];
+                    for (int k = 0; k < 3; ++k) __builtin_prefetch(&mesh.positions[t[k]]);
+                }
+                const std::uint32_t p = prim_ids[pos];
+                blk.set(lane, mesh.vertex(p, 0), mesh.vertex(p, 1), mesh.vertex(p, 2), p);
+            },
+            [](Tri8& blk) { blk.clear(); });
         return;
     }
     // Scatter: the packing records each triangle's lane (block * kLanes +
@@ -344,17 +359,23 @@ void pack(const Mesh& mesh, std::span<const std::uint32_t> prim_ids, const WideT
     po.grain = std::size_t(1) << 16;
     po.pin = false;
     LargeVector<std::uint32_t> lane_of(n);  // each written below
-    parallel_for(n, threads, [&](std::size_t b, std::size_t e) {
-        std::fill(lane_of.begin() + std::ptrdiff_t(b), lane_of.begin() + std::ptrdiff_t(e), kNone);
-    }, po);
-    pack_with(topo, nodes, blocks, stats, threads, [&](std::uint32_t pos, Tri8& blk, int lane) {
-        lane_of[prim_ids[pos]] = std::uint32_t(&blk - blocks.data()) * kLanes + std::uint32_t(lane);
-    }, [](Tri8&) {});
+    parallel_for(
+        n, threads,
+        [&](std::size_t b, std::size_t e) {
+            std::fill(lane_of.begin() + std::ptrdiff_t(b), lane_of.begin() + std::ptrdiff_t(e), kNone);
+        },
+        po);
+    pack_with(
+        topo, nodes, blocks, stats, threads,
+        [&](std::uint32_t pos, Tri8& blk, int lane) {
+            lane_of[prim_ids[pos]] = std::uint32_t(&blk - blocks.data()) * kLanes + std::uint32_t(lane);
+        },
+        [](Tri8&) {});
     scatter_by_buckets(mesh, lane_of, blocks, threads);
 }
 
-#define SIMDBVH_WIDTH(N)                                                                                          \
-    template void pack<N>(const Bvh2&, const WideTopology<N>&, NodesN<N>&, Tri8Blocks&, WideStats&, int); \
+#define SIMDBVH_WIDTH(N)                                                                                   \
+    template void pack<N>(const Bvh2&, const WideTopology<N>&, NodesN<N>&, Tri8Blocks&, WideStats&, int);  \
     template void pack<N>(const Mesh&, std::span<const std::uint32_t>, const WideTopology<N>&, NodesN<N>&, \
                           Tri8Blocks&, WideStats&, int);
 SIMDBVH_WIDTH(4)

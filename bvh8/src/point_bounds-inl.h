@@ -54,9 +54,9 @@ inline void box_keys(const BoxN<N>& b, const Vec3& p, double key[N]) {
     const __m128 px = _mm_set1_ps(p.x), py = _mm_set1_ps(p.y), pz = _mm_set1_ps(p.z);
     alignas(16) float f[N];
     for (int i = 0; i < N; i += 4)
-        _mm_store_ps(f + i, gap2_4(_mm_load_ps(b.lo_x + i), _mm_load_ps(b.hi_x + i), _mm_load_ps(b.lo_y + i),
-                                   _mm_load_ps(b.hi_y + i), _mm_load_ps(b.lo_z + i), _mm_load_ps(b.hi_z + i), px, py,
-                                   pz));
+        _mm_store_ps(f + i,
+                     gap2_4(_mm_load_ps(b.lo_x + i), _mm_load_ps(b.hi_x + i), _mm_load_ps(b.lo_y + i),
+                            _mm_load_ps(b.hi_y + i), _mm_load_ps(b.lo_z + i), _mm_load_ps(b.hi_z + i), px, py, pz));
     for (int i = 0; i < N; ++i) key[i] = prune_key(f[i], [&] { return box_distance2(p, b.get(i)); });
 }
 

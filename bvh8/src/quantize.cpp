@@ -64,10 +64,16 @@ bool quantize_box(const BoxN<N>& box, const ChildN<N>* children, QBoxN<N>& out) 
                 while (ql > 0 && out.plane(2 * a, i) > l) out.q[2 * a * N + i] = std::uint8_t(--ql);
                 // Upper plane: the smallest q whose dequantized value is >= h.
                 int qh = int(std::max(0.0, std::ceil((double(h) - double(lo)) / step)));
-                if (qh > 255) { fits = false; break; }
+                if (qh > 255) {
+                    fits = false;
+                    break;
+                }
                 out.q[(2 * a + 1) * N + i] = std::uint8_t(qh);
                 while (out.plane(2 * a + 1, i) < h) {
-                    if (qh == 255) { fits = false; break; }
+                    if (qh == 255) {
+                        fits = false;
+                        break;
+                    }
                     out.q[(2 * a + 1) * N + i] = std::uint8_t(++qh);
                 }
             }
@@ -84,18 +90,21 @@ std::vector<QNodeN<N>> quantize(const NodesN<N>& nodes, int threads) {
     ParallelOptions po;
     po.pin = false;
     po.grain = 1024;
-    parallel_for(nodes.size(), threads, [&](std::size_t b, std::size_t e) {
-        for (std::size_t i = b; i < e; ++i) {
-            if (!quantize_box<N>(nodes[i].boxes, nodes[i].children, q[i].boxes)) ok.store(false);
-            std::copy(nodes[i].children, nodes[i].children + N, q[i].children);
-        }
-    }, po);
+    parallel_for(
+        nodes.size(), threads,
+        [&](std::size_t b, std::size_t e) {
+            for (std::size_t i = b; i < e; ++i) {
+                if (!quantize_box<N>(nodes[i].boxes, nodes[i].children, q[i].boxes)) ok.store(false);
+                std::copy(nodes[i].children, nodes[i].children + N, q[i].children);
+            }
+        },
+        po);
     if (!ok.load()) q.clear();
     return q;
 }
 
-#define SIMDBVH_QUANTIZE(N)                                                                                    \
-    template bool quantize_box<N>(const BoxN<N>&, const ChildN<N>*, QBoxN<N>&);                               \
+#define SIMDBVH_QUANTIZE(N)                                                     \
+    template bool quantize_box<N>(const BoxN<N>&, const ChildN<N>*, QBoxN<N>&); \
     template std::vector<QNodeN<N>> quantize<N>(const NodesN<N>&, int);
 SIMDBVH_QUANTIZE(4)
 SIMDBVH_QUANTIZE(8)

@@ -84,14 +84,14 @@ bool scattered_at(std::size_t n, const At& ray_at, const Aabb& bounds) {
             cells.set(g.key(r) >> (kFineBits + 3));
         }
     }
-    return 2 * inside >= samples && 4 * cells.count() < 3 * cells.size() &&
-           n >= kReorderRaysPerCell * cells.count();
+    return 2 * inside >= samples && 4 * cells.count() < 3 * cells.size() && n >= kReorderRaysPerCell * cells.count();
 }
 
 }  // namespace
 
 bool scattered(std::span<const Ray> rays, const Aabb& bounds) {
-    return scattered_at(rays.size(), [&](std::size_t i) -> const Ray& { return rays[i]; }, bounds);
+    return scattered_at(
+        rays.size(), [&](std::size_t i) -> const Ray& { return rays[i]; }, bounds);
 }
 bool scattered(std::size_t n, const std::function<Ray(std::size_t)>& ray_at, const Aabb& bounds) {
     return scattered_at(n, ray_at, bounds);

@@ -82,9 +82,8 @@ void BvhN<N>::refit(const Mesh& mesh, int threads) {
     for (std::size_t i = 0; i < n; ++i) {
         for (int c = 0; c < N; ++c) {
             const Child& ch = nodes_[i].children[c];
-            const bool ok = ch.is_empty() ||
-                            (ch.is_inner() ? ch.index > i && ch.index < n
-                                           : std::size_t(ch.index) + ch.blocks() <= blocks_.size());
+            const bool ok = ch.is_empty() || (ch.is_inner() ? ch.index > i && ch.index < n
+                                                            : std::size_t(ch.index) + ch.blocks() <= blocks_.size());
             if (!ok) throw Error(what + "node " + std::to_string(i) + " is not in collapse order");
         }
     }
@@ -93,20 +92,28 @@ void BvhN<N>::refit(const Mesh& mesh, int threads) {
     ParallelOptions po;
     po.pin = false;
     po.grain = 1024;
-    parallel_for(blocks_.size(), threads, [&](std::size_t b, std::size_t e) {
-        for (std::size_t i = b; i < e; ++i) {
-            Tri8& t = blocks_[i];
-            for (int k = 0; k < kBlockWidth; ++k)
-                if (t.prim[k] != kInvalidPrim)
-                    t.set(k, mesh.vertex(t.prim[k], 0), mesh.vertex(t.prim[k], 1), mesh.vertex(t.prim[k], 2), t.prim[k]);
-        }
-    }, po);
+    parallel_for(
+        blocks_.size(), threads,
+        [&](std::size_t b, std::size_t e) {
+            for (std::size_t i = b; i < e; ++i) {
+                Tri8& t = blocks_[i];
+                for (int k = 0; k < kBlockWidth; ++k)
+                    if (t.prim[k] != kInvalidPrim)
+                        t.set(k, mesh.vertex(t.prim[k], 0), mesh.vertex(t.prim[k], 1), mesh.vertex(t.prim[k], 2),
+                              t.prim[k]);
+            }
+        },
+        po);
     po.grain = 256;
-    parallel_for(n, threads, [&](std::size_t b, std::size_t e) {
-        for (std::size_t i = b; i < e; ++i)
-            for (int c = 0; c < N; ++c)
-                if (nodes_[i].children[c].is_leaf()) nodes_[i].boxes.set(c, leaf_box(nodes_[i].children[c], blocks_));
-    }, po);
+    parallel_for(
+        n, threads,
+        [&](std::size_t b, std::size_t e) {
+            for (std::size_t i = b; i < e; ++i)
+                for (int c = 0; c < N; ++c)
+                    if (nodes_[i].children[c].is_leaf())
+                        nodes_[i].boxes.set(c, leaf_box(nodes_[i].children[c], blocks_));
+        },
+        po);
     for (std::size_t i = n; i-- > 0;) {
         Node& nd = nodes_[i];
         for (int c = 0; c < N; ++c)
@@ -116,10 +123,13 @@ void BvhN<N>::refit(const Mesh& mesh, int threads) {
     stats_.sah_cost = wide_sah(nodes_, bounds_, opts_);
     if (!qnodes_.empty()) {  // requantized in place: the same node count, so no allocation
         std::atomic<bool> ok{true};
-        parallel_for(n, threads, [&](std::size_t b, std::size_t e) {
-            for (std::size_t i = b; i < e; ++i)
-                if (!bvh8::quantize_box<N>(nodes_[i].boxes, nodes_[i].children, qnodes_[i].boxes)) ok.store(false);
-        }, po);
+        parallel_for(
+            n, threads,
+            [&](std::size_t b, std::size_t e) {
+                for (std::size_t i = b; i < e; ++i)
+                    if (!bvh8::quantize_box<N>(nodes_[i].boxes, nodes_[i].children, qnodes_[i].boxes)) ok.store(false);
+            },
+            po);
         if (!ok.load()) std::vector<QNode>().swap(qnodes_);  // an extent no grid spans: traversal reads the full nodes
     }
 }

@@ -110,8 +110,7 @@ void trace_sorted(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> 
             for (std::size_t i = lo; i < hi; ++i) out[order_index(order[i])] = g.hits[i - lo];
         };
         const bool calibrating = cal && s == 0;
-        const std::vector<Range> items =
-            pieces(n, calibrating ? cal->groups() : std::vector<Range>{}, kReorderBlock);
+        const std::vector<Range> items = pieces(n, calibrating ? cal->groups() : std::vector<Range>{}, kReorderBlock);
         auto blocks = [&](std::size_t b, std::size_t e) {
             std::unique_ptr<Gathered> taken = gathered_pool.take();
             Gathered& g = *taken;
@@ -148,9 +147,8 @@ void run(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, con
     const TraceFn<N> fn = fn_of<N, kAnyHit>(isa);
     if (sorted) return trace_sorted<N, kAnyHit>(bvh, rays, hits, o, isa, nullptr);
     if (o.stats || o.threads <= 1) return fn(bvh, rays, hits, o);  // stats: one thread (unsynchronized counters)
-    parallel_for(rays.size(), o.threads, [&](std::size_t b, std::size_t e) {
-        fn(bvh, rays.subspan(b, e - b), hits.subspan(b, e - b), o);
-    });
+    parallel_for(rays.size(), o.threads,
+                 [&](std::size_t b, std::size_t e) { fn(bvh, rays.subspan(b, e - b), hits.subspan(b, e - b), o); });
 }
 
 template <int N, bool kAnyHit>
@@ -244,7 +242,7 @@ bool traces_sorted(const BvhN<N>& bvh, std::size_t n, const std::function<Ray(st
     return reordered(n, o.reorder, [&] { return bvh8::detail::scattered(n, ray_at, bvh.bounds()); });
 }
 
-#define SIMDBVH_WIDTH(N)                                                                                          \
+#define SIMDBVH_WIDTH(N)                                                                                        \
     template bool traces_sorted<N>(const BvhN<N>&, std::span<const Ray>, const TraceOptions&);                  \
     template bool traces_sorted<N>(const BvhN<N>&, std::size_t, const std::function<Ray(std::size_t)>&,         \
                                    const TraceOptions&);                                                        \

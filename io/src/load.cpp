@@ -87,8 +87,9 @@ std::string bad_number(std::string_view tok) {
     if (strip_plus(t)) {
         auto [ptr, ec] = std::from_chars(t.data(), t.data() + t.size(), d, std::chars_format::general);
         const bool whole = ptr == t.data() + t.size();
-        const bool huge = ec == std::errc::result_out_of_range ? std::isinf(std::strtod(std::string(t).c_str(), nullptr))
-                                                               : ec == std::errc() && std::isinf(float(d)) && std::isfinite(d);
+        const bool huge = ec == std::errc::result_out_of_range
+                              ? std::isinf(std::strtod(std::string(t).c_str(), nullptr))
+                              : ec == std::errc() && std::isinf(float(d)) && std::isfinite(d);
         if (whole && huge) return "number " + quote(tok) + " is out of float range";
     }
     return "bad number " + quote(tok);
@@ -127,8 +128,9 @@ void finish(const std::string& file, Mesh& mesh, const LoadOptions& opts, LoadRe
     if (report) *report = LoadReport{};
     if (!bad) return;
     if (!opts.drop_invalid)
-        fail(file, 0, std::to_string(bad) + (bad == 1 ? " vertex is" : " vertices are") +
-                          " NaN or infinite (first: vertex " + std::to_string(first) + ")");
+        fail(file, 0,
+             std::to_string(bad) + (bad == 1 ? " vertex is" : " vertices are") + " NaN or infinite (first: vertex " +
+                 std::to_string(first) + ")");
     std::size_t kept = 0;
     for (const Triangle& t : mesh.triangles) {
         if (is_finite(mesh.positions[t[0]]) && is_finite(mesh.positions[t[1]]) && is_finite(mesh.positions[t[2]]))
@@ -161,8 +163,9 @@ Format format_of(const std::filesystem::path& path) {
     if (ext == ".obj") return {load_obj, obj_limit};
     if (ext == ".stl") return {load_stl, stl_limit};
     if (ext == ".off") return {load_off, off_limit};
-    fail(path.string(), 0, "unknown mesh format " + quote(ext.empty() ? std::string("(none)") : ext) +
-                               " (expected .ply, .obj, .stl or .off, optionally .gz)");
+    fail(path.string(), 0,
+         "unknown mesh format " + quote(ext.empty() ? std::string("(none)") : ext) +
+             " (expected .ply, .obj, .stl or .off, optionally .gz)");
 }
 
 }  // namespace

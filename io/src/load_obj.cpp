@@ -49,8 +49,10 @@ Mesh load_obj(const std::string& file, const std::vector<char>& data) {
                     if (++slashes > 2) fail(file, lines.line, "bad face vertex " + quote(tok));
                     const std::string_view part = rest.substr(0, rest.find('/'));
                     std::int64_t dummy;
-                    if (!part.empty() && !parse_int(part, dummy)) fail(file, lines.line, "bad face vertex " + quote(tok));
-                    if (part.empty() && slashes == 2 && rest.empty()) fail(file, lines.line, "bad face vertex " + quote(tok));
+                    if (!part.empty() && !parse_int(part, dummy))
+                        fail(file, lines.line, "bad face vertex " + quote(tok));
+                    if (part.empty() && slashes == 2 && rest.empty())
+                        fail(file, lines.line, "bad face vertex " + quote(tok));
                     rest.remove_prefix(part.size());
                 }
                 std::int64_t idx;
@@ -67,7 +69,9 @@ Mesh load_obj(const std::string& file, const std::vector<char>& data) {
                 poly.push_back(std::uint32_t(abs));
             }
             if (poly.size() < 3)
-                fail(file, lines.line, "face " + std::to_string(face_id) + " has " + std::to_string(poly.size()) + " vertices; at least 3 needed");
+                fail(file, lines.line,
+                     "face " + std::to_string(face_id) + " has " + std::to_string(poly.size()) +
+                         " vertices; at least 3 needed");
             for (std::size_t k = 1; k + 1 < poly.size(); ++k) {
                 if (mesh.triangles.size() >= kMaxTriangles - 1) fail(file, lines.line, "too many triangles");
                 mesh.triangles.push_back(Triangle{poly[0], poly[k], poly[k + 1]});

@@ -79,11 +79,15 @@ Mesh load_off(const std::string& file, const std::vector<char>& data) {
         std::int64_t n;
         t.next(tok);
         if (!parse_int(tok, n) || n < 0) fail(file, lines.line, "bad face vertex count " + quote(tok));
-        if (n < 3) fail(file, lines.line, "face " + std::to_string(f) + " has " + std::to_string(n) + " vertices; at least 3 needed");
+        if (n < 3)
+            fail(file, lines.line,
+                 "face " + std::to_string(f) + " has " + std::to_string(n) + " vertices; at least 3 needed");
         poly.clear();
         for (std::int64_t k = 0; k < n; ++k) {
             std::int64_t idx;
-            if (!t.next(tok)) fail(file, lines.line, "face " + std::to_string(f) + " has fewer than " + std::to_string(n) + " indices");
+            if (!t.next(tok))
+                fail(file, lines.line,
+                     "face " + std::to_string(f) + " has fewer than " + std::to_string(n) + " indices");
             if (!parse_int(tok, idx)) fail(file, lines.line, "bad index " + quote(tok));
             if (idx < 0 || std::uint64_t(idx) >= nv) {
                 const std::uint64_t tri = mesh.triangles.size() + (k < 3 ? 0 : std::uint64_t(k) - 2);

@@ -24,7 +24,8 @@ Layout layout(const std::string& file, const Header& h) {
                 if (p.list) fail(file, e.header_line, "vertex property " + p.name + " is a list");
                 *slot = int(i);
             }
-            if (e.count && (l.ix < 0 || l.iy < 0 || l.iz < 0)) fail(file, e.header_line, "vertex element lacks x, y or z");
+            if (e.count && (l.ix < 0 || l.iy < 0 || l.iz < 0))
+                fail(file, e.header_line, "vertex element lacks x, y or z");
         } else if (e.name == "face") {
             if (l.face) fail(file, e.header_line, "second 'face' element");
             l.face = &e;
@@ -55,11 +56,13 @@ void check_counts(const std::string& file, const Header& h, const Layout& l, std
     for (const Element& e : h.elements) {
         const std::uint64_t min = min_bytes(e, l, h.format);
         if (e.count && min == 0)
-            fail(file, e.header_line, "element '" + e.name + "' has no properties but count " + std::to_string(e.count));
+            fail(file, e.header_line,
+                 "element '" + e.name + "' has no properties but count " + std::to_string(e.count));
         if (e.count > (body - std::min(need, body)) / std::max<std::uint64_t>(min, 1))
             fail(file, e.header_line,
-                 "element '" + e.name + "' count " + std::to_string(e.count) + " needs at least " + std::to_string(min) +
-                     " bytes each but only " + std::to_string(body) + " bytes follow the header (truncated file or wrong count)");
+                 "element '" + e.name + "' count " + std::to_string(e.count) + " needs at least " +
+                     std::to_string(min) + " bytes each but only " + std::to_string(body) +
+                     " bytes follow the header (truncated file or wrong count)");
         need += e.count * min;
     }
 }

@@ -45,15 +45,17 @@ struct Stream {
 };
 
 float read_le_float(const unsigned char* p) {
-    std::uint32_t u = std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16 | std::uint32_t(p[3]) << 24;
+    std::uint32_t u =
+        std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16 | std::uint32_t(p[3]) << 24;
     return std::bit_cast<float>(u);
 }
 
 Mesh load_binary(const std::string& file, const std::vector<char>& data, std::uint64_t n) {
     Mesh mesh;
     if (3 * n > 0xFFFFFFFFull)  // vertex indices are uint32
-        fail(file, 0, std::to_string(n) + " triangles: their " + std::to_string(3 * n) + " vertices do not fit 32-bit indices (max " +
-                          std::to_string(0xFFFFFFFFull / 3) + " triangles)");
+        fail(file, 0,
+             std::to_string(n) + " triangles: their " + std::to_string(3 * n) +
+                 " vertices do not fit 32-bit indices (max " + std::to_string(0xFFFFFFFFull / 3) + " triangles)");
     mesh.positions.reserve(std::size_t(n) * 3);
     mesh.triangles.reserve(std::size_t(n));
     const auto* p = reinterpret_cast<const unsigned char*>(data.data()) + 84;
@@ -99,8 +101,9 @@ Mesh load_ascii(const std::string& file, const std::vector<char>& data, std::siz
             expect("outer");
             expect("loop");
             if (mesh.positions.size() + 3 > 0xFFFFFFFFull)  // vertex indices are uint32
-                fail(file, s.line, "too many triangles: more than " + std::to_string(0xFFFFFFFFull / 3) +
-                                       " (3 vertices each must fit 32-bit indices)");
+                fail(file, s.line,
+                     "too many triangles: more than " + std::to_string(0xFFFFFFFFull / 3) +
+                         " (3 vertices each must fit 32-bit indices)");
             const auto b = std::uint32_t(mesh.positions.size());
             for (int v = 0; v < 3; ++v) {
                 expect("vertex");

@@ -95,8 +95,8 @@ public:
     void commit() {
         if (direct_) return write_to(O_WRONLY, "");
         if (in_place_) {
-            write_to(O_WRONLY | O_TRUNC, " (the file may now be partial; the complete data is in " +
-                                             tmp_->path().string() + ")");
+            write_to(O_WRONLY | O_TRUNC,
+                     " (the file may now be partial; the complete data is in " + tmp_->path().string() + ")");
             tmp_->remove();
             return;
         }

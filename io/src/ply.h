@@ -62,10 +62,12 @@ struct Builder {
 
     void add_face(std::uint64_t face_id, std::size_t line) {
         if (poly.size() < 3)
-            fail(file, line, "face " + std::to_string(face_id) + " has " + std::to_string(poly.size()) +
-                                 " vertices; at least 3 needed");
+            fail(file, line,
+                 "face " + std::to_string(face_id) + " has " + std::to_string(poly.size()) +
+                     " vertices; at least 3 needed");
         for (std::size_t k = 1; k + 1 < poly.size(); ++k) {
-            if (tri_id >= kMaxTriangles - 1) fail(file, line, "more than " + std::to_string(kMaxTriangles - 1) + " triangles");
+            if (tri_id >= kMaxTriangles - 1)
+                fail(file, line, "more than " + std::to_string(kMaxTriangles - 1) + " triangles");
             mesh.triangles.push_back(Triangle{poly[0], poly[k], poly[k + 1]});
             ++tri_id;
         }
@@ -82,6 +84,7 @@ struct Builder {
 };
 
 // Reads the elements in [b, e) (the bytes after the header, `line0` header lines).
-Mesh parse_body(const std::string& file, const Header& h, const Layout& l, const char* b, const char* e, std::size_t line0);
+Mesh parse_body(const std::string& file, const Header& h, const Layout& l, const char* b, const char* e,
+                std::size_t line0);
 
 }  // namespace simdbvh::io::detail::ply

@@ -21,7 +21,8 @@ bool ascii_int_in_range(std::int64_t v, Type t) {
     case Type::u8: return v >= 0 && v <= 255;
     case Type::i16: return v >= -32768 && v <= 32767;
     case Type::u16: return v >= 0 && v <= 65535;
-    case Type::i32: return v >= std::numeric_limits<std::int32_t>::min() && v <= std::numeric_limits<std::int32_t>::max();
+    case Type::i32:
+        return v >= std::numeric_limits<std::int32_t>::min() && v <= std::numeric_limits<std::int32_t>::max();
     case Type::u32: return v >= 0 && v <= std::numeric_limits<std::uint32_t>::max();
     default: return true;
     }
@@ -70,26 +71,31 @@ void ascii_value(const std::string& file, std::size_t line, const Property& p, s
         if (!parse_float(tok, *coord)) fail(file, line, bad_number(tok));
     } else if (is_int(p.type)) {
         std::int64_t v;
-        if (!parse_int(tok, v) || !ascii_int_in_range(v, p.type)) fail(file, line, "bad integer " + quote(tok) + " for property " + p.name);
+        if (!parse_int(tok, v) || !ascii_int_in_range(v, p.type))
+            fail(file, line, "bad integer " + quote(tok) + " for property " + p.name);
     } else {
         double d;
         if (!parse_double(tok, d)) fail(file, line, "bad number " + quote(tok));
     }
 }
 
-void ascii_list(Builder& b, Lines& lines, Tokens& tk, const Property& p, std::string_view tok, bool indices, std::uint64_t n) {
+void ascii_list(Builder& b, Lines& lines, Tokens& tk, const Property& p, std::string_view tok, bool indices,
+                std::uint64_t n) {
     const std::string& file = b.file;
     std::int64_t cnt;
-    if (!parse_int(tok, cnt) || cnt < 0 || !ascii_int_in_range(cnt, p.count_type)) fail(file, lines.line, "bad list count " + quote(tok));
+    if (!parse_int(tok, cnt) || cnt < 0 || !ascii_int_in_range(cnt, p.count_type))
+        fail(file, lines.line, "bad list count " + quote(tok));
     if (indices) b.poly.clear();
     for (std::int64_t k = 0; k < cnt; ++k) {
-        if (!tk.next(tok)) fail(file, lines.line, "list " + p.name + " has fewer than " + std::to_string(cnt) + " values");
+        if (!tk.next(tok))
+            fail(file, lines.line, "list " + p.name + " has fewer than " + std::to_string(cnt) + " values");
         if (!is_int(p.type)) {
             ascii_value(file, lines.line, p, tok, nullptr);
             continue;
         }
         std::int64_t v;
-        if (!parse_int(tok, v) || !ascii_int_in_range(v, p.type)) fail(file, lines.line, "bad integer " + quote(tok) + " in list " + p.name);
+        if (!parse_int(tok, v) || !ascii_int_in_range(v, p.type))
+            fail(file, lines.line, "bad integer " + quote(tok) + " in list " + p.name);
         if (indices) b.add_index(v, n, std::size_t(k), lines.line);
     }
     if (indices) b.add_face(n, lines.line);
@@ -100,8 +106,9 @@ void ascii_element(Builder& b, Lines& lines, const Element& e, const Layout& l, 
     std::string_view line;
     do {
         if (!lines.next(line))
-            fail(file, lines.line, "unexpected end of file in element '" + e.name + "' (read " + std::to_string(n) + " of " +
-                                       std::to_string(e.count) + ")");
+            fail(file, lines.line,
+                 "unexpected end of file in element '" + e.name + "' (read " + std::to_string(n) + " of " +
+                     std::to_string(e.count) + ")");
     } while (trim(line).empty());
     const bool is_vert = &e == l.vert;
     Tokens tk(line);
@@ -109,7 +116,8 @@ void ascii_element(Builder& b, Lines& lines, const Element& e, const Layout& l, 
     for (std::size_t i = 0; i < e.props.size(); ++i) {
         const Property& p = e.props[i];
         std::string_view tok;
-        if (!tk.next(tok)) fail(file, lines.line, "too few values for element '" + e.name + "' (property " + p.name + ")");
+        if (!tk.next(tok))
+            fail(file, lines.line, "too few values for element '" + e.name + "' (property " + p.name + ")");
         if (p.list) ascii_list(b, lines, tk, p, tok, &e == l.face && int(i) == l.iface, n);
         else ascii_value(file, lines.line, p, tok, is_vert && l.coord(i) >= 0 ? &pos[l.coord(i)] : nullptr);
     }
@@ -129,7 +137,9 @@ void binary_element(Builder& b, Binary& bin, const Element& e, const Layout& l, 
     const std::string& file = b.file;
     auto need = [&](std::size_t bytes) {
         if (std::size_t(bin.end - bin.p) < bytes)
-            fail(file, 0, "truncated: data ends in element '" + e.name + "' " + std::to_string(n) + " of " + std::to_string(e.count));
+            fail(file, 0,
+                 "truncated: data ends in element '" + e.name + "' " + std::to_string(n) + " of " +
+                     std::to_string(e.count));
     };
     const bool is_vert = &e == l.vert;
     float pos[3] = {0, 0, 0};
@@ -144,8 +154,9 @@ void binary_element(Builder& b, Binary& bin, const Element& e, const Layout& l, 
             const double d = bin.as_double(p.type);
             pos[l.coord(i)] = float(d);
             if (std::isfinite(d) && !std::isfinite(pos[l.coord(i)]))
-                fail(file, 0, "vertex " + std::to_string(n) + " coordinate " + p.name + " = " + std::to_string(d).substr(0, 12) +
-                                  "... is out of float range");
+                fail(file, 0,
+                     "vertex " + std::to_string(n) + " coordinate " + p.name + " = " + std::to_string(d).substr(0, 12) +
+                         "... is out of float range");
             continue;
         }
         need(type_size(p.count_type));
@@ -173,7 +184,8 @@ void parse_binary(Builder& b, const Header& h, const Layout& l, const char* begi
 
 }  // namespace
 
-Mesh parse_body(const std::string& file, const Header& h, const Layout& l, const char* begin, const char* end, std::size_t line0) {
+Mesh parse_body(const std::string& file, const Header& h, const Layout& l, const char* begin, const char* end,
+                std::size_t line0) {
     Builder b{file, l.nv, {}, 0, {}};
     // Reserved from the counts, but never more than the bytes present (counts were checked against them).
     const std::uint64_t body = std::uint64_t(end - begin);

@@ -5,15 +5,21 @@ namespace simdbvh::io::detail::ply {
 namespace {
 
 bool parse_type(std::string_view s, Type& t) {
-    struct Name { const char* n; Type t; };
+    struct Name {
+        const char* n;
+        Type t;
+    };
     static const Name names[] = {
-        {"char", Type::i8},    {"int8", Type::i8},     {"uchar", Type::u8},   {"uint8", Type::u8},
-        {"short", Type::i16},  {"int16", Type::i16},   {"ushort", Type::u16}, {"uint16", Type::u16},
-        {"int", Type::i32},    {"int32", Type::i32},   {"uint", Type::u32},   {"uint32", Type::u32},
-        {"float", Type::f32},  {"float32", Type::f32}, {"double", Type::f64}, {"float64", Type::f64},
+        {"char", Type::i8},   {"int8", Type::i8},     {"uchar", Type::u8},   {"uint8", Type::u8},
+        {"short", Type::i16}, {"int16", Type::i16},   {"ushort", Type::u16}, {"uint16", Type::u16},
+        {"int", Type::i32},   {"int32", Type::i32},   {"uint", Type::u32},   {"uint32", Type::u32},
+        {"float", Type::f32}, {"float32", Type::f32}, {"double", Type::f64}, {"float64", Type::f64},
     };
     for (const Name& n : names)
-        if (s == n.n) { t = n.t; return true; }
+        if (s == n.n) {
+            t = n.t;
+            return true;
+        }
     return false;
 }
 
@@ -46,9 +52,11 @@ Property parse_property(const std::string& file, std::size_t line, Tokens& tk) {
     std::string_view a, b, c, name;
     if (!tk.next(a)) fail(file, line, "malformed property line");
     if (a == "list") {
-        if (!tk.next(b) || !tk.next(c) || !tk.next(name) || !tk.empty_rest()) fail(file, line, "malformed list property line");
+        if (!tk.next(b) || !tk.next(c) || !tk.next(name) || !tk.empty_rest())
+            fail(file, line, "malformed list property line");
         prop.list = true;
-        if (!parse_type(b, prop.count_type) || !is_int(prop.count_type)) fail(file, line, "bad list count type " + quote(b));
+        if (!parse_type(b, prop.count_type) || !is_int(prop.count_type))
+            fail(file, line, "bad list count type " + quote(b));
         if (!parse_type(c, prop.type)) fail(file, line, "unknown property type " + quote(c));
     } else {
         if (!tk.next(name) || !tk.empty_rest()) fail(file, line, "malformed property line");
@@ -62,9 +70,13 @@ Property parse_property(const std::string& file, std::size_t line, Tokens& tk) {
 
 std::size_t type_size(Type t) {
     switch (t) {
-    case Type::i8: case Type::u8: return 1;
-    case Type::i16: case Type::u16: return 2;
-    case Type::i32: case Type::u32: case Type::f32: return 4;
+    case Type::i8:
+    case Type::u8: return 1;
+    case Type::i16:
+    case Type::u16: return 2;
+    case Type::i32:
+    case Type::u32:
+    case Type::f32: return 4;
     case Type::f64: return 8;
     }
     return 1;

@@ -35,7 +35,9 @@ std::vector<unsigned char> encode_rays(std::span<const Ray> rays) {
     return bytes;
 }
 
-void write_rays(const std::filesystem::path& file, std::span<const Ray> rays) { write_file_atomic(file, encode_rays(rays)); }
+void write_rays(const std::filesystem::path& file, std::span<const Ray> rays) {
+    write_file_atomic(file, encode_rays(rays));
+}
 
 std::vector<Hit> read_hits(const std::filesystem::path& file) {
     const auto bytes = read_records(file, sizeof(Hit), "16-byte hit");
@@ -62,6 +64,8 @@ std::vector<unsigned char> encode_hits(std::span<const Hit> hits) {
     return bytes;
 }
 
-void write_hits(const std::filesystem::path& file, std::span<const Hit> hits) { write_file_atomic(file, encode_hits(hits)); }
+void write_hits(const std::filesystem::path& file, std::span<const Hit> hits) {
+    write_file_atomic(file, encode_hits(hits));
+}
 
 }  // namespace simdbvh::io

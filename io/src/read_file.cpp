@@ -94,7 +94,10 @@ struct Gunzip {
     }
     void next_member() {
         in.want(2);
-        if (in.avail() == 0) { done = true; return; }
+        if (in.avail() == 0) {
+            done = true;
+            return;
+        }
         if (in.avail() < 2 || in.buf[in.pos] != 0x1f || in.buf[in.pos + 1] != 0x8b)
             fail(in.file, 0, "trailing data after the gzip stream");
         inflateReset(&zs);
@@ -111,7 +114,10 @@ std::size_t nul_offset(const std::vector<char>& data, std::size_t from) {
 std::vector<char> read_file(const std::filesystem::path& path, const SizeLimit& limit) {
     const std::string file = path.string();
     RawInput in{file, open_regular(file)};
-    struct Closer { int fd; ~Closer() { ::close(fd); } } closer{in.fd};
+    struct Closer {
+        int fd;
+        ~Closer() { ::close(fd); }
+    } closer{in.fd};
     in.want(2);
     const bool gz = in.avail() >= 2 && in.buf[0] == 0x1f && in.buf[1] == 0x8b;
     Gunzip gunzip(in);
@@ -146,7 +152,8 @@ std::vector<char> read_file(const std::filesystem::path& path, const SizeLimit& 
             if (allow && !gz && !complete) {
                 struct stat st {};
                 if (::fstat(in.fd, &st) == 0 && st.st_size > 0)
-                    data.reserve(std::size_t(std::min<std::uint64_t>(std::uint64_t(st.st_size), allow->max_bytes)) + kChunk);
+                    data.reserve(std::size_t(std::min<std::uint64_t>(std::uint64_t(st.st_size), allow->max_bytes)) +
+                                 kChunk);
             }
         }
         if (allow && allow->text) {
@@ -158,8 +165,9 @@ std::vector<char> read_file(const std::filesystem::path& path, const SizeLimit& 
             }
         }
         if (allow && used > allow->max_bytes)
-            fail(file, 0, "more than " + std::to_string(allow->max_bytes) + " bytes of data (after decompression), more than " +
-                              allow->why);
+            fail(file, 0,
+                 "more than " + std::to_string(allow->max_bytes) + " bytes of data (after decompression), more than " +
+                     allow->why);
         if (complete) break;
     }
     return data;

@@ -17,7 +17,10 @@ std::vector<unsigned char> read_records(const std::filesystem::path& file, std::
     const std::string name = file.string();
     const int fd = ::open(name.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);  // a FIFO would block in open
     if (fd < 0) throw Error(name + ": cannot open: " + std::strerror(errno));
-    struct Closer { int fd; ~Closer() { ::close(fd); } } closer{fd};
+    struct Closer {
+        int fd;
+        ~Closer() { ::close(fd); }
+    } closer{fd};
     struct stat st {};
     if (::fstat(fd, &st) != 0) throw Error(name + ": cannot determine the size: " + std::strerror(errno));
     if (S_ISDIR(st.st_mode)) throw Error(name + ": is a directory");

@@ -43,7 +43,8 @@ std::uint64_t ply_element_bytes(const ply::Element& e, ply::Format format) {
     std::uint64_t per = 0;
     for (const ply::Property& p : e.props) {
         if (format == ply::Format::ascii) per += kAsciiValueBytes * (p.list ? 1 + kListItems : 1);
-        else per += p.list ? ply::type_size(p.count_type) + kListItems * ply::type_size(p.type) : ply::type_size(p.type);
+        else
+            per += p.list ? ply::type_size(p.count_type) + kListItems * ply::type_size(p.type) : ply::type_size(p.type);
     }
     return per;
 }
@@ -66,7 +67,8 @@ std::size_t bom_size(std::string_view s) { return s.substr(0, 3) == "\xEF\xBB\xB
 
 std::optional<Allowance> ply_limit(const std::string& file, std::string_view prefix, bool complete) {
     const std::string_view lines = whole_lines(prefix, complete);
-    const std::optional<ply::Header> h = ply::parse_header(file, lines.data(), lines.size());  // throws "not a PLY file"
+    const std::optional<ply::Header> h =
+        ply::parse_header(file, lines.data(), lines.size());  // throws "not a PLY file"
     if (!h) {
         if (complete) return Allowance{prefix.size(), false, ""};  // the parser reports the missing end_header
         if (prefix.size() > kMaxHeaderBytes) fail(file, 0, "no end_header in the first 16 MiB (header too long)");
@@ -74,7 +76,8 @@ std::optional<Allowance> ply_limit(const std::string& file, std::string_view pre
     }
     std::uint64_t total = sat_add(h->body, kSlackBytes);
     for (const ply::Element& e : h->elements) total = sat_add(total, sat_mul(e.count, ply_element_bytes(e, h->format)));
-    if (h->format == ply::Format::ascii) return Allowance{std::min(total, text_cap()), true, "the PLY header's element counts allow"};
+    if (h->format == ply::Format::ascii)
+        return Allowance{std::min(total, text_cap()), true, "the PLY header's element counts allow"};
     return Allowance{total, false, "the PLY header's element counts allow"};
 }
 
@@ -85,11 +88,13 @@ std::optional<Allowance> stl_limit(const std::string& file, std::string_view pre
     const bool solid = prefix.size() - i >= 5 && iequal5(prefix.substr(i), "solid");
     if (prefix.size() < 84) return Allowance{prefix.size(), solid, ""};  // all of it is here; the parser decides
     const auto* u = reinterpret_cast<const unsigned char*>(prefix.data());
-    const std::uint64_t n = std::uint64_t(u[80]) | std::uint64_t(u[81]) << 8 | std::uint64_t(u[82]) << 16 | std::uint64_t(u[83]) << 24;
+    const std::uint64_t n =
+        std::uint64_t(u[80]) | std::uint64_t(u[81]) << 8 | std::uint64_t(u[82]) << 16 | std::uint64_t(u[83]) << 24;
     if (solid && !has_control_byte(prefix)) return text_allowance();  // ASCII (binary float data has some)
     if (3 * n > 0xFFFFFFFFull)
-        fail(file, 0, "binary STL header says " + std::to_string(n) + " triangles: their " + std::to_string(3 * n) +
-                          " vertices do not fit 32-bit indices (max " + std::to_string(0xFFFFFFFFull / 3) + " triangles)");
+        fail(file, 0,
+             "binary STL header says " + std::to_string(n) + " triangles: their " + std::to_string(3 * n) +
+                 " vertices do not fit 32-bit indices (max " + std::to_string(0xFFFFFFFFull / 3) + " triangles)");
     return Allowance{84 + 50 * n, false, "the binary STL header's triangle count (" + std::to_string(n) + ") allows"};
 }
 
@@ -105,7 +110,8 @@ std::optional<Allowance> off_limit(const std::string&, std::string_view prefix, 
         Tokens t(strip_comment(line));
         if (!keyword && t.next(tok)) keyword = true;  // "OFF" (checked by the parser)
         while (have < 2 && t.next(tok))
-            if (!parse_int(tok, counts[have++]) || counts[have - 1] < 0) return text_allowance();  // the parser reports it
+            if (!parse_int(tok, counts[have++]) || counts[have - 1] < 0)
+                return text_allowance();  // the parser reports it
     }
     if (have < 2) {
         if (complete || prefix.size() > kMaxHeaderBytes) return text_allowance();

@@ -17,8 +17,7 @@ thread_local int t_last_isa = -1;
 
 void check_size(std::size_t got, std::size_t want, const char* what) {
     if (got < want)
-        throw Error(std::string(what) + " holds " + std::to_string(got) + " elements, needs " +
-                    std::to_string(want));
+        throw Error(std::string(what) + " holds " + std::to_string(got) + " elements, needs " + std::to_string(want));
 }
 }  // namespace
 
@@ -71,8 +70,8 @@ void intersect_box8_nested(std::span<const Ray> rays, std::span<const Box8> supe
                            std::span<std::uint8_t> masks, std::span<float> entries, Isa isa) {
     require(isa);
     if (groups.size() > 8 * supers.size())
-        throw Error("" + std::to_string(groups.size()) + " groups need " +
-                    std::to_string((groups.size() + 7) / 8) + " supers, got " + std::to_string(supers.size()));
+        throw Error("" + std::to_string(groups.size()) + " groups need " + std::to_string((groups.size() + 7) / 8) +
+                    " supers, got " + std::to_string(supers.size()));
     check_size(masks.size(), groups.size() * rays.size(), "masks");
     check_size(entries.size(), 8 * groups.size() * rays.size(), "entries");
     if (supers.empty()) return;  // no groups
@@ -151,8 +150,8 @@ void collect_boxes(std::span<const Ray> rays, std::span<const std::uint8_t> live
         out.resize(cap);
         const std::span<const Ray> rest = rays.subspan(done);
         const std::span<const std::uint8_t> rest_live = live.empty() ? live : live.subspan(done);
-        const detail::TreeWalk w = walk(rest, rest_live, groups, boxes.size(), out.data(), used, cap,
-                                        first.data() + done);
+        const detail::TreeWalk w =
+            walk(rest, rest_live, groups, boxes.size(), out.data(), used, cap, first.data() + done);
         used = w.used;
         done += w.rays_done;
         if (done == rays.size()) break;
@@ -161,13 +160,14 @@ void collect_boxes(std::span<const Ray> rays, std::span<const std::uint8_t> live
     first[rays.size()] = std::uint32_t(used);
 }
 
-void prepare_rays(std::span<const Ray> rays, const Aabb* bounds, std::span<PreparedRay> out,
-                  std::span<std::uint8_t> ok, Isa isa) {
+void prepare_rays(std::span<const Ray> rays, const Aabb* bounds, std::span<PreparedRay> out, std::span<std::uint8_t> ok,
+                  Isa isa) {
     require(isa);
     check_size(out.size(), rays.size(), "out");
     check_size(ok.size(), rays.size(), "ok");
-    const auto run = isa == Isa::avx512 ? avx512::prepare_rays : isa == Isa::avx2 ? avx2::prepare_rays
-                                                                                   : scalar::prepare_rays;
+    const auto run = isa == Isa::avx512 ? avx512::prepare_rays
+                     : isa == Isa::avx2 ? avx2::prepare_rays
+                                        : scalar::prepare_rays;
     run(rays, bounds, out.data(), ok.data());
 }
 

@@ -60,7 +60,7 @@ CpuInfo detect() {
     }
     if (!osxsave) return info;
     const std::uint64_t xcr0 = xgetbv0();
-    const bool os_ymm = (xcr0 & 0x6) == 0x6;             // SSE + AVX state
+    const bool os_ymm = (xcr0 & 0x6) == 0x6;              // SSE + AVX state
     const bool os_zmm = os_ymm && (xcr0 & 0xe0) == 0xe0;  // opmask + ZMM_Hi256 + Hi16_ZMM
     // Exactly the flags src/avx2/ is compiled with (cmake/SimdbvhIsa.cmake).
     info.avx2 = os_ymm && avx && avx2 && fma && bmi1 && bmi2 && lzcnt && popcnt && f16c;
@@ -122,8 +122,8 @@ std::vector<Isa> supported_isas() {
 void require(Isa isa) {
     if (supported(isa)) return;
     if (!parse_isa(name(isa))) throw Error("invalid ISA value " + std::to_string(int(isa)));
-    throw Error("this CPU (" + std::string(cpu_name()) + ") or its OS does not support the " +
-                std::string(name(isa)) + " code path; the best supported is " + std::string(name(detected_isa())));
+    throw Error("this CPU (" + std::string(cpu_name()) + ") or its OS does not support the " + std::string(name(isa)) +
+                " code path; the best supported is " + std::string(name(detected_isa())));
 }
 
 Isa isa_from_request(std::string_view request, std::span<const Isa> available) {
@@ -135,8 +135,7 @@ Isa isa_from_request(std::string_view request, std::span<const Isa> available) {
     const Isa best = available.empty() ? Isa::scalar : available.back();
     if (request.empty()) return best;
     const std::optional<Isa> isa = parse_isa(request);
-    if (!isa)
-        throw Error("SIMDBVH_ISA='" + std::string(request) + "' is not one of scalar, avx2, avx512");
+    if (!isa) throw Error("SIMDBVH_ISA='" + std::string(request) + "' is not one of scalar, avx2, avx512");
     if (!has(*isa))
         throw Error("SIMDBVH_ISA=" + std::string(request) + " but this CPU (" + std::string(cpu_name()) +
                     ") or its OS lacks it; the best supported is " + std::string(name(best)));

@@ -53,7 +53,7 @@ void* map_aligned(std::size_t size) noexcept {
     if (m == MAP_FAILED) return nullptr;
     const auto a = reinterpret_cast<std::uintptr_t>(m);
     const std::uintptr_t p = (a + kHugePage - 1) / kHugePage * kHugePage;
-    if (p > a) munmap(m, p - a);                                                           // the unaligned head
+    if (p > a) munmap(m, p - a);                                                          // the unaligned head
     if (a + kHugePage > p) munmap(reinterpret_cast<void*>(p + size), a + kHugePage - p);  // and tail
     madvise(reinterpret_cast<void*>(p), size, MADV_HUGEPAGE);  // advice only: no THP support changes nothing
     return reinterpret_cast<void*>(p);

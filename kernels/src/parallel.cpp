@@ -97,8 +97,7 @@ void parallel_for(std::size_t n, int threads, const std::function<void(std::size
     try {
         pool.reserve(std::size_t(workers - 1));
         for (int k = 1; k < workers; ++k) pool.emplace_back(work, k);
-    } catch (const std::exception&) {
-    }
+    } catch (const std::exception&) {}
     work(0);
     for (std::thread& t : pool) t.join();
     if (error) std::rethrow_exception(error);

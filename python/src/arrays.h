@@ -81,12 +81,12 @@ enum class Numbers { reals, integers };
 inline void check_dtype(const py::array& a, Numbers want, const std::string& what) {
     const char k = a.dtype().kind();
     if (k == 'i' || k == 'u' || (k == 'f' && want == Numbers::reals)) return;
-    const char* why = k == 'f'   ? " (indices would be truncated)"
-                      : k == 'c' ? " (the imaginary parts would be dropped)"
-                      : k == 'b' ? ""
+    const char* why = k == 'f'               ? " (indices would be truncated)"
+                      : k == 'c'             ? " (the imaginary parts would be dropped)"
+                      : k == 'b'             ? ""
                       : k == 'U' || k == 'S' ? " (strings are not parsed)"
-                      : k == 'O' ? " (objects: a ragged or mixed list?)"
-                                 : "";
+                      : k == 'O'             ? " (objects: a ragged or mixed list?)"
+                                             : "";
     throw Error(what + ": expected " + (want == Numbers::integers ? "integers" : "real numbers") + ", got dtype " +
                 dtype_of(a) + why);
 }
@@ -100,7 +100,8 @@ py::array_t<T, py::array::c_style | py::array::forcecast> convert(const py::arra
     } catch (py::error_already_set& e) {
         if (!e.matches(PyExc_MemoryError)) throw;
         throw Error(what + ": out of memory converting " + shape_of(a) + " " + dtype_of(a) + " to C-contiguous " +
-                    py::str(py::dtype::of<T>()).cast<std::string>() + " (" + bytes_text(double(a.size()) * sizeof(T)) + ")");
+                    py::str(py::dtype::of<T>()).cast<std::string>() + " (" + bytes_text(double(a.size()) * sizeof(T)) +
+                    ")");
     }
 }
 
@@ -230,8 +231,7 @@ inline Mesh mesh_from_arrays(const py::handle& vertices, const py::handle& faces
 // array of n Ray records is ever allocated.
 class RayArrays {
 public:
-    RayArrays(const py::handle& origins, const py::handle& directions, const py::handle& tmin,
-              const py::handle& tmax)
+    RayArrays(const py::handle& origins, const py::handle& directions, const py::handle& tmin, const py::handle& tmax)
         : o_(as_points(origins, "origins")), d_(as_points(directions, "directions")) {
         if (o_.shape(0) != d_.shape(0))
             throw Error("origins and directions differ in length (" + std::to_string(o_.shape(0)) + " and " +
@@ -294,18 +294,21 @@ template <class HitT = Hit, std::size_t kChunk = kRayChunk, class Chunk>
 void for_ray_chunks(const RayArrays& in, int threads, Interrupt& interrupt, Chunk&& chunk) {
     ParallelOptions po;
     po.grain = kChunk;
-    parallel_for(in.size(), threads, [&](std::size_t b, std::size_t e) {
-        thread_local std::vector<Ray> rays;
-        thread_local std::vector<HitT> hits;
-        for (std::size_t c = b; c < e; c += kChunk) {
-            if (interrupt.stop()) return;
-            const std::size_t m = std::min(kChunk, e - c);
-            rays.resize(m);
-            hits.resize(m);
-            for (std::size_t k = 0; k < m; ++k) rays[k] = in[c + k];
-            chunk(std::span<const Ray>(rays.data(), m), std::span<HitT>(hits.data(), m), c);
-        }
-    }, po);
+    parallel_for(
+        in.size(), threads,
+        [&](std::size_t b, std::size_t e) {
+            thread_local std::vector<Ray> rays;
+            thread_local std::vector<HitT> hits;
+            for (std::size_t c = b; c < e; c += kChunk) {
+                if (interrupt.stop()) return;
+                const std::size_t m = std::min(kChunk, e - c);
+                rays.resize(m);
+                hits.resize(m);
+                for (std::size_t k = 0; k < m; ++k) rays[k] = in[c + k];
+                chunk(std::span<const Ray>(rays.data(), m), std::span<HitT>(hits.data(), m), c);
+            }
+        },
+        po);
 }
 
 // Rays per batch of for_ray_batches: 32 MiB of Ray records and 16 MiB of
@@ -338,9 +341,8 @@ void for_ray_batches(const RayArrays& in, int threads, Interrupt& interrupt, Tra
             for (std::size_t k = b; k < e; ++k) rays[k] = in[c + k];
         });
         trace(std::span<const Ray>(rays, m), std::span<HitT>(hits, m));
-        parallel_for(m, threads, [&](std::size_t b, std::size_t e) {
-            write(std::span<const HitT>(hits + b, e - b), c + b);
-        });
+        parallel_for(m, threads,
+                     [&](std::size_t b, std::size_t e) { write(std::span<const HitT>(hits + b, e - b), c + b); });
     }
 }
 
@@ -349,8 +351,6 @@ py::array_t<T> empty_array(std::size_t n) {
     return py::array_t<T>(py::ssize_t(n));
 }
 
-inline py::array_t<float> empty_points(std::size_t n) {
-    return py::array_t<float>({py::ssize_t(n), py::ssize_t(3)});
-}
+inline py::array_t<float> empty_points(std::size_t n) { return py::array_t<float>({py::ssize_t(n), py::ssize_t(3)}); }
 
 }  // namespace simdbvh::python

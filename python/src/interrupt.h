@@ -70,7 +70,7 @@ public:
 
 private:
     std::thread::id caller_;
-    bool checks_;  // signals are handled on Python's main thread only
+    bool checks_;                                 // signals are handled on Python's main thread only
     std::chrono::steady_clock::time_point next_;  // read and written by the calling thread only
     std::atomic<bool> stopped_{false};
     py::object type_, value_, trace_;  // set and released with the GIL

@@ -117,7 +117,8 @@ public:
                         }
                     };
                     TraceOptions opts;  // automatic order: the library's rule, asked once here
-                    if (traces_sorted(bvh, n, [&](std::size_t i) { return rays[i]; }, opts)) {
+                    if (traces_sorted(
+                            bvh, n, [&](std::size_t i) { return rays[i]; }, opts)) {
                         // Whole batches, sorted (decided: not asked again per batch) and spread over the
                         // threads by the library.
                         opts.reorder = Reorder::on;
@@ -130,9 +131,9 @@ public:
                         opts.reorder = Reorder::off;
                         for_ray_chunks(rays, nthreads, interrupt,
                                        [&](std::span<const Ray> r, std::span<Hit> h, std::size_t b) {
-                            trace(r, h, opts);
-                            write(h, b);
-                        });
+                                           trace(r, h, opts);
+                                           write(h, b);
+                                       });
                     }
                 };
                 if (bvh4_) wide(*bvh4_);
@@ -146,12 +147,12 @@ public:
                     write(h, b);
                 });
             } else {
-                for_ray_chunks<Hit, kBruteChunk>(rays, nthreads, interrupt,
-                                                 [&](std::span<const Ray> r, std::span<Hit> h, std::size_t b) {
-                    for (std::size_t i = 0; i < r.size(); ++i)
-                        h[i] = any ? brute_force_occluded(mesh_, r[i]) : brute_force_intersect(mesh_, r[i]);
-                    write(h, b);
-                });
+                for_ray_chunks<Hit, kBruteChunk>(
+                    rays, nthreads, interrupt, [&](std::span<const Ray> r, std::span<Hit> h, std::size_t b) {
+                        for (std::size_t i = 0; i < r.size(); ++i)
+                            h[i] = any ? brute_force_occluded(mesh_, r[i]) : brute_force_intersect(mesh_, r[i]);
+                        write(h, b);
+                    });
             }
             // The rows read the vertices: under the same hold as the trace.
             if (points && !interrupt.stop()) hit_points(all, pts.mutable_data());
@@ -213,8 +214,8 @@ public:
         }
         for_point_blocks(std::span<const Vec3>(vec3s(p), n), std::span<ClosestPoint>(res), kPointBlock, interrupt,
                          [&](std::span<const Vec3> in, std::span<ClosestPoint> out) {
-            with_tree([&](const auto& t) { closest_point(t, in, out, o); });
-        });
+                             with_tree([&](const auto& t) { closest_point(t, in, out, o); });
+                         });
     }
 
     // Without the GIL, holding lock_: the sides of p, in blocks (interrupts checked between them).
@@ -228,8 +229,8 @@ public:
         }
         for_point_blocks(std::span<const Vec3>(vec3s(p), n), std::span<PointSide>(res), kPointBlock, interrupt,
                          [&](std::span<const Vec3> in, std::span<PointSide> out) {
-            with_tree([&](const auto& t) { classify_points(t, in, out, o); });
-        });
+                             with_tree([&](const auto& t) { classify_points(t, in, out, o); });
+                         });
     }
 
     py::dict closest(const py::handle& points, const py::handle& max_distance, int threads) const {
@@ -419,7 +420,7 @@ public:
         validate(moved);
         threads = check_threads(threads);
         py::gil_scoped_release nogil;
-        const std::unique_lock<RwLock> hold(lock_);  // waits for the running queries, holds back new ones
+        const std::unique_lock<RwLock> hold(lock_);    // waits for the running queries, holds back new ones
         if (bvh2_built_) bvh2_.refit(moved, threads);  // else built later from the moved vertices
         if (bvh4_) bvh4_->refit(moved, threads);
         if (bvh8_) bvh8_->refit(moved, threads);
@@ -479,7 +480,8 @@ PYBIND11_MODULE(_simdbvh, m) {
         "cast, and a conversion without memory for its copy raises simdbvh.Error naming the argument.\n\n"
         "Interrupts: a query called from Python's main thread runs the signal handlers between its pieces (chunks "
         "of 16,384 rays, 256 for brute force, 32,768 for scenes; sorted batches of 2^20 rays; for point queries and "
-        "crossing counts that would run over a second, blocks of about a quarter of a second), at most every 0.1 s, so Ctrl-C raises KeyboardInterrupt out of a long "
+        "crossing counts that would run over a second, blocks of about a quarter of a second), at most every 0.1 s, so "
+        "Ctrl-C raises KeyboardInterrupt out of a long "
         "query and its results are dropped. Python runs handlers on the main thread only: a query on another "
         "thread runs to its end.";
     py::register_exception<Error>(m, "Error", PyExc_ValueError);
@@ -506,75 +508,89 @@ PYBIND11_MODULE(_simdbvh, m) {
         .def_property_readonly("vertices", &vertices_of, "The vertices, (n, 3) float32 (a copy).")
         .def_property_readonly("faces", &faces_of, "The faces, (m, 3) int64 (a copy).")
         .def("__len__", &Mesh::size, "The number of triangles.")
-        .def("closure", [](const Mesh& mesh) {
-            const MeshClosure c = mesh_closure(mesh);
-            py::dict d;
-            d["edges"] = c.edges;
-            d["boundary_edges"] = c.boundary_edges;
-            d["nonmanifold_edges"] = c.nonmanifold_edges;
-            d["misoriented_edges"] = c.misoriented_edges;
-            d["closed"] = c.closed();
-            d["consistently_oriented"] = c.consistently_oriented();
-            return d;
-        }, "Edge statistics after welding equal vertices: whether the mesh bounds a volume.");
+        .def(
+            "closure",
+            [](const Mesh& mesh) {
+                const MeshClosure c = mesh_closure(mesh);
+                py::dict d;
+                d["edges"] = c.edges;
+                d["boundary_edges"] = c.boundary_edges;
+                d["nonmanifold_edges"] = c.nonmanifold_edges;
+                d["misoriented_edges"] = c.misoriented_edges;
+                d["closed"] = c.closed();
+                d["consistently_oriented"] = c.consistently_oriented();
+                return d;
+            },
+            "Edge statistics after welding equal vertices: whether the mesh bounds a volume.");
 
-    m.def("load", [](const std::string& path) {
-        path_arg(path, "path");
-        Mesh mesh;
-        {
-            py::gil_scoped_release nogil;
-            mesh = workloads::load_scene(path);
-        }
-        // As an empty file is refused: a built-in (soup-0) or a file (only vertices) that yields no triangle.
-        if (mesh.triangles.empty()) throw Error(path + ": no triangles (an empty mesh)");
-        return mesh;
-    }, py::arg("path"), "Loads a mesh file (.ply .obj .stl .off, optionally .gz) or a named scene. Raises simdbvh.Error for a "
-          "missing or bad file, a mesh with no triangles or a path containing a NUL byte.");
+    m.def(
+        "load",
+        [](const std::string& path) {
+            path_arg(path, "path");
+            Mesh mesh;
+            {
+                py::gil_scoped_release nogil;
+                mesh = workloads::load_scene(path);
+            }
+            // As an empty file is refused: a built-in (soup-0) or a file (only vertices) that yields no triangle.
+            if (mesh.triangles.empty()) throw Error(path + ": no triangles (an empty mesh)");
+            return mesh;
+        },
+        py::arg("path"),
+        "Loads a mesh file (.ply .obj .stl .off, optionally .gz) or a named scene. Raises simdbvh.Error for a "
+        "missing or bad file, a mesh with no triangles or a path containing a NUL byte.");
 
-    py::class_<Bvh>(m, "BVH",
-                    "A bounding volume hierarchy over a mesh, and its queries.\n\n"
-                    "Threads: every query releases the GIL, and queries on one BVH from many threads run side by "
-                    "side. refit is serialised with them by the object: it waits for the running queries and holds "
-                    "back new ones until it is done, so each query answers for the vertices before or after a refit, "
-                    "never a mix. A query on Python's main thread stops for Ctrl-C (KeyboardInterrupt) between its pieces "
-                    "(see the module's docstring).")
+    py::class_<Bvh>(
+        m, "BVH",
+        "A bounding volume hierarchy over a mesh, and its queries.\n\n"
+        "Threads: every query releases the GIL, and queries on one BVH from many threads run side by "
+        "side. refit is serialised with them by the object: it waits for the running queries and holds "
+        "back new ones until it is done, so each query answers for the vertices before or after a refit, "
+        "never a mix. A query on Python's main thread stops for Ctrl-C (KeyboardInterrupt) between its pieces "
+        "(see the module's docstring).")
         .def(py::init<Mesh, const std::string&, const std::optional<std::string>&>(), py::arg("mesh"),
              py::arg("method") = "bvh8", py::arg("isa") = py::none(),
-             "method: 'bvh8' (default), 'bvh4' or 'bvh16' (SIMD wide trees), 'bvh2' or 'brute'; isa: 'scalar', 'avx2', 'avx512' or None (chosen by speed: the faster SIMD path measured once per process on the first batch of 8192 rays or more, or SIMDBVH_ISA when set). "
-             "Point queries (contains, sides, closest_point, signed_distance) walk the wide tree when there is one, else the BVH2 (the same answers); crossing counts and all hits use the BVH2 (or brute force).")
+             "method: 'bvh8' (default), 'bvh4' or 'bvh16' (SIMD wide trees), 'bvh2' or 'brute'; isa: 'scalar', 'avx2', "
+             "'avx512' or None (chosen by speed: the faster SIMD path measured once per process on the first batch of "
+             "8192 rays or more, or SIMDBVH_ISA when set). "
+             "Point queries (contains, sides, closest_point, signed_distance) walk the wide tree when there is one, "
+             "else the BVH2 (the same answers); crossing counts and all hits use the BVH2 (or brute force).")
         .def_property_readonly("method", &Bvh::method)
         .def_property_readonly("isa", &Bvh::isa)
-        .def("intersect", [](const Bvh& b, const py::handle& o, const py::handle& d, const py::handle& tmin,
-                             const py::handle& tmax, int threads, bool points, bool normals) {
-            return b.intersect(o, d, tmin, tmax, threads, false, points, normals);
-        },
-             py::arg("origins"), py::arg("directions"), py::arg("tmin") = 0.0f, py::arg("tmax") = kInf,
-             py::arg("threads") = 1, py::arg("points") = false, py::arg("normals") = false,
-             "Closest hits: dict of hit (bool), t, prim (-1 for a miss), u, v. Ties at equal t go to the lower id. "
-             "points=True adds 'points' (n, 3): (1-u-v) v0 + u v1 + v v2 evaluated in double, rounded to float32 "
-             "(on the hit triangle); normals=True adds 'normals' (n, 3): the unit geometric normal "
-             "(v1 - v0) x (v2 - v0) by the triangle's winding, not turned toward the ray. Misses: NaN rows. "
-             "origins, directions (n, 3) and tmin, tmax (numbers or (n,)) are read in place when they are "
-             "C-contiguous float32 and converted (copied) otherwise; the rays are traced in batches of up to 2^20 "
-             "(bvh4/8/16, when the library sorts them, e.g. diffuse bounces: traced whole, spread over `threads` by "
-             "the library) or chunks of 16,384 spread over `threads`, the answers written straight into the returned "
-             "arrays.")
-        .def("occluded", [](const Bvh& b, const py::handle& o, const py::handle& d, const py::handle& tmin,
-                            const py::handle& tmax, int threads) -> py::object {
-            // An owning reference made while the dict lives (a returned item accessor outlived it: the
-            // conversion then read a freed dict, which corrupted the heap on large batches).
-            const py::dict r = b.intersect(o, d, tmin, tmax, threads, true);
-            return r["hit"];
-        }, py::arg("origins"), py::arg("directions"), py::arg("tmin") = 0.0f, py::arg("tmax") = kInf,
-             py::arg("threads") = 1, "Any hit: a bool per ray.")
+        .def(
+            "intersect",
+            [](const Bvh& b, const py::handle& o, const py::handle& d, const py::handle& tmin, const py::handle& tmax,
+               int threads, bool points,
+               bool normals) { return b.intersect(o, d, tmin, tmax, threads, false, points, normals); },
+            py::arg("origins"), py::arg("directions"), py::arg("tmin") = 0.0f, py::arg("tmax") = kInf,
+            py::arg("threads") = 1, py::arg("points") = false, py::arg("normals") = false,
+            "Closest hits: dict of hit (bool), t, prim (-1 for a miss), u, v. Ties at equal t go to the lower id. "
+            "points=True adds 'points' (n, 3): (1-u-v) v0 + u v1 + v v2 evaluated in double, rounded to float32 "
+            "(on the hit triangle); normals=True adds 'normals' (n, 3): the unit geometric normal "
+            "(v1 - v0) x (v2 - v0) by the triangle's winding, not turned toward the ray. Misses: NaN rows. "
+            "origins, directions (n, 3) and tmin, tmax (numbers or (n,)) are read in place when they are "
+            "C-contiguous float32 and converted (copied) otherwise; the rays are traced in batches of up to 2^20 "
+            "(bvh4/8/16, when the library sorts them, e.g. diffuse bounces: traced whole, spread over `threads` by "
+            "the library) or chunks of 16,384 spread over `threads`, the answers written straight into the returned "
+            "arrays.")
+        .def(
+            "occluded",
+            [](const Bvh& b, const py::handle& o, const py::handle& d, const py::handle& tmin, const py::handle& tmax,
+               int threads) -> py::object {
+                // An owning reference made while the dict lives (a returned item accessor outlived it: the
+                // conversion then read a freed dict, which corrupted the heap on large batches).
+                const py::dict r = b.intersect(o, d, tmin, tmax, threads, true);
+                return r["hit"];
+            },
+            py::arg("origins"), py::arg("directions"), py::arg("tmin") = 0.0f, py::arg("tmax") = kInf,
+            py::arg("threads") = 1, "Any hit: a bool per ray.")
         .def("refit", &Bvh::refit, py::arg("vertices"), py::arg("threads") = 1,
              "Moves the mesh's vertices ((n, 3), the same n; faces unchanged) and refits the trees in place: "
              "boxes recomputed bottom-up, topology kept, O(n). Results afterwards are those of a BVH built on the "
              "moved mesh, bit for bit. Raises simdbvh.Error (the BVH unchanged) for another shape or a non-finite "
              "vertex. Safe while other threads query this BVH: it waits for their running queries and holds back "
              "new ones while it refits.")
-        .def("closest_point", &Bvh::closest, py::arg("points"), py::arg("max_distance") = kInf,
-             py::arg("threads") = 1,
+        .def("closest_point", &Bvh::closest, py::arg("points"), py::arg("max_distance") = kInf, py::arg("threads") = 1,
              "Closest points: dict of distance (inf when none within max_distance), prim (-1), points (n, 3), u, v.")
         .def("sides", &Bvh::sides, py::arg("points"), py::arg("rule") = "winding", py::arg("threads") = 1,
              py::arg("ray") = "shortest",
@@ -593,14 +609,18 @@ PYBIND11_MODULE(_simdbvh, m) {
              "Every hit: flat arrays ray, t, prim, u, v, facing sorted by ray, t, prim; dropped per ray. The rays "
              "are spread over `threads`; the arrays are the same for every count.")
         .def("__repr__", [](const Bvh& b) {
-            return "<simdbvh.BVH: " + std::to_string(b.mesh().size()) + " triangles, " + b.method() + "/" + b.isa() + ">";
+            return "<simdbvh.BVH: " + std::to_string(b.mesh().size()) + " triangles, " + b.method() + "/" + b.isa() +
+                   ">";
         });
 
-    m.def("isas", [] {
-        std::vector<std::string> out;
-        for (Isa i : supported_isas()) out.emplace_back(name(i));
-        return out;
-    }, "The instruction sets this CPU supports.");
+    m.def(
+        "isas",
+        [] {
+            std::vector<std::string> out;
+            for (Isa i : supported_isas()) out.emplace_back(name(i));
+            return out;
+        },
+        "The instruction sets this CPU supports.");
 
     bind_scene(m);
 }

@@ -160,9 +160,11 @@ public:
         else if (method_ == "bvh8") bvh_ = SceneBvhN<8>::build(desc_);
         else if (method_ == "bvh16") bvh_ = SceneBvhN<16>::build(desc_);
         else brute_stats();  // validates
-        std::visit([&](const auto& b) {
-            if constexpr (!std::is_same_v<std::decay_t<decltype(b)>, std::monostate>) stats_ = b.stats();
-        }, bvh_);
+        std::visit(
+            [&](const auto& b) {
+                if constexpr (!std::is_same_v<std::decay_t<decltype(b)>, std::monostate>) stats_ = b.stats();
+            },
+            bvh_);
     }
 
     py::dict intersect(const py::handle& o, const py::handle& d, const py::handle& tmin, const py::handle& tmax,
@@ -181,33 +183,33 @@ public:
         Interrupt interrupt;
         {
             py::gil_scoped_release nogil;
-            for_ray_chunks<SceneHit, kSceneChunkRays>(rays, nthreads, interrupt,
-                                     [&](std::span<const Ray> r, std::span<SceneHit> hs, std::size_t b) {
-                trace(r, hs, false);
-                for (std::size_t k = 0; k < hs.size(); ++k) {
-                    const SceneHit& h = hs[k];
-                    const std::size_t i = b + k;
-                    phit[i] = h.hit();
-                    pt[i] = h.t;
-                    pu[i] = h.u;
-                    pv[i] = h.v;
-                    pprim[i] = id(h.prim);
-                    pgeom[i] = h.hit() ? id(h.geom) : -1;
-                    pinst[i] = h.hit() ? id(h.inst) : -1;
-                    if (!normals) continue;
-                    // Unit, in double, rounded once; a zero normal (a degenerate primitive) stays zero; misses NaN.
-                    float* p = pn + 3 * i;
-                    if (!h.hit()) {
-                        p[0] = p[1] = p[2] = std::numeric_limits<float>::quiet_NaN();
-                        continue;
+            for_ray_chunks<SceneHit, kSceneChunkRays>(
+                rays, nthreads, interrupt, [&](std::span<const Ray> r, std::span<SceneHit> hs, std::size_t b) {
+                    trace(r, hs, false);
+                    for (std::size_t k = 0; k < hs.size(); ++k) {
+                        const SceneHit& h = hs[k];
+                        const std::size_t i = b + k;
+                        phit[i] = h.hit();
+                        pt[i] = h.t;
+                        pu[i] = h.u;
+                        pv[i] = h.v;
+                        pprim[i] = id(h.prim);
+                        pgeom[i] = h.hit() ? id(h.geom) : -1;
+                        pinst[i] = h.hit() ? id(h.inst) : -1;
+                        if (!normals) continue;
+                        // Unit, in double, rounded once; a zero normal (a degenerate primitive) stays zero; misses NaN.
+                        float* p = pn + 3 * i;
+                        if (!h.hit()) {
+                            p[0] = p[1] = p[2] = std::numeric_limits<float>::quiet_NaN();
+                            continue;
+                        }
+                        const Vec3 m = hit_normal(desc_, r[k], h);
+                        const double x = m.x, y = m.y, z = m.z, len = std::sqrt(x * x + y * y + z * z);
+                        p[0] = len > 0 ? float(x / len) : 0.0f;
+                        p[1] = len > 0 ? float(y / len) : 0.0f;
+                        p[2] = len > 0 ? float(z / len) : 0.0f;
                     }
-                    const Vec3 m = hit_normal(desc_, r[k], h);
-                    const double x = m.x, y = m.y, z = m.z, len = std::sqrt(x * x + y * y + z * z);
-                    p[0] = len > 0 ? float(x / len) : 0.0f;
-                    p[1] = len > 0 ? float(y / len) : 0.0f;
-                    p[2] = len > 0 ? float(z / len) : 0.0f;
-                }
-            });
+                });
         }
         interrupt.raise_if_stopped();
         py::dict out("hit"_a = hit, "t"_a = t, "u"_a = u, "v"_a = v, "prim"_a = prim, "geom"_a = geom, "inst"_a = inst);
@@ -215,8 +217,8 @@ public:
         return out;
     }
 
-    py::array_t<bool> occluded(const py::handle& o, const py::handle& d, const py::handle& tmin,
-                               const py::handle& tmax, int threads) const {
+    py::array_t<bool> occluded(const py::handle& o, const py::handle& d, const py::handle& tmin, const py::handle& tmax,
+                               int threads) const {
         const RayArrays rays(o, d, tmin, tmax);
         auto out = empty_array<bool>(rays.size());
         bool* p = out.mutable_data();
@@ -224,11 +226,11 @@ public:
         Interrupt interrupt;
         {
             py::gil_scoped_release nogil;
-            for_ray_chunks<SceneHit, kSceneChunkRays>(rays, nthreads, interrupt,
-                                     [&](std::span<const Ray> r, std::span<SceneHit> hs, std::size_t b) {
-                trace(r, hs, true);
-                for (std::size_t k = 0; k < hs.size(); ++k) p[b + k] = hs[k].hit();
-            });
+            for_ray_chunks<SceneHit, kSceneChunkRays>(
+                rays, nthreads, interrupt, [&](std::span<const Ray> r, std::span<SceneHit> hs, std::size_t b) {
+                    trace(r, hs, true);
+                    for (std::size_t k = 0; k < hs.size(); ++k) p[b + k] = hs[k].hit();
+                });
         }
         interrupt.raise_if_stopped();
         return out;
@@ -269,8 +271,8 @@ public:
 
     std::string repr() const {
         return "<simdbvh.Scene: " + std::to_string(num_geometries()) + " geometries, " +
-               std::to_string(num_instances()) + " instances, " + std::to_string(num_planes()) + " planes, " +
-               method_ + "/" + isa() + ">";
+               std::to_string(num_instances()) + " instances, " + std::to_string(num_planes()) + " planes, " + method_ +
+               "/" + isa() + ">";
     }
 
 private:
@@ -292,14 +294,16 @@ private:
     // spheres-1000 level. Called
     // without the GIL. The brute force validates the scene and inverts its transforms once per chunk.
     void trace(std::span<const Ray> rays, std::span<SceneHit> hits, bool any) const {
-        std::visit([&](const auto& b) {
-            if constexpr (std::is_same_v<std::decay_t<decltype(b)>, std::monostate>) {
-                any ? brute_force_occluded(desc_, rays, hits) : brute_force_intersect(desc_, rays, hits);
-            } else {
-                if (any) simdbvh::occluded(b, rays, hits, isa_, 1);
-                else simdbvh::intersect(b, rays, hits, isa_, 1);
-            }
-        }, bvh_);
+        std::visit(
+            [&](const auto& b) {
+                if constexpr (std::is_same_v<std::decay_t<decltype(b)>, std::monostate>) {
+                    any ? brute_force_occluded(desc_, rays, hits) : brute_force_intersect(desc_, rays, hits);
+                } else {
+                    if (any) simdbvh::occluded(b, rays, hits, isa_, 1);
+                    else simdbvh::intersect(b, rays, hits, isa_, 1);
+                }
+            },
+            bvh_);
     }
 
     SceneDesc desc_;
@@ -365,25 +369,28 @@ void bind_scene(py::module_& m) {
              py::arg("tmax") = kInf, py::arg("threads") = 1, "Any hit in [tmin, tmax]: a bool per ray.")
         .def("__repr__", &Scene::repr);
 
-    m.def("load_scene", [](const std::string& name, const std::string& method, const std::optional<std::string>& isa) {
-        path_arg(name, "name");
-        SceneDesc desc;
-        {
-            py::gil_scoped_release nogil;
-            desc = workloads::load_scene_desc(name);
-        }
-        // A mesh name or file (not a built-in scene, not JSON) with no triangles is refused, as simdbvh.load does.
-        if (!workloads::is_builtin_scene(name) && std::filesystem::path(name).extension() != ".json" &&
-            desc.geometries.size() == 1) {
-            const Mesh* mesh = std::get_if<Mesh>(&desc.geometries[0]);
-            if (mesh && mesh->triangles.empty()) throw Error(name + ": no triangles (an empty mesh)");
-        }
-        return Scene(std::move(desc), method, isa);
-    }, py::arg("name"), py::arg("method") = "bvh8", py::arg("isa") = py::none(),
-          "A scene from a built-in name (room, spheres-N, instances-N: N dragons), a .json scene file (docs/scenes.md, "
-          "'Scene files (JSON)') or any mesh simdbvh.load() takes (one geometry, one identity instance). Raises "
-          "simdbvh.Error for a missing file, bad JSON, an uncached mesh, a mesh with no triangles or a name containing a "
-          "NUL byte.");
+    m.def(
+        "load_scene",
+        [](const std::string& name, const std::string& method, const std::optional<std::string>& isa) {
+            path_arg(name, "name");
+            SceneDesc desc;
+            {
+                py::gil_scoped_release nogil;
+                desc = workloads::load_scene_desc(name);
+            }
+            // A mesh name or file (not a built-in scene, not JSON) with no triangles is refused, as simdbvh.load does.
+            if (!workloads::is_builtin_scene(name) && std::filesystem::path(name).extension() != ".json" &&
+                desc.geometries.size() == 1) {
+                const Mesh* mesh = std::get_if<Mesh>(&desc.geometries[0]);
+                if (mesh && mesh->triangles.empty()) throw Error(name + ": no triangles (an empty mesh)");
+            }
+            return Scene(std::move(desc), method, isa);
+        },
+        py::arg("name"), py::arg("method") = "bvh8", py::arg("isa") = py::none(),
+        "A scene from a built-in name (room, spheres-N, instances-N: N dragons), a .json scene file (docs/scenes.md, "
+        "'Scene files (JSON)') or any mesh simdbvh.load() takes (one geometry, one identity instance). Raises "
+        "simdbvh.Error for a missing file, bad JSON, an uncached mesh, a mesh with no triangles or a name containing a "
+        "NUL byte.");
 }
 
 }  // namespace simdbvh::python

@@ -100,8 +100,7 @@ bool differ(const Ray& ray, const Hit& a, const Hit& b) {
 namespace {
 
 template <class Same, class Judge>
-Comparison compare(const Mesh& mesh, std::span<const Ray> rays, const CompareOptions& options, Same same,
-                   Judge judge) {
+Comparison compare(const Mesh& mesh, std::span<const Ray> rays, const CompareOptions& options, Same same, Judge judge) {
     Comparison out;
     for (std::size_t i = 0; i < rays.size(); ++i) {
         if (!prepare(rays[i]).valid) {
@@ -118,7 +117,8 @@ Comparison compare(const Mesh& mesh, std::span<const Ray> rays, const CompareOpt
         const Reference* ref_ptr = &local;
         if (options.cache) {
             auto it = options.cache->refs.find(i);
-            if (it == options.cache->refs.end()) it = options.cache->refs.emplace(i, reference_intersect(mesh, rays[i])).first;
+            if (it == options.cache->refs.end())
+                it = options.cache->refs.emplace(i, reference_intersect(mesh, rays[i])).first;
             ref_ptr = &it->second;
         } else {
             local = reference_intersect(mesh, rays[i]);

@@ -19,9 +19,7 @@ namespace simdbvh::reference {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 const char* error_name(RTCError e) {
     switch (e) {
@@ -113,8 +111,7 @@ struct EmbreeScene::Impl {
         self->mem_seen.store(true, std::memory_order_relaxed);
         const std::int64_t now = self->mem_current.fetch_add(bytes) + bytes;
         std::int64_t peak = self->mem_peak.load();
-        while (now > peak && !self->mem_peak.compare_exchange_weak(peak, now)) {
-        }
+        while (now > peak && !self->mem_peak.compare_exchange_weak(peak, now)) {}
         return true;  // never refuse an allocation
     }
 
@@ -134,10 +131,12 @@ EmbreeScene::EmbreeScene(const Mesh& mesh, const EmbreeOptions& opts) : impl_(st
     s.opts = opts;
     s.stats.triangles = mesh.size();
     s.stats.vertices = mesh.positions.size();
-    s.stats.threads = opts.threads > 0 ? opts.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    s.stats.threads =
+        opts.threads > 0 ? opts.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 
     const auto t0 = Clock::now();
-    const std::string config = "verbose=0" + (opts.threads > 0 ? ",threads=" + std::to_string(opts.threads) : std::string());
+    const std::string config =
+        "verbose=0" + (opts.threads > 0 ? ",threads=" + std::to_string(opts.threads) : std::string());
     s.device = rtcNewDevice(config.c_str());
     if (!s.device) {
         const RTCError e = rtcGetDeviceError(nullptr);
@@ -149,23 +148,23 @@ EmbreeScene::EmbreeScene(const Mesh& mesh, const EmbreeOptions& opts) : impl_(st
     s.scene = rtcNewScene(s.device);
     s.check("rtcNewScene");
     const bool refit = opts.quality == EmbreeQuality::refit;
-    rtcSetSceneFlags(s.scene, RTCSceneFlags((opts.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE) |
-                                            (refit ? RTC_SCENE_FLAG_DYNAMIC : RTC_SCENE_FLAG_NONE) |
-                                            (opts.count_filter ? RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION
-                                                               : RTC_SCENE_FLAG_NONE)));
+    rtcSetSceneFlags(s.scene,
+                     RTCSceneFlags((opts.robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE) |
+                                   (refit ? RTC_SCENE_FLAG_DYNAMIC : RTC_SCENE_FLAG_NONE) |
+                                   (opts.count_filter ? RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION : RTC_SCENE_FLAG_NONE)));
     // Refit: Embree uses a geometry's own quality only under a LOW scene (two levels).
-    rtcSetSceneBuildQuality(s.scene, refit ? RTC_BUILD_QUALITY_LOW
+    rtcSetSceneBuildQuality(s.scene, refit                                 ? RTC_BUILD_QUALITY_LOW
                                      : opts.quality == EmbreeQuality::high ? RTC_BUILD_QUALITY_HIGH
-                                                                            : RTC_BUILD_QUALITY_MEDIUM);
+                                                                           : RTC_BUILD_QUALITY_MEDIUM);
     s.check("rtcSetSceneBuildQuality");
 
     const std::int64_t before_buffers = s.mem_current.load();
     if (!mesh.triangles.empty()) {
         RTCGeometry geom = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_TRIANGLE);
         s.check("rtcNewGeometry");
-        rtcSetGeometryBuildQuality(geom, refit ? RTC_BUILD_QUALITY_REFIT
+        rtcSetGeometryBuildQuality(geom, refit                                 ? RTC_BUILD_QUALITY_REFIT
                                          : opts.quality == EmbreeQuality::high ? RTC_BUILD_QUALITY_HIGH
-                                                                                : RTC_BUILD_QUALITY_MEDIUM);
+                                                                               : RTC_BUILD_QUALITY_MEDIUM);
         // rtcSetNewGeometryBuffer over-allocates so the last vertex can be read
         // with a 16-byte load (Embree's padding requirement).
         auto* verts = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
@@ -197,8 +196,7 @@ EmbreeScene::EmbreeScene(const Mesh& mesh, const EmbreeOptions& opts) : impl_(st
     s.stats.buffer_bytes = after_buffers - before_buffers;
     s.stats.bvh_bytes = s.mem_current.load() - after_buffers;
     s.stats.peak_bytes = s.mem_peak.load();
-    s.stats.bytes_per_triangle =
-        mesh.size() == 0 ? 0.0 : double(s.stats.bvh_bytes) / double(mesh.size());
+    s.stats.bytes_per_triangle = mesh.size() == 0 ? 0.0 : double(s.stats.bvh_bytes) / double(mesh.size());
 }
 
 double EmbreeScene::update_vertices(const Mesh& mesh) {
@@ -220,7 +218,8 @@ double EmbreeScene::update_vertices(const Mesh& mesh) {
         for (std::uint32_t v : t)
             if (v >= s.stats.vertices) throw Error("Embree update_vertices: more vertices than the scene's buffer");
     const auto t0 = Clock::now();
-    std::memcpy(verts, mesh.positions.data(), std::min<std::size_t>(mesh.positions.size(), s.stats.vertices) * sizeof(Vec3));
+    std::memcpy(verts, mesh.positions.data(),
+                std::min<std::size_t>(mesh.positions.size(), s.stats.vertices) * sizeof(Vec3));
     rtcUpdateGeometryBuffer(geom, kVertex, 0);
     rtcCommitGeometry(geom);
     rtcCommitScene(s.scene);
@@ -251,7 +250,6 @@ std::string EmbreeScene::tasking_system() const {
 }
 
 namespace {
-
 
 // count_hits: the context Embree passes to the filter, with the count after it.
 struct CountContext {

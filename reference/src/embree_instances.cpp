@@ -32,7 +32,7 @@ struct EmbreeInstanceScene::Impl {
     RTCDevice device = nullptr;
     RTCScene top = nullptr;
     std::vector<RTCScene> children;
-    std::vector<std::uint32_t> geometry_of;  // per instance
+    std::vector<std::uint32_t> geometry_of;   // per instance
     std::vector<std::uint32_t> prim_divisor;  // per geometry: 6 for box sets (six quads per box), else 1
     std::vector<Plane> planes;
     std::uint32_t num_instances = 0;
@@ -40,7 +40,8 @@ struct EmbreeInstanceScene::Impl {
     double build_ms = 0;
     void check(const char* what) const {
         const RTCError e = rtcGetDeviceError(device);
-        if (e != RTC_ERROR_NONE) throw Error(std::string("Embree: ") + what + " failed (error " + std::to_string(int(e)) + ")");
+        if (e != RTC_ERROR_NONE)
+            throw Error(std::string("Embree: ") + what + " failed (error " + std::to_string(int(e)) + ")");
     }
     static bool on_memory(void* user, ssize_t bytes, bool /*post*/) {
         static_cast<Impl*>(user)->mem.fetch_add(bytes, std::memory_order_relaxed);
@@ -55,17 +56,25 @@ struct EmbreeInstanceScene::Impl {
     }
     RTCGeometry mesh_geometry(const Mesh& m) {
         RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-        struct V { float x, y, z; };
-        struct I { std::uint32_t a, b, c; };
+        struct V {
+            float x, y, z;
+        };
+        struct I {
+            std::uint32_t a, b, c;
+        };
         V* v = buffer<V>(g, RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT3, m.positions.size());
         I* idx = buffer<I>(g, RTC_BUFFER_TYPE_INDEX, RTC_FORMAT_UINT3, m.triangles.size());
-        for (std::size_t i = 0; i < m.positions.size(); ++i) v[i] = {m.positions[i].x, m.positions[i].y, m.positions[i].z};
-        for (std::size_t i = 0; i < m.triangles.size(); ++i) idx[i] = {m.triangles[i][0], m.triangles[i][1], m.triangles[i][2]};
+        for (std::size_t i = 0; i < m.positions.size(); ++i)
+            v[i] = {m.positions[i].x, m.positions[i].y, m.positions[i].z};
+        for (std::size_t i = 0; i < m.triangles.size(); ++i)
+            idx[i] = {m.triangles[i][0], m.triangles[i][1], m.triangles[i][2]};
         return g;
     }
     RTCGeometry sphere_geometry(const SphereSet& set) {
         RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
-        struct V { float x, y, z, r; };
+        struct V {
+            float x, y, z, r;
+        };
         V* v = buffer<V>(g, RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT4, set.spheres.size());
         for (std::size_t i = 0; i < set.spheres.size(); ++i) {
             const Sphere& s = set.spheres[i];
@@ -76,11 +85,16 @@ struct EmbreeInstanceScene::Impl {
     // Six quads per box, each a face of the box (8 shared corners per box).
     RTCGeometry box_geometry(const BoxSet& set) {
         RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_QUAD);
-        struct V { float x, y, z; };
-        struct Q { std::uint32_t a, b, c, d; };
+        struct V {
+            float x, y, z;
+        };
+        struct Q {
+            std::uint32_t a, b, c, d;
+        };
         V* v = buffer<V>(g, RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT3, 8 * set.boxes.size());
         Q* q = buffer<Q>(g, RTC_BUFFER_TYPE_INDEX, RTC_FORMAT_UINT4, 6 * set.boxes.size());
-        static constexpr Q kFaces[6] = {{0, 2, 6, 4}, {1, 5, 7, 3}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 6, 7, 5}};
+        static constexpr Q kFaces[6] = {{0, 2, 6, 4}, {1, 5, 7, 3}, {0, 4, 5, 1},
+                                        {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 6, 7, 5}};
         for (std::size_t i = 0; i < set.boxes.size(); ++i) {
             const Aabb& b = set.boxes[i];
             for (std::uint32_t c = 0; c < 8; ++c)  // corner c: bit 0 x, bit 1 y, bit 2 z
@@ -115,8 +129,7 @@ struct EmbreeInstanceScene::Impl {
         nearest_planes(clamped, planes, any, w.plane, w.t);
         for (std::size_t i = 0; i < rays.size(); ++i) {
             const int k = w.plane[i];
-            if (k < 0 || !w.ok[i] || (hits[i].hit() && !(w.t[i] < hits[i].t)))
-                continue;
+            if (k < 0 || !w.ok[i] || (hits[i].hit() && !(w.t[i] < hits[i].t))) continue;
             hits[i] = SceneHit{w.t[i], 0.0f, 0.0f, std::uint32_t(k), kNoGeometry, num_instances + std::uint32_t(k)};
         }
     }

@@ -13,7 +13,9 @@ struct D3 {
 };
 D3 to_d(const Vec3& a) { return {a.x, a.y, a.z}; }
 D3 sub(const D3& a, const D3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-double inf_norm(const Vec3& a) { return std::max({std::fabs(double(a.x)), std::fabs(double(a.y)), std::fabs(double(a.z))}); }
+double inf_norm(const Vec3& a) {
+    return std::max({std::fabs(double(a.x)), std::fabs(double(a.y)), std::fabs(double(a.z))});
+}
 
 // Ray setup in double: the permutation of prepare() (a choice made on the float
 // inputs, so it is the same), shear constants in double.
@@ -59,7 +61,8 @@ TriangleRef test(const RayD& r, const Ray& ray, const Vec3& v0, const Vec3& v1, 
     };
     const double m = std::max({mag(a), mag(b), mag(c)});
     const double delta = 32.0 * kFloatEps * m * m;
-    const bool near_inside = (eu >= -delta && ev >= -delta && ew >= -delta) || (eu <= delta && ev <= delta && ew <= delta);
+    const bool near_inside =
+        (eu >= -delta && ev >= -delta && ew >= -delta) || (eu <= delta && ev <= delta && ew <= delta);
     if (!near_inside) return out;  // implies no strict hit either
     const double det = eu + ev + ew;
     if (det == 0.0) return out;  // edge-on (or degenerate): no t, every method misses
@@ -97,8 +100,8 @@ TriangleRef test(const RayD& r, const Ray& ray, const Vec3& v0, const Vec3& v1, 
 // |d_kz| = |d|inf >= |d| / sqrt(3), hence 16 ~ 9 * sqrt(3) when dividing by |d|.
 // Embree's formula has a similar number of roundings.
 double tolerance(const Ray& ray, double t_ref) {
-    const double dlen = std::sqrt(double(ray.dir.x) * ray.dir.x + double(ray.dir.y) * ray.dir.y +
-                                  double(ray.dir.z) * ray.dir.z);
+    const double dlen =
+        std::sqrt(double(ray.dir.x) * ray.dir.x + double(ray.dir.y) * ray.dir.y + double(ray.dir.z) * ray.dir.z);
     if (!(dlen > 0.0) || !std::isfinite(t_ref)) return 0.0;
     return 16.0 * kFloatEps * (inf_norm(ray.org) + std::fabs(t_ref) * inf_norm(ray.dir)) / dlen;
 }

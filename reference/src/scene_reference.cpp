@@ -12,15 +12,13 @@ namespace simdbvh::reference {
 
 namespace {
 
-constexpr double kNearSlack = 0x1p-16;  // relative, for skipping instances the ray cannot come near
+constexpr double kNearSlack = 0x1p-16;       // relative, for skipping instances the ray cannot come near
 constexpr double kNearDelta = 16 * 0x1p-24;  // absolute near distance per unit of |o| + |t d|, times cond
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 using RayD = SceneReferencer::RayD;
 
-RayD world_ray(const Ray& r) {
-    return {{r.org.x, r.org.y, r.org.z}, {r.dir.x, r.dir.y, r.dir.z}, r.tmin, r.tmax};
-}
+RayD world_ray(const Ray& r) { return {{r.org.x, r.org.y, r.org.z}, {r.dir.x, r.dir.y, r.dir.z}, r.tmin, r.tmax}; }
 
 RayD object_ray(const SceneReferencer::InstanceD& in, const RayD& w) {
     RayD r{{0, 0, 0}, {0, 0, 0}, w.tmin, w.tmax};
@@ -42,7 +40,8 @@ ObjectRef triangle(const RayD& r, const Vec3& a, const Vec3& b, const Vec3& c, d
     ObjectRef out;
     const double e1[3] = {double(b.x) - a.x, double(b.y) - a.y, double(b.z) - a.z};
     const double e2[3] = {double(c.x) - a.x, double(c.y) - a.y, double(c.z) - a.z};
-    const double p[3] = {r.d[1] * e2[2] - r.d[2] * e2[1], r.d[2] * e2[0] - r.d[0] * e2[2], r.d[0] * e2[1] - r.d[1] * e2[0]};
+    const double p[3] = {r.d[1] * e2[2] - r.d[2] * e2[1], r.d[2] * e2[0] - r.d[0] * e2[2],
+                         r.d[0] * e2[1] - r.d[1] * e2[0]};
     const double det = dot3(e1, p);
     if (det == 0.0 || !std::isfinite(det)) return out;
     const double tv[3] = {r.o[0] - a.x, r.o[1] - a.y, r.o[2] - a.z};

@@ -25,7 +25,8 @@ Hit brute_shapes(const std::vector<Prim>& prims, const Ray& ray) {
 
 template <bool kAnyHit>
 Hit brute_geometry(const Geometry& g, const Ray& obj) {
-    if (const Mesh* m = std::get_if<Mesh>(&g)) return kAnyHit ? brute_force_occluded(*m, obj) : brute_force_intersect(*m, obj);
+    if (const Mesh* m = std::get_if<Mesh>(&g))
+        return kAnyHit ? brute_force_occluded(*m, obj) : brute_force_intersect(*m, obj);
     if (const SphereSet* s = std::get_if<SphereSet>(&g)) return brute_shapes<kAnyHit>(s->spheres, obj);
     return brute_shapes<kAnyHit>(std::get<BoxSet>(g).boxes, obj);
 }

@@ -29,9 +29,8 @@ typedef std::int32_t Int4 __attribute__((vector_size(16)));
 // (dir, tmax): two 16-byte rows per ray. A template on the ISA's tag, so no
 // copy compiled with one ISA's flags can stand in for another's.
 template <class Tag>
-inline __attribute__((always_inline)) bool as_given(const Ray* r, Double4& ox, Double4& oy, Double4& oz,
-                                                    Double4& dx, Double4& dy, Double4& dz, Float4& tmin,
-                                                    Float4& tmax) {
+inline __attribute__((always_inline)) bool as_given(const Ray* r, Double4& ox, Double4& oy, Double4& oz, Double4& dx,
+                                                    Double4& dy, Double4& dz, Float4& tmin, Float4& tmax) {
     static_assert(sizeof(Ray) == 32 && offsetof(Ray, tmin) == 12 && offsetof(Ray, dir) == 16 &&
                   offsetof(Ray, tmax) == 28);
     Float4 a[4], b[4];
@@ -55,7 +54,7 @@ inline __attribute__((always_inline)) bool as_given(const Ray* r, Double4& ox, D
     auto abs4 = [](Float4 v) { return Float4(Int4(v) & std::numeric_limits<std::int32_t>::max()); };
     const float big = std::numeric_limits<float>::max(), tiny = std::numeric_limits<float>::min();
     const Float4 ax = abs4(qx), ay = abs4(qy), az = abs4(qz);
-    const Float4 m = ax > ay ? (ax > az ? ax : az) : (ay > az ? ay : az);  // NaN: fails below
+    const Float4 m = ax > ay ? (ax > az ? ax : az) : (ay > az ? ay : az);        // NaN: fails below
     const Int4 ok = (abs4(px) <= big) & (abs4(py) <= big) & (abs4(pz) <= big) &  // finite origin
                     (m >= kRescaleBelow) & (m <= kRescaleAbove) &                // no rescale (and finite, not 0)
                     (ax <= big) & (ay <= big) & (az <= big) &                    // a finite direction
@@ -142,10 +141,10 @@ void PlaneBatch<Tag>::nearest(std::span<const Ray> rays, std::span<const Plane> 
 }  // namespace simdbvh::scene::detail
 
 // The one line of each per-ISA translation unit: its tag and its instantiation.
-#define SIMDBVH_PLANE_BATCH_INSTANTIATE(isa)                      \
-    namespace simdbvh::scene::detail {                              \
-    namespace isa {                                               \
-    struct PlaneTag {};                                           \
-    }                                                             \
-    template struct PlaneBatch<isa::PlaneTag>;                    \
+#define SIMDBVH_PLANE_BATCH_INSTANTIATE(isa)   \
+    namespace simdbvh::scene::detail {         \
+    namespace isa {                            \
+    struct PlaneTag {};                        \
+    }                                          \
+    template struct PlaneBatch<isa::PlaneTag>; \
     }

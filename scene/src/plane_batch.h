@@ -19,8 +19,8 @@ struct PlaneTag;
 
 template <class Tag>
 struct PlaneBatch {
-    [[gnu::flatten]] static void nearest(std::span<const Ray> rays, std::span<const Plane> planes, bool any,
-                                         int* plane, float* t);
+    [[gnu::flatten]] static void nearest(std::span<const Ray> rays, std::span<const Plane> planes, bool any, int* plane,
+                                         float* t);
 };
 extern template struct PlaneBatch<avx2::PlaneTag>;
 extern template struct PlaneBatch<avx512::PlaneTag>;

@@ -22,8 +22,7 @@ namespace simdbvh::scene::detail {
 
 // The next node's lines, or the leaf's first primitives.
 template <int N, class Prim>
-inline __attribute__((always_inline)) void prefetch_shape_child(const NodeN<N>* nodes, const Prim* prims,
-                                                                ChildN<N> c) {
+inline __attribute__((always_inline)) void prefetch_shape_child(const NodeN<N>* nodes, const Prim* prims, ChildN<N> c) {
     if (c.is_inner()) {
         const char* p = reinterpret_cast<const char*>(nodes + c.index);
         for (std::size_t l = 0; l < sizeof(NodeN<N>) / 64; ++l) __builtin_prefetch(p + 64 * l);
@@ -185,9 +184,8 @@ struct WideShapeLeaf {
 // Rays in flight by the tree's size (nodes, primitives, ids), as the meshes'
 // (bvh8::detail::one_in_flight, with the measurements).
 template <class K, int N, class Prim, class Query>
-inline __attribute__((always_inline)) void trace_shapes(const ShapeTree<N>& tree, const Prim* prims,
-                                                        const Aabb& bounds, std::span<const Ray> rays,
-                                                        std::span<Hit> hits) {
+inline __attribute__((always_inline)) void trace_shapes(const ShapeTree<N>& tree, const Prim* prims, const Aabb& bounds,
+                                                        std::span<const Ray> rays, std::span<Hit> hits) {
     const WideShapeLeaf<Prim> leaf{{prims, tree.prim_ids.data()}};
     const Aabb* root = tree.nodes.empty() ? nullptr : &bounds;
     const std::size_t bytes =
@@ -195,8 +193,7 @@ inline __attribute__((always_inline)) void trace_shapes(const ShapeTree<N>& tree
     using bvh8::detail::trace_span;
     if (bvh8::detail::one_in_flight(bytes, 0))
         trace_span<K, N, WideShapeLeaf<Prim>, Query, false, 1>(tree.nodes.data(), root, leaf, rays, hits, nullptr);
-    else
-        trace_span<K, N, WideShapeLeaf<Prim>, Query, false>(tree.nodes.data(), root, leaf, rays, hits, nullptr);
+    else trace_span<K, N, WideShapeLeaf<Prim>, Query, false>(tree.nodes.data(), root, leaf, rays, hits, nullptr);
 }
 
 template <class K, int N, class Prim>
@@ -212,12 +209,12 @@ void ShapeTraversal<K, N, Prim>::occluded(const ShapeTree<N>& tree, const Prim* 
 
 }  // namespace simdbvh::scene::detail
 
-#define SIMDBVH_SHAPE_INSTANTIATE(isa)                                                        \
-    namespace simdbvh::scene::detail {                                                          \
-    template struct ShapeTraversal<bvh8::isa::Kernels, 4, Sphere>;                            \
-    template struct ShapeTraversal<bvh8::isa::Kernels, 8, Sphere>;                            \
-    template struct ShapeTraversal<bvh8::isa::Kernels, 16, Sphere>;                           \
-    template struct ShapeTraversal<bvh8::isa::Kernels, 4, Aabb>;                              \
-    template struct ShapeTraversal<bvh8::isa::Kernels, 8, Aabb>;                              \
-    template struct ShapeTraversal<bvh8::isa::Kernels, 16, Aabb>;                             \
+#define SIMDBVH_SHAPE_INSTANTIATE(isa)                              \
+    namespace simdbvh::scene::detail {                              \
+    template struct ShapeTraversal<bvh8::isa::Kernels, 4, Sphere>;  \
+    template struct ShapeTraversal<bvh8::isa::Kernels, 8, Sphere>;  \
+    template struct ShapeTraversal<bvh8::isa::Kernels, 16, Sphere>; \
+    template struct ShapeTraversal<bvh8::isa::Kernels, 4, Aabb>;    \
+    template struct ShapeTraversal<bvh8::isa::Kernels, 8, Aabb>;    \
+    template struct ShapeTraversal<bvh8::isa::Kernels, 16, Aabb>;   \
     }

@@ -21,7 +21,7 @@ struct ShapeTraversal {
                                           std::span<const Ray> rays, std::span<Hit> hits);
 };
 
-#define SIMDBVH_SHAPE_ISA(isa)                                           \
+#define SIMDBVH_SHAPE_ISA(isa)                                             \
     extern template struct ShapeTraversal<bvh8::isa::Kernels, 4, Sphere>;  \
     extern template struct ShapeTraversal<bvh8::isa::Kernels, 8, Sphere>;  \
     extern template struct ShapeTraversal<bvh8::isa::Kernels, 16, Sphere>; \

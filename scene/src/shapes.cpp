@@ -59,7 +59,7 @@ Double2 poly_atan2(Double2 y, Double2 x) {
     const Double2 p = ((c0 + c1 * s) + s2 * (c2 + c3 * s)) + s4 * (((c4 + c5 * s) + s2 * (c6 + c7 * s)) + s4 * c8);
     Double2 r = pick2(reduce, Double2{} + kPi / 4, Double2{}) + a * p;  // atan(mn / mx), in [0, pi/4]
     r = pick2(swap, kPi / 2 - r, r);
-    r = pick2((Long2(x) & sign) != 0, kPi - r, r);  // x's sign bit
+    r = pick2((Long2(x) & sign) != 0, kPi - r, r);           // x's sign bit
     return Double2((Long2(r) & ~sign) | (Long2(y) & sign));  // copysign(r, y)
 }
 
@@ -134,16 +134,26 @@ bool hit_box(const PreparedRay& r, const Aabb& b, float tmax, float* t, float* u
         }
         double t0 = (lo - o) / d, t1 = (hi - o) / d;
         if (t0 > t1) std::swap(t0, t1);
-        if (t0 > tn) { tn = t0; an = a; }
-        if (t1 < tf) { tf = t1; af = a; }
+        if (t0 > tn) {
+            tn = t0;
+            an = a;
+        }
+        if (t1 < tf) {
+            tf = t1;
+            af = a;
+        }
     }
     if (!(tn <= tf)) return false;
     double th;
     int axis;
     float tv;
-    if (an >= 0 && in_range(r, tv = static_cast<float>(tn), tmax)) { th = tn; axis = an; }
-    else if (af >= 0 && in_range(r, tv = static_cast<float>(tf), tmax)) { th = tf; axis = af; }
-    else return false;
+    if (an >= 0 && in_range(r, tv = static_cast<float>(tn), tmax)) {
+        th = tn;
+        axis = an;
+    } else if (af >= 0 && in_range(r, tv = static_cast<float>(tf), tmax)) {
+        th = tf;
+        axis = af;
+    } else return false;
     *t = tv;
     const int a1 = axis == 0 ? 1 : 0, a2 = axis == 2 ? 1 : 2;
     auto face = [&](int k) {
@@ -190,8 +200,7 @@ int nearest_plane(const PreparedRay& r, std::span<const Plane> planes, float tma
         // In range, and nearer than the best so far (ties: the lower plane;
         // any: the first plane hit, so nothing after it replaces it). Bit
         // masks, not ?: (GCC turned those back into branches).
-        const bool take = !parallel & (tv >= r.tmin) & (tv <= tmax) &
-                          ((best == planes.size()) | (!any & (tv < bt)));
+        const bool take = !parallel & (tv >= r.tmin) & (tv <= tmax) & ((best == planes.size()) | (!any & (tv < bt)));
         const std::uint32_t m = 0u - std::uint32_t(take);
         best = (k & m) | (best & ~m);
         bt = std::bit_cast<float>((std::bit_cast<std::uint32_t>(tv) & m) | (std::bit_cast<std::uint32_t>(bt) & ~m));

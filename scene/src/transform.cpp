@@ -38,8 +38,9 @@ Vec3 apply(const Affine3& t, Vec3 p, double w) {
     Vec3 out;
     for (int r = 0; r < 3; ++r) {
         const auto& m = t.m[r];
-        out[r] = static_cast<float>(((double(m[0]) * double(p.x) + double(m[1]) * double(p.y)) +
-                                     double(m[2]) * double(p.z)) + w * double(m[3]));
+        out[r] = static_cast<float>(
+            ((double(m[0]) * double(p.x) + double(m[1]) * double(p.y)) + double(m[2]) * double(p.z)) +
+            w * double(m[3]));
     }
     return out;
 }
@@ -122,8 +123,7 @@ InverseAffine invert(const Affine3& t) {
     inv[0][2] = (a[0][1] * a[1][2] - a[0][2] * a[1][1]) / det;
     inv[1][2] = (a[0][2] * a[1][0] - a[0][0] * a[1][2]) / det;
     inv[2][2] = (a[0][0] * a[1][1] - a[0][1] * a[1][0]) / det;
-    for (int r = 0; r < 3; ++r)
-        inv[r][3] = -(inv[r][0] * a[0][3] + inv[r][1] * a[1][3] + inv[r][2] * a[2][3]);
+    for (int r = 0; r < 3; ++r) inv[r][3] = -(inv[r][0] * a[0][3] + inv[r][1] * a[1][3] + inv[r][2] * a[2][3]);
     const double max_float = std::numeric_limits<float>::max();
     for (const auto& row : inv)
         for (double v : row)

@@ -89,11 +89,14 @@ SceneHit trace(const SceneBvhN<N>& s, const Ray& ray, Isa isa) {
     const PreparedRay pr = prepare(ray);
     if (!pr.valid) return {};
     const std::uint32_t ni = std::uint32_t(s.instances().size());
-    InstanceLeaf<Query, N> leaf{&s, nullptr, Bottom<Query, N>::of(isa), scene::detail::trace_planes<Query::kAnyHit>(s.planes(), pr, ni)};
+    InstanceLeaf<Query, N> leaf{&s, nullptr, Bottom<Query, N>::of(isa),
+                                scene::detail::trace_planes<Query::kAnyHit>(s.planes(), pr, ni)};
     if (leaf.hit.hit() && Query::kAnyHit) return leaf.hit;
     if (s.top().nodes.empty()) return leaf.hit;
     Ray w = ray;
-    if (leaf.hit.hit()) w.tmax = scene::detail::tmax_keeping_ties(leaf.hit.t);  // equal-t hits are still found (inclusive tests), lower ids win
+    if (leaf.hit.hit())
+        w.tmax = scene::detail::tmax_keeping_ties(
+            leaf.hit.t);  // equal-t hits are still found (inclusive tests), lower ids win
     leaf.world = &w;
     const float o = std::max({std::fabs(ray.org.x), std::fabs(ray.org.y), std::fabs(ray.org.z)});
     const SlackBox2Test test{s.slack_scale() * (o + s.scene_magnitude())};
@@ -157,8 +160,8 @@ struct ChunkScratch {
 };
 
 template <int N>
-void collect_tree(const SceneBvhN<N>& s, std::span<const Ray> world, const std::vector<std::uint8_t>& live,
-                  float slack, Isa isa, ChunkScratch& x) {
+void collect_tree(const SceneBvhN<N>& s, std::span<const Ray> world, const std::vector<std::uint8_t>& live, float slack,
+                  Isa isa, ChunkScratch& x) {
     const std::size_t n = world.size();
     const TopWide& w = s.top_wide();
     const Bvh2Topology& top = s.top();
@@ -479,10 +482,10 @@ void occluded(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<SceneH
     trace_span<query::AnyHit>(s, rays, hits, isa, threads);
 }
 
-#define SIMDBVH_SCENE_WIDTH(N)                                                                                    \
-    template SceneHit intersect<N>(const SceneBvhN<N>&, const Ray&, Isa);                                         \
-    template SceneHit occluded<N>(const SceneBvhN<N>&, const Ray&, Isa);                                          \
-    template void intersect<N>(const SceneBvhN<N>&, std::span<const Ray>, std::span<SceneHit>, Isa, int);         \
+#define SIMDBVH_SCENE_WIDTH(N)                                                                            \
+    template SceneHit intersect<N>(const SceneBvhN<N>&, const Ray&, Isa);                                 \
+    template SceneHit occluded<N>(const SceneBvhN<N>&, const Ray&, Isa);                                  \
+    template void intersect<N>(const SceneBvhN<N>&, std::span<const Ray>, std::span<SceneHit>, Isa, int); \
     template void occluded<N>(const SceneBvhN<N>&, std::span<const Ray>, std::span<SceneHit>, Isa, int);
 SIMDBVH_SCENE_WIDTH(4)
 SIMDBVH_SCENE_WIDTH(8)

@@ -66,8 +66,8 @@ TEST_F(BadInput, MalformedFilesOfEveryFormat) {
     expect_trace_error(file("junk.ply", kPlyHead + "0 0 0\n1 0 zero\n0 1 0\n3 0 1 2\n"), {":11:", "'zero'"});
     expect_trace_error(file("junk.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0 junk\nf 1 2 3\n"), {":3:", "'junk'"});
     expect_trace_error(file("short.obj", "v 0 0\n"), {":1:"});
-    expect_trace_error(file("trunc.stl", std::string(80, 'x') + std::string("\x05\x00\x00\x00", 4) + std::string(60, '\0')),
-                       {});
+    expect_trace_error(
+        file("trunc.stl", std::string(80, 'x') + std::string("\x05\x00\x00\x00", 4) + std::string(60, '\0')), {});
     expect_trace_error(file("junk.stl", "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 zero\n"), {"'zero'"});
     expect_trace_error(file("trunc.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n"), {});
     expect_trace_error(file("junk.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 x\n3 0 1 2\n"), {"'x'"});
@@ -90,9 +90,10 @@ TEST_F(BadInput, AssimpInvalidModels) {
 
 TEST_F(BadInput, CountsLargerThanTheFileFailBeforeAllocating) {
     // 3 vertices present, 5e9 faces declared (more than the 32-bit triangle ids hold).
-    expect_trace_error(file("big.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                                       "property float z\nelement face 5000000000\nproperty list uchar int "
-                                       "vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+    expect_trace_error(file("big.ply",
+                            "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                            "property float z\nelement face 5000000000\nproperty list uchar int "
+                            "vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
                        {":7:", "5000000000"});
     expect_trace_error(file("big.off", "OFF\n1000000000 1000000000 0\n0 0 0\n"), {"1000000000"});
     std::string stl(80, ' ');
@@ -102,8 +103,9 @@ TEST_F(BadInput, CountsLargerThanTheFileFailBeforeAllocating) {
 }
 
 TEST_F(BadInput, NonFiniteVerticesRejectedWithCountAndFirstIndexOrDropped) {
-    const std::string mesh = file("nan.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 nan 0\nv inf 1 0\nv 0 0 1\n"
-                                             "f 1 2 3\nf 1 4 3\nf 2 5 6\nf 1 2 6\n");
+    const std::string mesh = file("nan.obj",
+                                  "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 nan 0\nv inf 1 0\nv 0 0 1\n"
+                                  "f 1 2 3\nf 1 4 3\nf 2 5 6\nf 1 2 6\n");
     expect_trace_error(mesh, {"2 vertices", "vertex 3"});
     const std::string out = (dir_ / "o.hits").string();
     const CliRun d = run_cli("trace --scene " + mesh + " --rays " + rays_ + " --out " + out + " --drop-invalid");
@@ -119,9 +121,10 @@ TEST_F(BadInput, OutOfRangeIndexNamesTheTriangle) {
 
 TEST_F(BadInput, EmptyMeshEveryRayMisses) {
     for (const auto& [name, text] : {std::pair<std::string, std::string>{"e.obj", "# nothing but a comment\n"},
-                                     {"e.ply", "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float "
-                                               "y\nproperty float z\nelement face 0\nproperty list uchar int "
-                                               "vertex_indices\nend_header\n"},
+                                     {"e.ply",
+                                      "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float "
+                                      "y\nproperty float z\nelement face 0\nproperty list uchar int "
+                                      "vertex_indices\nend_header\n"},
                                      {"e.off", "OFF\n0 0 0\n"}}) {
         const std::string mesh = file(name, text), out = (dir_ / (name + ".hits")).string();
         for (const char* m : {"bvh2", "bvh8", "brute", "embree"}) {
@@ -145,7 +148,8 @@ TEST_F(BadInput, InvalidRaysMissOnEveryMethod) {
         for (const char* extra : {"", " --any-hit", " --test moller", " --box plain"}) {
             if (std::string(extra) == " --box plain" && std::string(m) != "bvh2") continue;
             if (std::string(extra) == " --test moller" && std::string(m) == "embree") continue;  // not Embree's
-            const CliRun t = run_cli(std::string("trace --scene icosphere-2 --rays ") + rays + " --out " + out + " --method " + m + extra);
+            const CliRun t = run_cli(std::string("trace --scene icosphere-2 --rays ") + rays + " --out " + out +
+                                     " --method " + m + extra);
             ASSERT_EQ(t.status, 0) << m << extra << "\n" << t.output;
             const auto hits = io::read_hits(out);
             ASSERT_EQ(hits.size(), bad.size());
@@ -171,19 +175,21 @@ TEST_F(BadInput, FailedWriteLeavesEarlierOutputUntouched) {
     ASSERT_EQ(run_cli("trace --scene icosphere-2 --rays " + rays_ + " --out " + out).status, 0);
     const std::string before = test::read_bytes(out);
     // 4000 hits = 64000 bytes > 16 blocks (512 or 1024 bytes, by shell); the ray file is only read.
-    const CliRun t = run_cli("trace --scene icosphere-2 --rays " + many + " --out " + out, "trap '' XFSZ; ulimit -f 16; ");
+    const CliRun t =
+        run_cli("trace --scene icosphere-2 --rays " + many + " --out " + out, "trap '' XFSZ; ulimit -f 16; ");
     EXPECT_EQ(t.status, 2) << t.output;
     EXPECT_NE(t.output.find(out), std::string::npos) << t.output;
     EXPECT_EQ(test::read_bytes(out), before);
     for (const auto& e : fs::directory_iterator(dir_.path()))
         EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << "stray " << e.path();
     // A missing folder: a clear error, nothing written.
-    const CliRun m = run_cli("trace --scene icosphere-2 --rays " + rays_ + " --out " + (dir_ / "no/such/dir/x.hits").string());
+    const CliRun m =
+        run_cli("trace --scene icosphere-2 --rays " + rays_ + " --out " + (dir_ / "no/such/dir/x.hits").string());
     EXPECT_EQ(m.status, 2);
     EXPECT_NE(m.output.find("no/such/dir"), std::string::npos) << m.output;
     // gen-rays --mesh-out and accuracy --json fail the same way.
     const CliRun g = run_cli("gen-rays --kind grazing --quick --out " + (dir_ / "g.bin").string() + " --mesh-out " +
-                      (dir_ / "no/g.ply").string());
+                             (dir_ / "no/g.ply").string());
     EXPECT_EQ(g.status, 2) << g.output;
     EXPECT_FALSE(fs::exists(dir_ / "g.bin"));
 }
@@ -196,7 +202,8 @@ TEST_F(BadInput, FamilyKindsOwnTheirScene) {
     const CliRun b = run_cli("gen-rays --kind needles --quick --case nope --out " + out);
     EXPECT_EQ(b.status, 2);
     EXPECT_NE(b.output.find("needles/aspect1e7"), std::string::npos) << "lists the cases: " << b.output;
-    const CliRun c = run_cli("gen-rays --kind watertight --quick --case watertight/torus --out " + out + " --mesh-out " + mesh);
+    const CliRun c =
+        run_cli("gen-rays --kind watertight --quick --case watertight/torus --out " + out + " --mesh-out " + mesh);
     ASSERT_EQ(c.status, 0) << c.output;
     const CliRun t = run_cli("trace --scene " + mesh + " --rays " + out + " --out " + (dir_ / "f.hits").string());
     ASSERT_EQ(t.status, 0) << t.output;

@@ -27,8 +27,8 @@ protected:
 };
 
 TEST_F(BadInputLimits, BadIsaHasOnePrefix) {
-    const test::CliRun t = test::run_cli("trace --scene icosphere-1 --rays " + rays_ + " --out " + (dir_ / "h").string(),
-                                         "SIMDBVH_ISA=sse9 ");
+    const test::CliRun t = test::run_cli(
+        "trace --scene icosphere-1 --rays " + rays_ + " --out " + (dir_ / "h").string(), "SIMDBVH_ISA=sse9 ");
     EXPECT_EQ(t.status, 2) << t.output;
     EXPECT_NE(t.output.find("simdbvh: SIMDBVH_ISA='sse9'"), std::string::npos) << t.output;
     EXPECT_EQ(t.output.find("simdbvh: simdbvh:"), std::string::npos) << t.output;

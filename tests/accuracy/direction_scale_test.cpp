@@ -48,8 +48,9 @@ std::vector<Ray> scaled(const std::vector<Ray>& rays, float factor) {
 }
 
 std::string describe(const Hit& h) {
-    return "prim " + std::to_string(h.prim) + " t " + std::to_string(h.t) + " (" + std::to_string(std::bit_cast<std::uint32_t>(h.t)) +
-           ") u " + std::to_string(h.u) + " v " + std::to_string(h.v);
+    return "prim " + std::to_string(h.prim) + " t " + std::to_string(h.t) + " (" +
+           std::to_string(std::bit_cast<std::uint32_t>(h.t)) + ") u " + std::to_string(h.u) + " v " +
+           std::to_string(h.v);
 }
 
 // Every path (BVH2, BVH8 on each ISA, brute force) gives the same bits; the
@@ -77,7 +78,8 @@ std::vector<Hit> expect_paths_agree(const std::vector<Ray>& rays, const std::str
                 ADD_FAILURE() << what << " ray " << i << ": BVH8 " << name(isa) << " " << describe(b8[i]) << ", brute "
                               << describe(brute[i]);
             if (any8[i].hit() != brute[i].hit() && bad_any++ < 3)
-                ADD_FAILURE() << what << " ray " << i << ": BVH8 " << name(isa) << " any hit disagrees with brute force";
+                ADD_FAILURE() << what << " ray " << i << ": BVH8 " << name(isa)
+                              << " any hit disagrees with brute force";
         }
     }
     EXPECT_EQ(bad2, 0u) << what << ": BVH2 rays differing from brute force";

@@ -39,9 +39,9 @@ protected:
     }
     std::string p(const std::string& name) const { return (dir_ / name).string(); }
     CliRun gen_rays(const std::string& out, const std::string& prefix = "") const {
-        return run_cli("gen-rays --scene icosphere-2 --kind incoherent --count " + std::to_string(kCount) + " --out " +
-                           out,
-                       prefix);
+        return run_cli(
+            "gen-rays --scene icosphere-2 --kind incoherent --count " + std::to_string(kCount) + " --out " + out,
+            prefix);
     }
     // Hidden temporary files (.NAME.tmp.*) in the folder.
     std::vector<std::string> temps() const {
@@ -198,8 +198,8 @@ TEST_F(Outputs, TooManyRaysNamesTheOption) {
 
 TEST_F(Outputs, TooLargeImageNamesTheOptions) {
     SIMDBVH_SKIP_ADDRESS_LIMIT_UNDER_SANITIZER();
-    const CliRun r = run_cli("render --scene icosphere-2 --width 16384 --height 16384 --out " + p("i.png"),
-                             "ulimit -v 4000000; ");
+    const CliRun r =
+        run_cli("render --scene icosphere-2 --width 16384 --height 16384 --out " + p("i.png"), "ulimit -v 4000000; ");
     EXPECT_EQ(r.status, 2) << r.output;
     EXPECT_NE(r.output.find("--width 16384 --height 16384"), std::string::npos) << r.output;
     EXPECT_EQ(r.output.find("bad_alloc"), std::string::npos) << r.output;

@@ -33,10 +33,10 @@ std::vector<Ray> invalid_rays() {
         }
         add(o, {bad, bad, bad});
     }
-    add(o, d, 2.0f, 1.0f);       // tmin > tmax
-    add(o, d, kNan, kInf);       // NaN interval
+    add(o, d, 2.0f, 1.0f);  // tmin > tmax
+    add(o, d, kNan, kInf);  // NaN interval
     add(o, d, 0.0f, kNan);
-    add(o, d, kInf, kInf);       // [inf, inf]: tmin <= tmax, but nothing lies there
+    add(o, d, kInf, kInf);  // [inf, inf]: tmin <= tmax, but nothing lies there
     add(o, d, 5.0f, -5.0f);
     return rays;
 }

@@ -43,8 +43,8 @@ TEST_P(Bvh2VsBrute, ClosestAndAnyHitMatchBruteForce) {
     const Bvh2 bvh = Bvh2::build(mesh, opts);
     // Brute force is O(rays x triangles): keep the product near 1e8.
     // (an eighth of the rays under a sanitizer: support/sanitizer.h)
-    const std::size_t count = test::sampled(
-        std::clamp<std::size_t>(100'000'000 / std::max<std::size_t>(mesh.size(), 1), 500, 20000), 200);
+    const std::size_t count =
+        test::sampled(std::clamp<std::size_t>(100'000'000 / std::max<std::size_t>(mesh.size(), 1), 500, 20000), 200);
     const auto rays = workloads::generate_rays(mesh, c.kind, count, /*seed=*/7);
     ASSERT_EQ(rays.size(), count);
     std::vector<Hit> got(rays.size()), any(rays.size());
@@ -53,8 +53,8 @@ TEST_P(Bvh2VsBrute, ClosestAndAnyHitMatchBruteForce) {
     std::size_t hits = 0;
     for (std::size_t i = 0; i < rays.size(); ++i) {
         const Hit want = brute_force_intersect(mesh, rays[i]);
-        ASSERT_EQ(got[i], want) << "ray " << i << ": bvh2 prim " << got[i].prim << " t " << got[i].t
-                                << ", brute prim " << want.prim << " t " << want.t;
+        ASSERT_EQ(got[i], want) << "ray " << i << ": bvh2 prim " << got[i].prim << " t " << got[i].t << ", brute prim "
+                                << want.prim << " t " << want.t;
         ASSERT_EQ(any[i].hit(), want.hit()) << "any-hit disagrees on ray " << i;
         if (any[i].hit()) {  // the reported triangle really is hit within the ray's interval
             EXPECT_LE(rays[i].tmin, any[i].t);
@@ -72,7 +72,8 @@ TEST_P(Bvh2VsBrute, ClosestAndAnyHitMatchBruteForce) {
 std::vector<Case> cases() {
     std::vector<Case> out;
     for (const char* s : {"bunny", "teapot", "dragon-res4", "icosphere-4", "soup-3000"})
-        for (RayKind k : {RayKind::primary, RayKind::incoherent, RayKind::diffuse}) out.push_back({s, k, Builder::sah_binned});
+        for (RayKind k : {RayKind::primary, RayKind::incoherent, RayKind::diffuse})
+            out.push_back({s, k, Builder::sah_binned});
     for (Builder b : {Builder::sah_sweep, Builder::midpoint, Builder::median, Builder::variance})
         for (RayKind k : {RayKind::primary, RayKind::incoherent}) out.push_back({"soup-3000", k, b});
     return out;

@@ -95,12 +95,12 @@ TEST(Degenerate, BadRaysMissWithoutTraversal) {
     m.triangles = {{0, 1, 2}};
     const Bvh2 bvh = Bvh2::build(m);
     const Ray bad[] = {
-        {{0, 0, 5}, 0, {0, 0, 0}, kInf},          // zero direction
-        {{0, 0, 5}, 0, {0, 0, kNaN}, kInf},       // NaN direction
-        {{0, 0, 5}, 0, {0, kInf, -1}, kInf},      // Inf direction
-        {{kNaN, 0, 5}, 0, {0, 0, -1}, kInf},      // NaN origin
-        {{0, 0, 5}, 3, {0, 0, -1}, 2},            // tmin > tmax
-        {{0, 0, 5}, kNaN, {0, 0, -1}, kInf},      // NaN tmin
+        {{0, 0, 5}, 0, {0, 0, 0}, kInf},      // zero direction
+        {{0, 0, 5}, 0, {0, 0, kNaN}, kInf},   // NaN direction
+        {{0, 0, 5}, 0, {0, kInf, -1}, kInf},  // Inf direction
+        {{kNaN, 0, 5}, 0, {0, 0, -1}, kInf},  // NaN origin
+        {{0, 0, 5}, 3, {0, 0, -1}, 2},        // tmin > tmax
+        {{0, 0, 5}, kNaN, {0, 0, -1}, kInf},  // NaN tmin
     };
     for (const Ray& r : bad) {
         TraceStats st;

@@ -125,8 +125,8 @@ void check_cube_grid(float o, CountRay ray) {
                 const Vec3 p{o + 0.25f * float(i), o + 0.25f * float(j), o + 0.25f * float(k)};
                 CountRay r = ray;
                 if (ray == CountRay::shortest) {  // nearest face; distances in quarter steps
-                    const CountRay order[6] = {CountRay::plus_z, CountRay::minus_z, CountRay::plus_x,
-                                               CountRay::minus_x, CountRay::plus_y, CountRay::minus_y};
+                    const CountRay order[6] = {CountRay::plus_z,  CountRay::minus_z, CountRay::plus_x,
+                                               CountRay::minus_x, CountRay::plus_y,  CountRay::minus_y};
                     int best = 1 << 30;
                     for (CountRay c : order) {
                         const int a = int(c) / 2, d = int(c) % 2 == 0 ? 4 - idx[a] : idx[a];
@@ -152,7 +152,8 @@ void check_cube_grid(float o, CountRay ray) {
                 }
                 const PointSide got = classify_point(bvh, p, opts);
                 const PointSide brute = brute_force_classify_point(cube, p, opts);
-                const auto at = ::testing::Message() << o << " ray " << int(ray) << " grid " << i << " " << j << " " << k;
+                const auto at = ::testing::Message()
+                                << o << " ray " << int(ray) << " grid " << i << " " << j << " " << k;
                 ASSERT_EQ(int(got.side), int(want)) << at;
                 ASSERT_EQ(int(brute.side), int(want)) << at;
                 ASSERT_EQ(int(got.ray), int(r)) << at;
@@ -241,8 +242,8 @@ TEST(Inside, SphereBvhEqualsBruteForceAndTheGeometry) {
             EXPECT_EQ(out[i].side, Side::surface) << "vertex " << i;
             continue;
         }
-        const double r = std::sqrt(double(pts[i].x) * pts[i].x + double(pts[i].y) * pts[i].y +
-                                   double(pts[i].z) * pts[i].z);
+        const double r =
+            std::sqrt(double(pts[i].x) * pts[i].x + double(pts[i].y) * pts[i].y + double(pts[i].z) * pts[i].z);
         if (r < 0.95) {
             EXPECT_EQ(out[i].side, Side::inside) << i;
         }

@@ -20,9 +20,9 @@ TEST(MortonOrder, CubeCornersInZOrderThenTiesThenNonFinite) {
     // The 8 corners of [0, 1]^3, reversed; their codes are x << 2 | y << 1 | z
     // repeated in every bit triple, so z order is the corners' binary order.
     for (int c = 7; c >= 0; --c) pts.push_back({float(c >> 2 & 1), float(c >> 1 & 1), float(c & 1)});
-    pts.push_back({nan, 0, 0});          // 8: last
-    pts.push_back({0, 0, 0});            // 9: ties with 7, after it
-    pts.push_back({1, 1, 1});            // 10: ties with 0, after it
+    pts.push_back({nan, 0, 0});  // 8: last
+    pts.push_back({0, 0, 0});    // 9: ties with 7, after it
+    pts.push_back({1, 1, 1});    // 10: ties with 0, after it
     const std::vector<std::uint32_t> order = detail::morton_order(pts);
     const std::vector<std::uint32_t> want = {7, 9, 6, 5, 4, 3, 2, 1, 0, 10, 8};
     EXPECT_EQ(order, want);

@@ -65,7 +65,8 @@ TEST(Bvh2Refit, TwistedHitsEqualBruteForce) {
         ASSERT_TRUE(same_nodes(b, b2)) << angle;
         expect_bounds(b, moved, 0, Aabb{{-INFINITY, -INFINITY, -INFINITY}, {INFINITY, INFINITY, INFINITY}});
         const Bvh2 rebuilt = Bvh2::build(moved);
-        EXPECT_GT(b.stats().sah_cost, rebuilt.stats().sah_cost) << "a twisted soup's refit tree is worse than a rebuild";
+        EXPECT_GT(b.stats().sah_cost, rebuilt.stats().sah_cost)
+            << "a twisted soup's refit tree is worse than a rebuild";
         const auto rays = workloads::generate_rays(moved, workloads::RayKind::incoherent, 3000, 5);
         std::size_t hits = 0;
         for (const Ray& r : rays) {

@@ -116,7 +116,6 @@ TEST(Structure, LeavesRespectMaxLeafSize) {
     }
 }
 
-
 // The root's box comes from per-block bounds merged in block order: the same
 // bits as one pass over every vertex (Mesh::bounds), -0 against +0 included,
 // for any thread count, over several 64K-reference blocks.
@@ -124,7 +123,10 @@ TEST(Structure, RootBoxIsTheMeshBoundsBitForBit) {
     Mesh m;
     const std::uint32_t n = 200000;
     std::uint32_t seed = 12345;
-    auto next = [&] { seed = seed * 1664525u + 1013904223u; return float(seed >> 8) / float(1 << 24); };
+    auto next = [&] {
+        seed = seed * 1664525u + 1013904223u;
+        return float(seed >> 8) / float(1 << 24);
+    };
     for (std::uint32_t i = 0; i < n; ++i) {
         const Vec3 c{next(), next(), next()};
         const std::uint32_t v = std::uint32_t(m.positions.size());

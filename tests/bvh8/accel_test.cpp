@@ -268,7 +268,8 @@ TEST(Accel, WideTreeIsTheWidthsOwnBuild) {
         expect_same_tree(got_q, own_q);
         ASSERT_NE(got_q, nullptr);
         ASSERT_FALSE(own_q.qnodes().empty());
-        EXPECT_EQ(std::memcmp(got_q->qnodes().data(), own_q.qnodes().data(), own_q.qnodes().size() * sizeof(QNode16)), 0);
+        EXPECT_EQ(std::memcmp(got_q->qnodes().data(), own_q.qnodes().data(), own_q.qnodes().size() * sizeof(QNode16)),
+                  0);
         const Accel accel2 = Accel::build(mesh, AccelMethod::bvh2, 65536, o);
         const Bvh2* b2 = accel2.get<Bvh2>();
         ASSERT_NE(b2, nullptr);

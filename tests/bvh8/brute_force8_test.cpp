@@ -30,7 +30,8 @@ void check_mesh(const Mesh& mesh, const char* what) {
     EXPECT_EQ(brute.triangles(), mesh.size());
     EXPECT_EQ(brute.blocks().size(), (mesh.size() + 7) / 8);
     std::vector<Ray> rays;
-    for (workloads::RayKind k : {workloads::RayKind::primary, workloads::RayKind::incoherent, workloads::RayKind::diffuse}) {
+    for (workloads::RayKind k :
+         {workloads::RayKind::primary, workloads::RayKind::incoherent, workloads::RayKind::diffuse}) {
         const auto r = workloads::generate_rays(mesh, k, 700, /*seed=*/9);
         rays.insert(rays.end(), r.begin(), r.end());
     }
@@ -59,13 +60,14 @@ void check_mesh(const Mesh& mesh, const char* what) {
                 intersect(brute, rays, got, o, isa);
                 occluded(brute, rays, any, o, isa);
                 for (std::size_t i = 0; i < rays.size(); ++i) {
-                    ASSERT_TRUE(same_bits(got[i], want[i]))
-                        << what << " ray " << i << " isa " << name(isa) << " prim " << got[i].prim << " vs " << want[i].prim;
+                    ASSERT_TRUE(same_bits(got[i], want[i])) << what << " ray " << i << " isa " << name(isa) << " prim "
+                                                            << got[i].prim << " vs " << want[i].prim;
                     ASSERT_EQ(any[i].hit(), want[i].hit()) << what << " ray " << i << " isa " << name(isa);
                     if (!any[i].hit()) continue;
                     ASSERT_GE(any[i].t, rays[i].tmin);
                     ASSERT_LE(any[i].t, rays[i].tmax);
-                    const Hit one = brute_force_intersect(Mesh{mesh.positions, {mesh.triangles[any[i].prim]}}, rays[i], test);
+                    const Hit one =
+                        brute_force_intersect(Mesh{mesh.positions, {mesh.triangles[any[i].prim]}}, rays[i], test);
                     ASSERT_TRUE(one.hit()) << what << " ray " << i << ": any hit names a triangle the ray misses";
                 }
             }

@@ -54,7 +54,8 @@ using Param = std::tuple<std::string, RayKind, Collapse, Isa>;
 
 std::string param_name(const testing::TestParamInfo<Param>& info) {
     auto [s, k, c, isa] = info.param;
-    std::string n = s + "_" + std::string(workloads::name(k)) + "_" + std::string(name(c)) + "_" + std::string(name(isa));
+    std::string n =
+        s + "_" + std::string(workloads::name(k)) + "_" + std::string(name(c)) + "_" + std::string(name(isa));
     for (char& ch : n)
         if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
     return n;
@@ -82,7 +83,8 @@ TEST_P(Bvh8VsBvh2, ClosestBitIdenticalAnyHitAgrees) {
         occluded(bvh8, f.rays, any, {test}, isa);
         std::size_t hits = 0;
         for (std::size_t i = 0; i < f.rays.size(); ++i) {
-            ASSERT_EQ(got[i], want[i]) << "ray " << i << " (" << (test == TriangleTest::watertight ? "watertight" : "moller")
+            ASSERT_EQ(got[i], want[i]) << "ray " << i << " ("
+                                       << (test == TriangleTest::watertight ? "watertight" : "moller")
                                        << "): bvh8 prim " << got[i].prim << " t " << got[i].t << ", bvh2 prim "
                                        << want[i].prim << " t " << want[i].t;
             ASSERT_EQ(any[i].hit(), want[i].hit()) << "any-hit disagrees on ray " << i;
@@ -93,14 +95,13 @@ TEST_P(Bvh8VsBvh2, ClosestBitIdenticalAnyHitAgrees) {
                 // A genuine hit of that triangle (shared Tri8 blocks: it may be a sibling leaf's triangle).
                 const std::uint32_t p = any[i].prim;
                 float t, u, v;
-                const bool genuine =
-                    test == TriangleTest::watertight
-                        ? intersect_triangle<TriangleTest::watertight>(prepare(f.rays[i]), f.mesh.vertex(p, 0),
-                                                                       f.mesh.vertex(p, 1), f.mesh.vertex(p, 2),
-                                                                       f.rays[i].tmax, &t, &u, &v)
-                        : intersect_triangle<TriangleTest::moller>(prepare(f.rays[i]), f.mesh.vertex(p, 0),
-                                                                   f.mesh.vertex(p, 1), f.mesh.vertex(p, 2),
-                                                                   f.rays[i].tmax, &t, &u, &v);
+                const bool genuine = test == TriangleTest::watertight
+                                         ? intersect_triangle<TriangleTest::watertight>(
+                                               prepare(f.rays[i]), f.mesh.vertex(p, 0), f.mesh.vertex(p, 1),
+                                               f.mesh.vertex(p, 2), f.rays[i].tmax, &t, &u, &v)
+                                         : intersect_triangle<TriangleTest::moller>(
+                                               prepare(f.rays[i]), f.mesh.vertex(p, 0), f.mesh.vertex(p, 1),
+                                               f.mesh.vertex(p, 2), f.rays[i].tmax, &t, &u, &v);
                 EXPECT_TRUE(genuine) << "any-hit ray " << i << " reports prim " << p << " it does not hit";
                 if (genuine) {
                     EXPECT_EQ(any[i].t, t) << "any-hit ray " << i;

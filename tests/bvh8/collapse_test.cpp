@@ -99,8 +99,8 @@ void check_packed(const Mesh& mesh, const Bvh2& bvh2, const bvh8::WideTopology<N
         EXPECT_EQ(reinterpret_cast<std::uintptr_t>(blocks.data()) % 64, 0u) << "Tri8 blocks not 64-byte aligned";
     }
     std::vector<int> seen(mesh.size(), 0);
-    std::vector<std::int64_t> block_node(blocks.size(), -1);  // the node whose leaves use the block
-    std::vector<std::uint32_t> block_lanes(blocks.size(), 0); // lanes claimed by leaves
+    std::vector<std::int64_t> block_node(blocks.size(), -1);   // the node whose leaves use the block
+    std::vector<std::uint32_t> block_lanes(blocks.size(), 0);  // lanes claimed by leaves
     std::vector<int> block_leaves(blocks.size(), 0);
     std::size_t used = 0, leaves = 0, shared = 0;
     for (std::size_t i = 0; i < nodes.size(); ++i) {
@@ -210,8 +210,11 @@ void check_packed(const Mesh& mesh, const Bvh2& bvh2, const bvh8::WideTopology<N
         }
         for (std::size_t x = 0; x < small_blocks.size(); ++x)
             for (std::size_t y = x + 1; y < small_blocks.size(); ++y)
-                EXPECT_GT(__builtin_popcount(block_lanes[small_blocks[x]]) + __builtin_popcount(block_lanes[small_blocks[y]]), 8)
-                    << "node " << i << ": blocks " << small_blocks[x] << " and " << small_blocks[y] << " would fit in one";
+                EXPECT_GT(
+                    __builtin_popcount(block_lanes[small_blocks[x]]) + __builtin_popcount(block_lanes[small_blocks[y]]),
+                    8)
+                    << "node " << i << ": blocks " << small_blocks[x] << " and " << small_blocks[y]
+                    << " would fit in one";
     }
     // Every block used; its lanes are its leaves' lanes, filled from lane 0; the rest empty (NaN, kInvalidPrim).
     for (std::size_t k = 0; k < blocks.size(); ++k) {
@@ -300,8 +303,8 @@ void sah_cost_never_above_greedy() {
                 const double sah = BvhN<N>::build(bvh2, o).stats().sah_cost;
                 o.collapse = Collapse::greedy;
                 const double greedy = BvhN<N>::build(bvh2, o).stats().sah_cost;
-                EXPECT_LE(sah, greedy * (1 + 1e-9)) << "bvh" << N << " " << sc.name << " leaf " << leaf
-                                                    << " node cost " << node_cost;
+                EXPECT_LE(sah, greedy * (1 + 1e-9))
+                    << "bvh" << N << " " << sc.name << " leaf " << leaf << " node cost " << node_cost;
                 EXPECT_GT(sah, 0);
             }
         }
@@ -316,7 +319,8 @@ TEST(WideCollapse, SahCostNeverAboveGreedy16) { sah_cost_never_above_greedy<16>(
 TEST(WideCollapse, WiderMeansFewerNodes) {
     for (const Scene& sc : scenes()) {
         const Bvh2 bvh2 = Bvh2::build(sc.mesh);
-        const WideStats s4 = Bvh4::build(bvh2).stats(), s8 = Bvh8::build(bvh2).stats(), s16 = Bvh16::build(bvh2).stats();
+        const WideStats s4 = Bvh4::build(bvh2).stats(), s8 = Bvh8::build(bvh2).stats(),
+                        s16 = Bvh16::build(bvh2).stats();
         EXPECT_EQ(s4.width, 4);
         EXPECT_EQ(s16.width, 16);
         EXPECT_GT(s4.nodes, s8.nodes) << sc.name;

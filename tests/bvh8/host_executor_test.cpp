@@ -108,16 +108,19 @@ TEST(HostExecutor, NestedTasksOnHostThreadsGiveTheSameTree) {
     if (!test::kUnderSanitizer) expect_same_tree(build(4), one);  // (TSan: 5 s a build)
     EXPECT_GT(calls.load(), 0);
     // An exception inside a task comes back to the caller of run_tasks.
-    EXPECT_THROW(run_tasks(3, [](std::size_t k) {
-        if (k == 2) throw std::runtime_error("task 2");
-    }), std::runtime_error);
+    EXPECT_THROW(run_tasks(3,
+                           [](std::size_t k) {
+                               if (k == 2) throw std::runtime_error("task 2");
+                           }),
+                 std::runtime_error);
 }
 
 TEST(HostExecutor, RunTasksRunsEveryTaskOnceWithOrWithoutAnExecutor) {
     for (bool hosted : {false, true}) {
-        if (hosted) set_executor([](std::size_t chunks, const std::function<void(std::size_t)>& run) {
-            for (std::size_t c = chunks; c-- > 0;) run(c);
-        });
+        if (hosted)
+            set_executor([](std::size_t chunks, const std::function<void(std::size_t)>& run) {
+                for (std::size_t c = chunks; c-- > 0;) run(c);
+            });
         std::vector<std::atomic<int>> ran(5);
         run_tasks(5, [&](std::size_t k) { ran[k]++; });
         for (std::size_t k = 0; k < ran.size(); ++k) EXPECT_EQ(ran[k].load(), 1) << "task " << k;

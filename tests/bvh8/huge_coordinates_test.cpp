@@ -60,7 +60,8 @@ TEST_P(Bvh8HugeCoordinates, EveryCollapseMatchesBruteForceOnEveryIsa) {
 std::vector<Case> all_cases() {
     std::vector<Case> v;
     for (const char* m : {"huge_triangle", "extreme"})
-        for (Builder b : {Builder::sah_binned, Builder::sah_sweep, Builder::midpoint, Builder::median, Builder::variance})
+        for (Builder b :
+             {Builder::sah_binned, Builder::sah_sweep, Builder::midpoint, Builder::median, Builder::variance})
             v.push_back({m, b});
     return v;
 }

@@ -38,8 +38,8 @@ void check_width(const Bvh2& bvh2, const std::vector<Ray>& rays, const std::vect
         intersect(bvh, rays, got, o, isa);
         occluded(bvh, rays, any, o, isa);
         for (std::size_t i = 0; i < rays.size(); ++i) {
-            ASSERT_EQ(got[i], want[i]) << what << " bvh" << N << " " << name(isa) << " in_flight " << flight
-                                       << " ray " << i;
+            ASSERT_EQ(got[i], want[i]) << what << " bvh" << N << " " << name(isa) << " in_flight " << flight << " ray "
+                                       << i;
             ASSERT_EQ(any[i].hit(), want[i].hit()) << what << " bvh" << N << " any, in_flight " << flight;
         }
     }

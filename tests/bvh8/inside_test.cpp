@@ -63,8 +63,8 @@ std::vector<PointSide> check(const Mesh& mesh, const std::vector<Vec3>& pts, con
                     std::vector<PointSide> got(pts.size());
                     classify_points(wide, pts, got, ot);
                     for (std::size_t i = 0; i < pts.size(); ++i) {
-                        const auto at = ::testing::Message() << what << " N=" << N << " ray " << ray << " parity "
-                                                             << par << " point " << i;
+                        const auto at = ::testing::Message()
+                                        << what << " N=" << N << " ray " << ray << " parity " << par << " point " << i;
                         ASSERT_EQ(int(got[i].side), int(want[i].side)) << at;
                         ASSERT_EQ(int(got[i].ray), int(want[i].ray)) << at;
                         ASSERT_EQ(got[i].winding, want[i].winding) << at;
@@ -92,7 +92,8 @@ TEST(WideInside, SeparatedCubesOnAQuarterGrid) {
             for (int k = 0; k < 4; ++k) {
                 const auto base = std::uint32_t(cubes.positions.size());
                 for (const Vec3& v : unit.positions) cubes.positions.push_back(v + Vec3{2.0f * i, 2.0f * j, 2.0f * k});
-                for (const Triangle& t : unit.triangles) cubes.triangles.push_back({base + t[0], base + t[1], base + t[2]});
+                for (const Triangle& t : unit.triangles)
+                    cubes.triangles.push_back({base + t[0], base + t[1], base + t[2]});
             }
     std::vector<Vec3> pts;
     std::vector<Side> hand;

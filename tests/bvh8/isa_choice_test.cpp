@@ -116,8 +116,8 @@ bool calibrated_before(std::initializer_list<std::pair<int, bool>> slots) {
         if (traversal_isa_choice(width, any).calibrated) return true;
     return false;
 }
-#define SIMDBVH_SKIP_UNLESS_FRESH(...)                                                                  \
-    if (calibrated_before({__VA_ARGS__}))                                                              \
+#define SIMDBVH_SKIP_UNLESS_FRESH(...)    \
+    if (calibrated_before({__VA_ARGS__})) \
     GTEST_SKIP() << "another test of this process calibrated these slots: run each test in its own (ctest)"
 
 struct Traced {
@@ -178,15 +178,13 @@ TEST(IsaChoice, CalibrationKeepsTheFasterCandidate) {
         if (isa != Isa::scalar) cands.push_back(isa);
     auto spin = [](std::size_t rays, int ns_per_ray) {
         const auto until = std::chrono::steady_clock::now() + std::chrono::nanoseconds(rays * ns_per_ray);
-        while (std::chrono::steady_clock::now() < until) {
-        }
+        while (std::chrono::steady_clock::now() < until) {}
     };
     for (const bool fast_widest : {true, false}) {
         const Isa fast = fast_widest ? cands.back() : cands.front();
         const int width = fast_widest ? 4 : 8;
-        ASSERT_TRUE(bvh8::detail::calibrate(width, false, 65536, [&](Isa isa, std::size_t b, std::size_t e) {
-            spin(e - b, isa == fast ? 100 : 200);
-        }));
+        ASSERT_TRUE(bvh8::detail::calibrate(
+            width, false, 65536, [&](Isa isa, std::size_t b, std::size_t e) { spin(e - b, isa == fast ? 100 : 200); }));
         const TraversalIsaChoice c = traversal_isa_choice(width, false);
         EXPECT_TRUE(c.calibrated);
         EXPECT_EQ(c.isa, fast);

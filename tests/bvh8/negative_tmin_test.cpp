@@ -138,7 +138,8 @@ TEST_P(NegativeTmin, VertexTiesGoToTheLowerIdOnEveryPath) {
         intersect(b16, c.rays, got, {}, isa);
         expect_same(c, got, "BVH16");
         occluded(b16, c.rays, got, {}, isa);
-        for (std::size_t i = 0; i < c.rays.size(); ++i) ASSERT_NE(got[i].prim, kInvalidPrim) << "BVH16 any hit, ray " << i;
+        for (std::size_t i = 0; i < c.rays.size(); ++i)
+            ASSERT_NE(got[i].prim, kInvalidPrim) << "BVH16 any hit, ray " << i;
     }
 }
 

@@ -34,12 +34,13 @@ std::vector<Ray> packet_rays(const Mesh& mesh) {
         for (int x = 0; x < side; ++x) {
             Ray r;
             r.org = Vec3{c.x, c.y, b.hi.z + e.z};
-            r.dir = normalize(Vec3{(float(x) / (side - 1) - 0.5f) * 0.8f, (float(y) / (side - 1) - 0.5f) * 0.8f, -1.0f});
-            if (y % 7 == 3) r.tmin = -0.5f * e.z;      // a negative tmin on some rows
-            if (y % 11 == 5) r.tmax = 1.6f * e.z;      // a finite tmax on others
+            r.dir =
+                normalize(Vec3{(float(x) / (side - 1) - 0.5f) * 0.8f, (float(y) / (side - 1) - 0.5f) * 0.8f, -1.0f});
+            if (y % 7 == 3) r.tmin = -0.5f * e.z;  // a negative tmin on some rows
+            if (y % 11 == 5) r.tmax = 1.6f * e.z;  // a finite tmax on others
             if (x == 17 && y % 5 == 0) r.org.x = std::numeric_limits<float>::quiet_NaN();  // invalid
-            if (x == 40 && y % 5 == 1) r.dir = Vec3{0, 0, 0};                                 // invalid
-            if (x == 60 && y % 5 == 2) r.org.x += 10 * e.x;                                   // misses the bounds
+            if (x == 40 && y % 5 == 1) r.dir = Vec3{0, 0, 0};                              // invalid
+            if (x == 60 && y % 5 == 2) r.org.x += 10 * e.x;                                // misses the bounds
             rays.push_back(r);
         }
     return rays;
@@ -63,8 +64,8 @@ void check_width(const Mesh& mesh, const Bvh2& bvh2, const std::vector<Ray>& ray
                  Isa isa, const std::string& what) {
     const BvhN<N> bvh = BvhN<N>::build(bvh2);
     for (Packets mode : {Packets::on, Packets::automatic, Packets::off}) {
-        const std::string how = what + " bvh" + std::to_string(N) + " " + std::string(name(isa)) + " packets " +
-                                std::to_string(int(mode));
+        const std::string how =
+            what + " bvh" + std::to_string(N) + " " + std::string(name(isa)) + " packets " + std::to_string(int(mode));
         TraceOptions o;
         o.packets = mode;
         std::vector<Hit> any;

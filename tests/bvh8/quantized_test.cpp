@@ -98,8 +98,7 @@ void check_meshes() {
             // Axis-aligned rays with +-0 components from the bounds' corners (the box planes).
             for (float sx : {0.0f, -0.0f, 1.0f, -1.0f})
                 for (float sy : {0.0f, -0.0f, 1.0f, -1.0f})
-                    for (const Vec3& o : {b.lo, b.hi, Vec3{b.lo.x, b.hi.y, 0}})
-                        rays.push_back({o, 0, {sx, sy, 1.0f}});
+                    for (const Vec3& o : {b.lo, b.hi, Vec3{b.lo.x, b.hi.y, 0}}) rays.push_back({o, 0, {sx, sy, 1.0f}});
             expect_same_hits<N>(mesh, rays, s + " " + std::string(workloads::name(k)));
         }
     }

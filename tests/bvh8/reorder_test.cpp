@@ -70,9 +70,9 @@ void check_width(const Bvh2& bvh2, const std::vector<Ray>& rays, const std::vect
     for (Reorder r : {Reorder::on, Reorder::automatic, Reorder::off})
         for (Packets p : {Packets::off, Packets::automatic})
             for (int threads : {1, 2}) {
-                const std::string how = what + " bvh" + std::to_string(N) + " " + std::string(name(isa)) +
-                                        " reorder " + std::to_string(int(r)) + " packets " + std::to_string(int(p)) +
-                                        " threads " + std::to_string(threads);
+                const std::string how = what + " bvh" + std::to_string(N) + " " + std::string(name(isa)) + " reorder " +
+                                        std::to_string(int(r)) + " packets " + std::to_string(int(p)) + " threads " +
+                                        std::to_string(threads);
                 TraceOptions o;
                 o.reorder = r;
                 o.packets = p;
@@ -81,7 +81,8 @@ void check_width(const Bvh2& bvh2, const std::vector<Ray>& rays, const std::vect
                 test_wide::expect_hits(bvh, rays, want, o, isa, how, any);
                 if (testing::Test::HasFatalFailure()) return;
                 if (p != Packets::off) continue;
-                for (std::size_t i = 0; i < rays.size(); ++i) ASSERT_EQ(any[i], any_caller[i]) << how << " any, ray " << i;
+                for (std::size_t i = 0; i < rays.size(); ++i)
+                    ASSERT_EQ(any[i], any_caller[i]) << how << " any, ray " << i;
             }
 }
 
@@ -205,7 +206,8 @@ TEST(RayOrder, TracesSortedTellsTheTraversalsChoice) {
         TraceOptions o;
         o.reorder = r;
         const bool records = traces_sorted(bvh, rays, o);
-        const bool by_position = traces_sorted(bvh, rays.size(), [&](std::size_t i) { return rays[i]; }, o);
+        const bool by_position = traces_sorted(
+            bvh, rays.size(), [&](std::size_t i) { return rays[i]; }, o);
         EXPECT_EQ(records, by_position);
         return records;
     };

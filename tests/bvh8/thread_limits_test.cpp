@@ -90,7 +90,8 @@ int run_limited(Limit limit, const std::function<bool()>& body) {
 
 std::string describe(int status) {
     if (status == -1) return "fork/waitpid failed";
-    if (WIFSIGNALED(status)) return "killed by signal " + std::to_string(WTERMSIG(status)) + " (" + strsignal(WTERMSIG(status)) + ")";
+    if (WIFSIGNALED(status))
+        return "killed by signal " + std::to_string(WTERMSIG(status)) + " (" + strsignal(WTERMSIG(status)) + ")";
     return "exit " + std::to_string(WEXITSTATUS(status));
 }
 
@@ -128,9 +129,12 @@ TEST_P(ThreadLimits, ParallelForCoversEveryIndexOnce) {
     expect_child_ok(GetParam(), [&] {
         ParallelOptions po;
         po.grain = 64;  // 1024 chunks for kThreads workers
-        parallel_for(n, kThreads, [&](std::size_t b, std::size_t e) {
-            for (std::size_t i = b; i < e; ++i) seen[i].fetch_add(1, std::memory_order_relaxed);
-        }, po);
+        parallel_for(
+            n, kThreads,
+            [&](std::size_t b, std::size_t e) {
+                for (std::size_t i = b; i < e; ++i) seen[i].fetch_add(1, std::memory_order_relaxed);
+            },
+            po);
         for (const auto& s : seen)
             if (s.load() != 1) return false;
         return true;

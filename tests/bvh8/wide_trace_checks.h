@@ -13,8 +13,8 @@ namespace simdbvh::test_wide {
 
 // Fills `any` with the batch's any hits (for the caller's further checks).
 template <int N>
-void expect_hits(const BvhN<N>& bvh, const std::vector<Ray>& rays, const std::vector<Hit>& want,
-                 const TraceOptions& o, Isa isa, const std::string& how, std::vector<Hit>& any) {
+void expect_hits(const BvhN<N>& bvh, const std::vector<Ray>& rays, const std::vector<Hit>& want, const TraceOptions& o,
+                 Isa isa, const std::string& how, std::vector<Hit>& any) {
     std::vector<Hit> got(rays.size());
     any.assign(rays.size(), Hit{});
     intersect(bvh, rays, got, o, isa);

@@ -78,9 +78,9 @@ void check_width(const Fixture& f, Isa isa) {
         intersect(bvh, f.rays, got, {test}, isa);
         occluded(bvh, f.rays, any, {test}, isa);
         for (std::size_t i = 0; i < f.rays.size(); ++i) {
-            ASSERT_EQ(got[i], f.want[ti][i]) << "bvh" << N << " ray " << i << " (" << tname << "): prim " << got[i].prim
-                                             << " t " << got[i].t << ", bvh2 prim " << f.want[ti][i].prim << " t "
-                                             << f.want[ti][i].t;
+            ASSERT_EQ(got[i], f.want[ti][i])
+                << "bvh" << N << " ray " << i << " (" << tname << "): prim " << got[i].prim << " t " << got[i].t
+                << ", bvh2 prim " << f.want[ti][i].prim << " t " << f.want[ti][i].t;
             if (i % kBruteEvery == 0) {
                 ASSERT_EQ(got[i], f.brute[ti][i / kBruteEvery]) << "bvh" << N << " vs brute force, ray " << i;
             }
@@ -98,7 +98,8 @@ using Param = std::tuple<std::string, RayKind, int, Isa>;
 
 std::string param_name(const testing::TestParamInfo<Param>& info) {
     const auto& [s, k, w, isa] = info.param;
-    std::string n = s + "_" + std::string(workloads::name(k)) + "_bvh" + std::to_string(w) + "_" + std::string(name(isa));
+    std::string n =
+        s + "_" + std::string(workloads::name(k)) + "_bvh" + std::to_string(w) + "_" + std::string(name(isa));
     for (char& ch : n)
         if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
     return n;

@@ -61,8 +61,9 @@ TEST_F(BenchOutputs, ReadmeWithoutTheBlockFailsBeforeAnyWork) {
 }
 
 TEST_F(BenchOutputs, SweepChecksEveryBlockBeforeTheSweep) {
-    const std::string model = "// sweep:avx2:begin\n// sweep:avx2:end\n// sweep:avx512:begin\n// sweep:avx512:end\n"
-                              "// sweep:scalar:begin\n// sweep:scalar:end\n";
+    const std::string model =
+        "// sweep:avx2:begin\n// sweep:avx2:end\n// sweep:avx512:begin\n// sweep:avx512:end\n"
+        "// sweep:scalar:begin\n// sweep:scalar:end\n";
     test::write_text(dir_ / "fit.cpp", model);
     test::write_text(dir_ / "README.md", "# no markers\n");
     const std::string sweep = "bench --sweep --quick --reps 1 --build-reps 0 --budget-ms 1 --report " + p("out");
@@ -99,15 +100,16 @@ TEST_F(BenchOutputs, ReportWritesOnlyUnderItsFolderAndPublishWritesTheDoc) {
     const bool had_pycache = fs::exists(pycache);
     const std::string in_work = "cd " + p("work") + " && TMPDIR=" + p("tmp") + " env -u PYTHONDONTWRITEBYTECODE ";
     // The scene bench: its chart script imports a sibling module (plot_sphere_precision.py).
-    const CliRun s = run_cli("bench --scene spheres-10 --quick --rays 1024 --sample 16 --reps 1 --build-reps 0 --report out",
-                             in_work);
+    const CliRun s = run_cli(
+        "bench --scene spheres-10 --quick --rays 1024 --sample 16 --reps 1 --build-reps 0 --report out", in_work);
     ASSERT_EQ(s.status, 0) << s.output;
     const CliRun r = run_cli("bench" + kQuick + " --report out2", in_work);
     ASSERT_EQ(r.status, 0) << r.output;
     std::set<std::string> top;
     for (const auto& e : fs::directory_iterator(dir_ / "work")) top.insert(e.path().filename().string());
     EXPECT_EQ(top, (std::set<std::string>{"out", "out2"}));
-    for (const char* f : {"bench.json", "report.md", "scene_render.png"}) EXPECT_TRUE(fs::exists(dir_ / "work/out" / f)) << f;
+    for (const char* f : {"bench.json", "report.md", "scene_render.png"})
+        EXPECT_TRUE(fs::exists(dir_ / "work/out" / f)) << f;
     for (const char* f : {"bench.json", "report.md", "render_bvh8.png", "heat_bvh2.png", "heat_bvh8.png",
                           "disagree_bvh2_bvh8.png", "disagree_bvh8_embree.png"})
         EXPECT_TRUE(fs::exists(dir_ / "work/out2" / f)) << f;
@@ -120,7 +122,8 @@ TEST_F(BenchOutputs, ReportWritesOnlyUnderItsFolderAndPublishWritesTheDoc) {
 
     // --publish into a doc with prose around the block: the prose stays, the block and pictures are new.
     fs::create_directories(dir_ / "pub");
-    test::write_text(dir_ / "pub/results.md", "# Results\n\nprose\n<!-- bench:begin -->\nold\n<!-- bench:end -->\nmore\n");
+    test::write_text(dir_ / "pub/results.md",
+                     "# Results\n\nprose\n<!-- bench:begin -->\nold\n<!-- bench:end -->\nmore\n");
     const CliRun u = run_cli("bench" + kQuick + " --report out3 --publish " + p("pub"), in_work);
     ASSERT_EQ(u.status, 0) << u.output;
     const std::string doc = test::read_bytes(dir_ / "pub/results.md");
@@ -128,7 +131,8 @@ TEST_F(BenchOutputs, ReportWritesOnlyUnderItsFolderAndPublishWritesTheDoc) {
     EXPECT_EQ(doc.find("\nold\n"), std::string::npos) << doc;
     EXPECT_NE(doc.find("![render](results/render_bvh8.png)"), std::string::npos) << doc;
     EXPECT_TRUE(doc.ends_with("<!-- bench:end -->\nmore\n")) << doc;
-    EXPECT_EQ(test::read_bytes(dir_ / "pub/results/render_bvh8.png"), test::read_bytes(dir_ / "work/out3/render_bvh8.png"));
+    EXPECT_EQ(test::read_bytes(dir_ / "pub/results/render_bvh8.png"),
+              test::read_bytes(dir_ / "work/out3/render_bvh8.png"));
     top.clear();
     for (const auto& e : fs::directory_iterator(dir_ / "work")) top.insert(e.path().filename().string());
     EXPECT_EQ(top, (std::set<std::string>{"out", "out2", "out3"}));
@@ -150,9 +154,9 @@ TEST_F(BenchOutputs, SigintMidwayLeavesTheOldReport) {
         ::dup2(null, 1);
         ::dup2(null, 2);
         ::putenv(const_cast<char*>(tmp.c_str()));
-        ::execl(cli, cli, "bench", "--scene", "icosphere-1", "--quick", "--rays", "1024", "--sample", "16", "--reps", "1",
-                "--build-reps", "0", "--stats-rays", "16", "--width-scenes", "none", "--refit-frames", "0", "--report",
-                out.c_str(), static_cast<char*>(nullptr));
+        ::execl(cli, cli, "bench", "--scene", "icosphere-1", "--quick", "--rays", "1024", "--sample", "16", "--reps",
+                "1", "--build-reps", "0", "--stats-rays", "16", "--width-scenes", "none", "--refit-frames", "0",
+                "--report", out.c_str(), static_cast<char*>(nullptr));
         ::_exit(127);
     }
     bool staged = false;

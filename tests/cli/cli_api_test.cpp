@@ -42,8 +42,10 @@ protected:
 TEST_F(Cli, RoundTripMatchesTheApi) {
     for (const char* method : {"auto", "bvh2", "bvh4", "bvh8", "bvh16", "brute"}) {
         for (const char* kind : {"primary", "incoherent", "diffuse"}) {
-            const std::string rays = path(std::string(kind) + ".bin"), hits = path(std::string(method) + kind + ".hits");
-            CliRun g = run_cli("gen-rays --scene icosphere-3 --kind " + std::string(kind) + " --count 3000 --seed 5 --out " + rays);
+            const std::string rays = path(std::string(kind) + ".bin"),
+                              hits = path(std::string(method) + kind + ".hits");
+            CliRun g = run_cli("gen-rays --scene icosphere-3 --kind " + std::string(kind) +
+                               " --count 3000 --seed 5 --out " + rays);
             ASSERT_EQ(g.status, 0) << g.output;
             CliRun t = run_cli("trace --scene icosphere-3 --rays " + rays + " --out " + hits + " --method " + method);
             ASSERT_EQ(t.status, 0) << t.output;
@@ -145,7 +147,8 @@ TEST_F(Cli, PacketsAndReorderSameHitFile) {
             if (first.empty()) first = bytes;
             else EXPECT_EQ(bytes, first) << opt << " " << mode;
         }
-        CliRun u = run_cli("trace --scene soup-2000 --method bvh8 --" + opt + " sometimes --rays " + rays + " --out " + bad);
+        CliRun u =
+            run_cli("trace --scene soup-2000 --method bvh8 --" + opt + " sometimes --rays " + rays + " --out " + bad);
         EXPECT_EQ(u.status, 2);
         EXPECT_NE(u.output.find("sometimes"), std::string::npos) << u.output;
         CliRun w = run_cli("trace --scene soup-2000 --method bvh2 --" + opt + " on --rays " + rays + " --out " + bad);
@@ -212,7 +215,8 @@ TEST_F(Cli, SimdBruteForceEqualsBruteForceAtEveryIsa) {
         for (Isa isa : kAllIsas) {
             if (!supported(isa)) continue;
             const std::string out = path("b8" + std::string(name(isa)) + std::to_string(any.size()) + ".hits");
-            CliRun t = run_cli(base + " --method brute8 --isa " + std::string(name(isa)) + " --threads 2" + any + " --out " + out);
+            CliRun t = run_cli(base + " --method brute8 --isa " + std::string(name(isa)) + " --threads 2" + any +
+                               " --out " + out);
             ASSERT_EQ(t.status, 0) << t.output;
             EXPECT_NE(t.output.find("method brute8/" + std::string(name(isa))), std::string::npos) << t.output;
             const auto got = io::read_hits(out);
@@ -238,7 +242,8 @@ TEST_F(Cli, InfoReportsEveryWidth) {
         std::snprintf(buf, sizeof buf, "  %-6d %10zu %6d %10.1f", s.width, s.nodes, s.depth, s.bytes_per_triangle);
         return std::string(buf);
     };
-    for (const std::string& r : {row(Bvh4::build(bvh2).stats()), row(Bvh8::build(bvh2).stats()), row(Bvh16::build(bvh2).stats())})
+    for (const std::string& r :
+         {row(Bvh4::build(bvh2).stats()), row(Bvh8::build(bvh2).stats()), row(Bvh16::build(bvh2).stats())})
         EXPECT_NE(t.output.find(r), std::string::npos) << "row '" << r << "' missing in\n" << t.output;
 }
 

@@ -90,12 +90,15 @@ TEST_F(DistanceCli, InsideWritesOneBytePerPointAndWarnsOnOpenMeshes) {
     const Mesh closed = open;
     open.triangles.resize(open.triangles.size() - 2);
     std::string obj;
-    for (const Vec3& v : closed.positions) obj += "v " + std::to_string(v.x) + " " + std::to_string(v.y) + " " + std::to_string(v.z) + "\n";
+    for (const Vec3& v : closed.positions)
+        obj += "v " + std::to_string(v.x) + " " + std::to_string(v.y) + " " + std::to_string(v.z) + "\n";
     std::string closed_obj = obj, open_obj = obj;
     for (const Triangle& t : closed.triangles)
-        closed_obj += "f " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " + std::to_string(t[2] + 1) + "\n";
+        closed_obj +=
+            "f " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " + std::to_string(t[2] + 1) + "\n";
     for (const Triangle& t : open.triangles)
-        open_obj += "f " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " + std::to_string(t[2] + 1) + "\n";
+        open_obj +=
+            "f " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " + std::to_string(t[2] + 1) + "\n";
     test::write_text(path("cube.obj"), closed_obj);
     test::write_text(path("open.obj"), open_obj);
     const std::vector<Vec3> q = {{0.5f, 0.5f, 0.5f}, {0.5f, 0.5f, 1.5f}, {1.0f, 0.5f, 0.5f}, {0.25f, 0.75f, -1.0f}};
@@ -160,7 +163,8 @@ TEST_F(DistanceCli, InsideRayOptionPicksTheRayCounted) {
         const std::string opt = name.empty() ? std::string() : " --ray " + name;
         CliRun r = run_cli("inside --scene soup-2000 --points " + pts + " --out " + out + opt);
         ASSERT_EQ(r.status, 0) << r.output;
-        EXPECT_NE(r.output.find("ray " + (name.empty() ? std::string("shortest") : name)), std::string::npos) << r.output;
+        EXPECT_NE(r.output.find("ray " + (name.empty() ? std::string("shortest") : name)), std::string::npos)
+            << r.output;
         EXPECT_EQ(test::read_bytes(out), want) << name;
         if (ray == CountRay::plus_z) plus_z = want;
         else EXPECT_NE(want, plus_z) << name << ": the soup should tell the rays apart";
@@ -204,8 +208,7 @@ TEST_F(DistanceCli, BadInputExitsTwoAndLeavesNothing) {
     EXPECT_EQ(test::read_bytes(keep), "precious");
     io::write_file_atomic(pts, io::encode_points(std::vector<Vec3>{{0, 0, 0}}));
     for (const std::string& bad : {std::string("--max-distance -1"), std::string("--max-distance abc"),
-                                   std::string("--threads 0"), std::string("--bogus 1"),
-                                   std::string("--tree bvh32")}) {
+                                   std::string("--threads 0"), std::string("--bogus 1"), std::string("--tree bvh32")}) {
         d = run_cli("distance --scene icosphere-3 --points " + pts + " --out " + out + " " + bad);
         EXPECT_EQ(d.status, 2) << bad << ": " << d.output;
         EXPECT_FALSE(fs::exists(out)) << bad;

@@ -49,7 +49,8 @@ void expect_usable(const std::vector<simdbvh::Ray>& rays, const std::string& wha
         const simdbvh::Ray& r = rays[i];
         ASSERT_TRUE(std::isfinite(r.org.x) && std::isfinite(r.org.y) && std::isfinite(r.org.z)) << what << " ray " << i;
         const double len = std::sqrt(dot(d3(r.dir), d3(r.dir)));
-        ASSERT_NEAR(len, 1.0, 1e-5) << what << " ray " << i << " direction " << r.dir.x << " " << r.dir.y << " " << r.dir.z;
+        ASSERT_NEAR(len, 1.0, 1e-5) << what << " ray " << i << " direction " << r.dir.x << " " << r.dir.y << " "
+                                    << r.dir.z;
     }
 }
 
@@ -68,8 +69,8 @@ TEST_F(GenRaysHuge, TrianglesOfEveryScaleGetRaysThatReachThem) {
     for (const char* s : {"1e20", "1e30", "3.4e38"}) {
         const double a = std::stod(s);
         const std::string v(s);
-        test::write_text(dir_ / "huge.obj", "v -" + v + " -" + v + " 0\nv " + v + " -" + v + " 0\nv 0 " + v + " " + v +
-                                                "\nf 1 2 3\n");
+        test::write_text(dir_ / "huge.obj",
+                         "v -" + v + " -" + v + " 0\nv " + v + " -" + v + " 0\nv 0 " + v + " " + v + "\nf 1 2 3\n");
         const D3 tri[3] = {{-a, -a, 0}, {a, -a, 0}, {0, a, a}};
         for (const char* kind : {"incoherent", "primary"}) {
             const std::string what = std::string(kind) + " rays at " + s;
@@ -86,8 +87,9 @@ TEST_F(GenRaysHuge, TrianglesOfEveryScaleGetRaysThatReachThem) {
 }
 
 TEST_F(GenRaysHuge, HugeJsonScenesAreHit) {
-    test::write_text(dir_ / "sphere.json",
-                     R"({"geometries": [{"spheres": [{"center": [0, 0, 0], "radius": 3.4e38}]}], "instances": [{"geometry": 0}]})");
+    test::write_text(
+        dir_ / "sphere.json",
+        R"({"geometries": [{"spheres": [{"center": [0, 0, 0], "radius": 3.4e38}]}], "instances": [{"geometry": 0}]})");
     test::write_text(dir_ / "scaled.json",
                      R"({"geometries": [{"mesh": "icosphere-2"}], "instances": [{"geometry": 0, "scale": 1e30}]})");
     for (const char* scene : {"sphere.json", "scaled.json"})

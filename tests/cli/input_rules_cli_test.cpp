@@ -78,8 +78,9 @@ TEST_F(InputRules, OptionsThatDoNotApplyAreRefusedNamingThem) {
         EXPECT_FALSE(fs::exists(out)) << c.command;
     }
     // What does apply is still taken.
-    for (const std::string& c : {trace + " --method bvh4 --builder sah-sweep --threads 2", info + " --method bvh16",
-                                 mesh + " --method embree --quality high --robust", mesh + " --method bvh2 --test moller"}) {
+    for (const std::string& c :
+         {trace + " --method bvh4 --builder sah-sweep --threads 2", info + " --method bvh16",
+          mesh + " --method embree --quality high --robust", mesh + " --method bvh2 --test moller"}) {
         const CliRun r = run_cli(c);
         EXPECT_EQ(r.status, 0) << c << "\n" << r.output;
     }

@@ -26,8 +26,7 @@ bool exact_difference(float a, float b, double& s) {
 // s with v - p = s(1, 1, 1) exactly and s != 0, or 0 when there is none.
 double diagonal_step(Vec3 v, Vec3 p) {
     double sx, sy, sz;
-    if (!exact_difference(v.x, p.x, sx) || !exact_difference(v.y, p.y, sy) || !exact_difference(v.z, p.z, sz))
-        return 0;
+    if (!exact_difference(v.x, p.x, sx) || !exact_difference(v.y, p.y, sy) || !exact_difference(v.z, p.z, sz)) return 0;
     return sx == sy && sy == sz ? sx : 0;
 }
 

@@ -35,8 +35,10 @@ std::string shell_quote(const std::string& s) {
 class JsonReports : public testing::Test {
 protected:
     void SetUp() override {
-        dir_ = fs::temp_directory_path() / ("simdbvh_json_" + std::to_string(::getpid()) + "_" +
-                                            testing::UnitTest::GetInstance()->current_test_info()->name()) / kNasty;
+        dir_ = fs::temp_directory_path() /
+               ("simdbvh_json_" + std::to_string(::getpid()) + "_" +
+                testing::UnitTest::GetInstance()->current_test_info()->name()) /
+               kNasty;
         fs::create_directories(dir_);
     }
     void TearDown() override { fs::remove_all(dir_.parent_path()); }
@@ -56,11 +58,13 @@ protected:
 
 TEST_F(JsonReports, AccuracyWithInfiniteErrorsParses) {
     const fs::path json = dir_ / "acc\"u\\racy.json";
-    const std::string args = "accuracy --quick --family direction-scale --no-embree --json " + shell_quote(json.string());
+    const std::string args =
+        "accuracy --quick --family direction-scale --no-embree --json " + shell_quote(json.string());
     const test::CliRun r = test::run_cli(args);
     ASSERT_EQ(r.status, 0) << r.output;
     const Json j = parse(json);
-    EXPECT_EQ(j["command_line"].get<std::string>(), "simdbvh accuracy --quick --family direction-scale --no-embree --json " + json.string());
+    EXPECT_EQ(j["command_line"].get<std::string>(),
+              "simdbvh accuracy --quick --family direction-scale --no-embree --json " + json.string());
     ASSERT_FALSE(j["rows"].empty());
     std::size_t nulls = 0;
     for (const Json& row : j["rows"]) {
@@ -76,8 +80,8 @@ TEST_F(JsonReports, AccuracyWithInfiniteErrorsParses) {
 // wrong somewhere (the families exist to break it). Open3D's rows: open3d_inside_test.cpp.
 TEST_F(JsonReports, InsideOutsidePanel) {
     const fs::path json = dir_ / "inside.json";
-    const test::CliRun r = test::run_cli("accuracy --quick --family watertight --inside --no-open3d --json " +
-                                         shell_quote(json.string()));
+    const test::CliRun r =
+        test::run_cli("accuracy --quick --family watertight --inside --no-open3d --json " + shell_quote(json.string()));
     ASSERT_EQ(r.status, 0) << r.output;
     const Json j = parse(json);
     if (j["inside"].empty()) GTEST_SKIP() << "no CGAL in this build";
@@ -99,7 +103,7 @@ TEST_F(JsonReports, InsideOutsidePanel) {
             embree_wrong += row["wrong"].get<std::size_t>();
         }
     }
-    EXPECT_EQ(ours, 24u);  // 2 meshes x 4 point families x (+z with 2 rules, the shortest ray)
+    EXPECT_EQ(ours, 24u);     // 2 meshes x 4 point families x (+z with 2 rules, the shortest ray)
     EXPECT_EQ(diagonal, 5u);  // ours 3, Embree 2
     EXPECT_GT(embree_wrong, 0u);
 }
@@ -124,7 +128,8 @@ TEST_F(JsonReports, BenchRecordsEveryWidth) {
     const fs::path json = dir_ / "bench.json";
     const test::CliRun r = test::run_cli("bench --scene " + shell_quote(scene) +
                                          " --quick --rays 1024 --sample 16 --reps 1 --build-reps 1 --stats-rays 64"
-                                         " --width-scenes none --no-report --json " + shell_quote(json.string()));
+                                         " --width-scenes none --no-report --json " +
+                                         shell_quote(json.string()));
     ASSERT_EQ(r.status, 0) << r.output;
     const Json j = parse(json);
     EXPECT_NE(j["command"].get<std::string>().find(kNasty), std::string::npos);

@@ -29,8 +29,9 @@ using Json = nlohmann::json;
 
 // Asked of Python itself, not of the code under test (find_spec: no import, fast).
 bool have_open3d() {
-    return std::system("/usr/bin/python3 -c 'import importlib.util, sys; "
-                       "sys.exit(importlib.util.find_spec(\"open3d\") is None)' >/dev/null 2>&1") == 0;
+    return std::system(
+               "/usr/bin/python3 -c 'import importlib.util, sys; "
+               "sys.exit(importlib.util.find_spec(\"open3d\") is None)' >/dev/null 2>&1") == 0;
 }
 
 std::vector<unsigned char> output(double seconds, std::vector<unsigned char> bytes) {
@@ -49,10 +50,10 @@ TEST(Open3dWorkerOutput, ParsesSecondsAndOneBytePerPoint) {
 }
 
 TEST(Open3dWorkerOutput, RejectsWrongSizesBytesAndSeconds) {
-    EXPECT_THROW(parse_occupancy(output(0.1, {1, 0, 1}), 4), Error);        // a point short
-    EXPECT_THROW(parse_occupancy(output(0.1, {1, 0, 1, 0, 0}), 4), Error);  // a byte too many
+    EXPECT_THROW(parse_occupancy(output(0.1, {1, 0, 1}), 4), Error);         // a point short
+    EXPECT_THROW(parse_occupancy(output(0.1, {1, 0, 1, 0, 0}), 4), Error);   // a byte too many
     EXPECT_THROW(parse_occupancy(std::vector<unsigned char>(3), 0), Error);  // no seconds
-    EXPECT_THROW(parse_occupancy(output(0.1, {1, 2}), 2), Error);           // 2 is no occupancy
+    EXPECT_THROW(parse_occupancy(output(0.1, {1, 2}), 2), Error);            // 2 is no occupancy
     EXPECT_THROW(parse_occupancy(output(-1.0, {1}), 1), Error);
     EXPECT_THROW(parse_occupancy(output(std::numeric_limits<double>::quiet_NaN(), {1}), 1), Error);
 }

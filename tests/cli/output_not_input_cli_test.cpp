@@ -35,7 +35,8 @@ protected:
         test::write_text(dir_ / "cache" / "bunny.ply", kTrianglePly);
         ASSERT_EQ(run_cli("gen-rays --scene icosphere-1 --kind incoherent --count 64 --out " + p("r.bin")).status, 0);
         ASSERT_EQ(run_cli("gen-points --scene icosphere-1 --count 64 --out " + p("pts.bin")).status, 0);
-        ASSERT_EQ(run_cli("trace --scene icosphere-1 --method bvh2 --rays " + p("r.bin") + " --out " + p("h.bin")).status, 0);
+        ASSERT_EQ(
+            run_cli("trace --scene icosphere-1 --method bvh2 --rays " + p("r.bin") + " --out " + p("h.bin")).status, 0);
     }
     std::string p(const std::string& name) const { return (dir_ / name).string(); }
     // The command with the cache of this test; `file` (written afresh with `text`) must come out as it went in.
@@ -59,10 +60,10 @@ TEST_F(OutputNotInput, JsonScenesMeshIsAnInput) {
     fs::create_symlink("floor.obj", dir_ / "alias.obj");
     fs::create_hard_link(dir_ / "floor.obj", dir_ / "hard.obj");
     for (const char* out : {"alias.obj", "hard.obj"})
-        expect_refused("trace --scene " + p("scene.json") + " --rays " + p("r.bin") + " --out " + p(out), p("floor.obj"),
-                       kTriangleObj, "floor.obj");
-    expect_refused("render --scene " + p("scene.json") + " --width 8 --height 8 --out " + p("floor.obj"), p("floor.obj"),
-                   kTriangleObj, "floor.obj");
+        expect_refused("trace --scene " + p("scene.json") + " --rays " + p("r.bin") + " --out " + p(out),
+                       p("floor.obj"), kTriangleObj, "floor.obj");
+    expect_refused("render --scene " + p("scene.json") + " --width 8 --height 8 --out " + p("floor.obj"),
+                   p("floor.obj"), kTriangleObj, "floor.obj");
     expect_refused("gen-rays --scene " + p("scene.json") + " --kind incoherent --count 8 --out " + p("floor.obj"),
                    p("floor.obj"), kTriangleObj, "floor.obj");
 }

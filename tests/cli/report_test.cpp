@@ -13,7 +13,10 @@ namespace {
 
 TEST(ReportJson, NonFiniteNumbersAreNull) {
     const double inf = std::numeric_limits<double>::infinity();
-    const Json doc{{"inf", inf}, {"minus_inf", -inf}, {"nan", std::numeric_limits<double>::quiet_NaN()}, {"x", 1.5},
+    const Json doc{{"inf", inf},
+                   {"minus_inf", -inf},
+                   {"nan", std::numeric_limits<double>::quiet_NaN()},
+                   {"x", 1.5},
                    {"list", {inf, 2.0}}};
     const std::string text = json_text(doc);
     for (const char* bad : {": inf", ": -inf", ": nan", ": -nan", "Infinity", "NaN"})
@@ -28,22 +31,24 @@ TEST(ReportJson, NonFiniteNumbersAreNull) {
 }
 
 TEST(ReportJson, StringsAreEscaped) {
-    const std::string nasty = "a\"b\\c\nd\te\x01" "f'g";
+    const std::string nasty =
+        "a\"b\\c\nd\te\x01"
+        "f'g";
     const std::string text = json_text(Json{{"s", nasty}});
     EXPECT_NE(text.find(R"(a\"b\\c\nd\te\u0001f'g)"), std::string::npos) << text;
     EXPECT_EQ(Json::parse(text)["s"].get<std::string>(), nasty);
 }
 
 TEST(ReportJson, BytesThatAreNotUtf8AreReplaced) {
-    const std::string text = json_text(Json{{"path", std::string("x\xff" "y")}});
+    const std::string text = json_text(Json{{"path", std::string("x\xff"
+                                                                 "y")}});
     EXPECT_EQ(Json::parse(text)["path"].get<std::string>(), "x\xEF\xBF\xBDy");  // U+FFFD
 }
 
 TEST(ReportTable, MarkdownAndText) {
     Table t({"method", "Mrays/s"});
     t.row({"bvh2", "1.5"}).row({"bvh16/avx512", "12"});
-    EXPECT_EQ(t.markdown(),
-              "| method | Mrays/s |\n|---|---:|\n| bvh2 | 1.5 |\n| bvh16/avx512 | 12 |\n");
+    EXPECT_EQ(t.markdown(), "| method | Mrays/s |\n|---|---:|\n| bvh2 | 1.5 |\n| bvh16/avx512 | 12 |\n");
     EXPECT_EQ(t.text(),
               "method        Mrays/s\n"
               "bvh2              1.5\n"

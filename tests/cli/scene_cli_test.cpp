@@ -80,7 +80,8 @@ TEST_F(SceneCli, TraceJsonSceneMatchesTheApi) {
     EXPECT_GT(n_hit, 500u);
     for (const char* method : {"bvh4", "bvh8", "bvh16", "brute"}) {
         const std::string out = path(std::string(method) + ".hits");
-        const CliRun t = run_cli("trace --scene " + scene + " --rays " + ray_file + " --out " + out + " --method " + method);
+        const CliRun t =
+            run_cli("trace --scene " + scene + " --rays " + ray_file + " --out " + out + " --method " + method);
         ASSERT_EQ(t.status, 0) << t.output;
         EXPECT_NE(t.output.find("isa"), std::string::npos);
         const auto got = io::read_scene_hits(out);
@@ -111,8 +112,8 @@ TEST_F(SceneCli, GenRaysAimsAtTheSceneBounds) {
 
 TEST_F(SceneCli, BenchOnASceneWritesTheSceneReport) {
     const std::string scene = write("scene.json", kScene), dir = path("report");
-    const CliRun b = run_cli("bench --scene " + scene + " --quick --rays 4096 --reps 1 --build-reps 1 --sample 64 --report " +
-                             dir);
+    const CliRun b =
+        run_cli("bench --scene " + scene + " --quick --rays 4096 --reps 1 --build-reps 1 --sample 64 --report " + dir);
     ASSERT_EQ(b.status, 0) << b.output;
     std::ifstream f(dir + "/bench.json");
     const nlohmann::json j = nlohmann::json::parse(f);
@@ -123,7 +124,8 @@ TEST_F(SceneCli, BenchOnASceneWritesTheSceneReport) {
         methods.insert(s["method"].get<std::string>());
         EXPECT_GT(s["mrays_per_s"].get<double>(), 0.0) << s.dump();
     }
-    EXPECT_EQ(methods, (std::set<std::string>{"BVH8 scene (child-corners)", "BVH8 scene (corners)", "Embree instanced"}));
+    EXPECT_EQ(methods,
+              (std::set<std::string>{"BVH8 scene (child-corners)", "BVH8 scene (corners)", "Embree instanced"}));
     EXPECT_EQ(j["speed"].size(), 3u * 4u);  // primary/incoherent x closest/any
     int brute_rows = 0;
     for (const auto& a : j["agreement"]) {

@@ -29,7 +29,8 @@ TEST(TraceQueryCli, CountAndAllHits) {
     ASSERT_EQ(g.status, 0) << g.output;
     for (const char* method : {"bvh2", "brute"}) {
         const std::string counts = (dir / (std::string(method) + ".counts")).string();
-        CliRun c = run_cli("trace --scene " + mesh + " --rays " + rays + " --out " + counts + " --query count --threads 2 --method " + method);
+        CliRun c = run_cli("trace --scene " + mesh + " --rays " + rays + " --out " + counts +
+                           " --query count --threads 2 --method " + method);
         ASSERT_EQ(c.status, 0) << c.output;
         const auto w = io::read_counts(counts);
         ASSERT_EQ(w.size(), io::read_rays(rays).size());

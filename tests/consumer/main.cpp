@@ -46,14 +46,15 @@ int main() {
         const simdbvh::Vec3 c{signed_uniform(), signed_uniform(), signed_uniform()};
         const auto idx = std::uint32_t(m.positions.size());
         for (int k = 0; k < 3; ++k)
-            m.positions.push_back({c.x + 0.3f * signed_uniform(), c.y + 0.3f * signed_uniform(),
-                                   c.z + 0.3f * signed_uniform()});
+            m.positions.push_back(
+                {c.x + 0.3f * signed_uniform(), c.y + 0.3f * signed_uniform(), c.z + 0.3f * signed_uniform()});
         m.triangles.push_back({idx, idx + 1, idx + 2});
     }
     std::vector<simdbvh::Ray> rays(20000);
     for (simdbvh::Ray& r : rays) {
         r.org = {3.0f * signed_uniform(), 3.0f * signed_uniform(), 3.0f * signed_uniform()};
-        r.dir = {signed_uniform() - 0.3f * r.org.x, signed_uniform() - 0.3f * r.org.y, signed_uniform() - 0.3f * r.org.z};
+        r.dir = {signed_uniform() - 0.3f * r.org.x, signed_uniform() - 0.3f * r.org.y,
+                 signed_uniform() - 0.3f * r.org.z};
     }
 
     const simdbvh::Bvh8 bvh = simdbvh::Bvh8::build(m);

@@ -47,8 +47,8 @@ std::string describe(const Ray& r, const Hit& ours, const Hit& theirs, const Dis
     o << std::setprecision(9) << "ray " << d.ray << " o=(" << r.org.x << "," << r.org.y << "," << r.org.z << ") d=("
       << r.dir.x << "," << r.dir.y << "," << r.dir.z << ") [" << r.tmin << "," << r.tmax << "]: ours "
       << name(d.a.label) << (d.a.marginal ? " (marginal)" : "") << " prim=" << ours.prim << " t=" << ours.t
-      << ", embree " << name(d.b.label) << " prim=" << theirs.prim << " t=" << theirs.t << ", reference prim="
-      << d.ref_prim << " t=" << d.t_ref;
+      << ", embree " << name(d.b.label) << " prim=" << theirs.prim << " t=" << theirs.t
+      << ", reference prim=" << d.ref_prim << " t=" << d.t_ref;
     return o.str();
 }
 
@@ -62,8 +62,8 @@ void report(const std::string& method, const std::string& embree, const std::str
             std::span<const Ray> rays, std::span<const Hit> ours, std::span<const Hit> theirs, bool strict) {
     const std::string key = embree + "_" + mode;
     if (method == "bvh2") {
-        std::cout << "  " << std::left << std::setw(21) << embree << std::setw(8) << mode << " embree: " << to_string(c.b)
-                  << " (" << c.disagreements.size() << " rays differ from ours)\n";
+        std::cout << "  " << std::left << std::setw(21) << embree << std::setw(8) << mode
+                  << " embree: " << to_string(c.b) << " (" << c.disagreements.size() << " rays differ from ours)\n";
         testing::Test::RecordProperty(key + "_leak", std::to_string(c.b.leak));
         testing::Test::RecordProperty(key + "_false_hit", std::to_string(c.b.false_hit));
         testing::Test::RecordProperty(key + "_wrong_triangle", std::to_string(c.b.wrong_triangle));

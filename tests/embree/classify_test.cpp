@@ -158,7 +158,8 @@ TEST(Compare, OnlyDifferingRaysGoToTheReference) {
 
     // reference_all also checks the rays on which both agree.
     const std::vector<Hit> wrong_both = {Hit{6.0f, 0, 0, 1}};
-    const Comparison all = compare_methods(m, std::span(rays).first(1), wrong_both, wrong_both, {.reference_all = true});
+    const Comparison all =
+        compare_methods(m, std::span(rays).first(1), wrong_both, wrong_both, {.reference_all = true});
     EXPECT_EQ(all.reference_rays, 1u);
     EXPECT_EQ(all.a.wrong_triangle, 1u);
     EXPECT_EQ(all.disagreements.size(), 1u);

@@ -31,7 +31,10 @@ TEST(EmbreeInstances, AgreeWithTheSceneOnNearlyEveryRay) {
     for (std::size_t i = 0; i < rays.size(); ++i) {
         hits += a[i].hit();
         if (a[i].hit() != e[i].hit()) continue;
-        if (!a[i].hit()) { ++same; continue; }
+        if (!a[i].hit()) {
+            ++same;
+            continue;
+        }
         if (a[i].inst == e[i].inst && a[i].prim == e[i].prim && a[i].geom == e[i].geom) {
             ++same;
             EXPECT_NEAR(a[i].t, e[i].t, 1e-4f * a[i].t) << "ray " << i;
@@ -61,7 +64,11 @@ TEST(EmbreeInstances, AnalyticGeometryAndPlanesAgree) {
         for (int k = 0; k < 3; ++k) {
             Affine3 a;  // a rotation about z by 0.3k rad, scale 1 + 0.25k, a shift along x
             const float c = std::cos(0.3f * float(k)), s = std::sin(0.3f * float(k)), sc = 1.0f + 0.25f * float(k);
-            a.m[0][0] = c * sc; a.m[0][1] = -s * sc; a.m[1][0] = s * sc; a.m[1][1] = c * sc; a.m[2][2] = sc;
+            a.m[0][0] = c * sc;
+            a.m[0][1] = -s * sc;
+            a.m[1][0] = s * sc;
+            a.m[1][1] = c * sc;
+            a.m[2][2] = sc;
             a.m[0][3] = 3.0f * float(k) - 3.0f;
             d.instances.push_back({g, a});
         }
@@ -85,7 +92,10 @@ TEST(EmbreeInstances, AnalyticGeometryAndPlanesAgree) {
         same_any += ao[i].hit() == eo[i].hit();
         if (a[i].hit()) ++kinds[a[i].geom == kNoGeometry ? 3 : a[i].geom];
         if (a[i].hit() != e[i].hit()) continue;
-        if (!a[i].hit()) { ++same; continue; }
+        if (!a[i].hit()) {
+            ++same;
+            continue;
+        }
         if (a[i].inst == e[i].inst && a[i].prim == e[i].prim && a[i].geom == e[i].geom) {
             ++same;
             EXPECT_NEAR(a[i].t, e[i].t, 1e-4f * a[i].t) << "ray " << i;

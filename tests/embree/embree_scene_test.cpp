@@ -46,10 +46,10 @@ TEST(EmbreeScene, HitUsesOurConventions) {
 TEST(EmbreeScene, InvalidRaysAreMissesAndCounted) {
     const EmbreeScene s(test::one_triangle());
     const std::vector<Ray> bad = {
-        ray({kNaN, 0.2f, 1}, {0, 0, -1}),          ray({0.2f, 0.2f, 1}, {0, 0, 0}),
-        ray({0.2f, 0.2f, kInf}, {0, 0, -1}),       ray({0.2f, 0.2f, 1}, {kNaN, 0, -1}),
-        ray({0.2f, 0.2f, 1}, {0, -kInf, -1}),      ray({0.2f, 0.2f, 1}, {0, 0, -1}, 2.0f, 1.0f),
-        ray({0.2f, 0.2f, 1}, {0, 0, -1}, kNaN),    ray({0.2f, 0.2f, 1}, {0, 0, -1}, 0.0f, kNaN),
+        ray({kNaN, 0.2f, 1}, {0, 0, -1}),       ray({0.2f, 0.2f, 1}, {0, 0, 0}),
+        ray({0.2f, 0.2f, kInf}, {0, 0, -1}),    ray({0.2f, 0.2f, 1}, {kNaN, 0, -1}),
+        ray({0.2f, 0.2f, 1}, {0, -kInf, -1}),   ray({0.2f, 0.2f, 1}, {0, 0, -1}, 2.0f, 1.0f),
+        ray({0.2f, 0.2f, 1}, {0, 0, -1}, kNaN), ray({0.2f, 0.2f, 1}, {0, 0, -1}, 0.0f, kNaN),
     };
     for (const Ray& r : bad) EXPECT_EQ(check_embree_ray(r), EmbreeRayCheck::invalid);
     std::vector<Hit> hits(bad.size(), Hit{1, 1, 1, 1});
@@ -91,10 +91,10 @@ TEST(EmbreeScene, OptionsStatsAndNames) {
                 EXPECT_GT(s.stats().bytes_per_triangle, 0.0);
                 EXPECT_GE(s.stats().peak_bytes, s.stats().bvh_bytes + s.stats().buffer_bytes);
             }
-            std::cout << method_name(o) << ": build " << s.stats().build_ms << " ms, "
-                      << s.stats().bytes_per_triangle << " B/tri (bvh " << s.stats().bvh_bytes << " B, buffers "
-                      << s.stats().buffer_bytes << " B, peak " << s.stats().peak_bytes << " B), tasking "
-                      << s.tasking_system() << ", Embree " << EmbreeScene::version() << "\n";
+            std::cout << method_name(o) << ": build " << s.stats().build_ms << " ms, " << s.stats().bytes_per_triangle
+                      << " B/tri (bvh " << s.stats().bvh_bytes << " B, buffers " << s.stats().buffer_bytes
+                      << " B, peak " << s.stats().peak_bytes << " B), tasking " << s.tasking_system() << ", Embree "
+                      << EmbreeScene::version() << "\n";
         }
     }
     EXPECT_EQ(method_name({EmbreeQuality::high, true, 0}), "embree-high-robust");
@@ -159,8 +159,8 @@ TEST(EmbreeScene, StreamCallsGiveTheSingleRayAnswers) {
     const EmbreeScene embree(mesh);
     for (workloads::RayKind kind : {workloads::RayKind::primary, workloads::RayKind::incoherent}) {
         std::vector<Ray> rays = workloads::generate_rays(mesh, kind, 1000, 5);
-        rays[3].dir = {0, 0, 0};                                            // invalid: a miss either way
-        rays[4].tmax = std::numeric_limits<float>::quiet_NaN();            // invalid too
+        rays[3].dir = {0, 0, 0};                                 // invalid: a miss either way
+        rays[4].tmax = std::numeric_limits<float>::quiet_NaN();  // invalid too
         std::vector<Hit> one(rays.size()), stream(rays.size());
         std::vector<std::uint8_t> occ_one(rays.size()), occ_stream(rays.size());
         embree.intersect(rays, one);

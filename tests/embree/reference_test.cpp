@@ -58,21 +58,21 @@ TEST(Reference, ObliqueRayHitsAtTheKnownPoint) {
 
 TEST(Reference, IntervalIsInclusiveAndBothFacesHit) {
     const Mesh m = test::one_triangle();
-    EXPECT_TRUE(reference_intersect(m, ray({0.2f, 0.2f, 1}, {0, 0, -1}, 0.0f, 1.0f)).hit());   // t == tmax
-    EXPECT_TRUE(reference_intersect(m, ray({0.2f, 0.2f, 1}, {0, 0, -1}, 1.0f, 2.0f)).hit());   // t == tmin
+    EXPECT_TRUE(reference_intersect(m, ray({0.2f, 0.2f, 1}, {0, 0, -1}, 0.0f, 1.0f)).hit());  // t == tmax
+    EXPECT_TRUE(reference_intersect(m, ray({0.2f, 0.2f, 1}, {0, 0, -1}, 1.0f, 2.0f)).hit());  // t == tmin
     EXPECT_FALSE(reference_intersect(m, ray({0.2f, 0.2f, 1}, {0, 0, -1}, 0.0f, 0.5f)).hit());
-    EXPECT_FALSE(reference_intersect(m, ray({0.2f, 0.2f, 1}, {0, 0, 1})).hit());               // behind
-    EXPECT_TRUE(reference_intersect(m, ray({0.2f, 0.2f, -1}, {0, 0, 1})).hit());               // back face
-    EXPECT_FALSE(reference_intersect(m, ray({0.2f, 0.2f, 0}, {1, 0, 0})).hit());               // coplanar
+    EXPECT_FALSE(reference_intersect(m, ray({0.2f, 0.2f, 1}, {0, 0, 1})).hit());  // behind
+    EXPECT_TRUE(reference_intersect(m, ray({0.2f, 0.2f, -1}, {0, 0, 1})).hit());  // back face
+    EXPECT_FALSE(reference_intersect(m, ray({0.2f, 0.2f, 0}, {1, 0, 0})).hit());  // coplanar
     EXPECT_TRUE(reference_occluded(m, ray({0.2f, 0.2f, 1}, {0, 0, -1})));
     EXPECT_FALSE(reference_occluded(m, ray({2, 2, 1}, {0, 0, -1})));
 }
 
 TEST(Reference, InvalidRaysMiss) {
     const Mesh m = test::one_triangle();
-    for (const Ray& r : {ray({kNaN, 0.2f, 1}, {0, 0, -1}), ray({0.2f, 0.2f, 1}, {0, 0, 0}),
-                         ray({0.2f, 0.2f, 1}, {0, kInf, -1}), ray({0.2f, 0.2f, 1}, {0, 0, -1}, 2.0f, 1.0f),
-                         ray({0.2f, 0.2f, 1}, {0, 0, -1}, kNaN, 1.0f)}) {
+    for (const Ray& r :
+         {ray({kNaN, 0.2f, 1}, {0, 0, -1}), ray({0.2f, 0.2f, 1}, {0, 0, 0}), ray({0.2f, 0.2f, 1}, {0, kInf, -1}),
+          ray({0.2f, 0.2f, 1}, {0, 0, -1}, 2.0f, 1.0f), ray({0.2f, 0.2f, 1}, {0, 0, -1}, kNaN, 1.0f)}) {
         const Reference ref = reference_intersect(m, r);
         EXPECT_FALSE(ref.valid);
         EXPECT_FALSE(ref.hit());

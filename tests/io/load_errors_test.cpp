@@ -30,12 +30,13 @@ std::string error_of(const test::TempDir& dir, const std::string& name, const st
     return "";
 }
 
-#define EXPECT_ERROR(dir, name, text, ...)                                                    \
-    do {                                                                                      \
-        const std::string msg_ = error_of(dir, name, text);                                   \
-        EXPECT_FALSE(msg_.empty()) << "loaded without error: " << name;                       \
-        EXPECT_NE(msg_.find((dir / name).string()), std::string::npos) << msg_;               \
-        for (const char* part : std::initializer_list<const char*>{__VA_ARGS__}) EXPECT_NE(msg_.find(part), std::string::npos) << msg_; \
+#define EXPECT_ERROR(dir, name, text, ...)                                       \
+    do {                                                                         \
+        const std::string msg_ = error_of(dir, name, text);                      \
+        EXPECT_FALSE(msg_.empty()) << "loaded without error: " << name;          \
+        EXPECT_NE(msg_.find((dir / name).string()), std::string::npos) << msg_;  \
+        for (const char* part : std::initializer_list<const char*>{__VA_ARGS__}) \
+            EXPECT_NE(msg_.find(part), std::string::npos) << msg_;               \
     } while (0)
 
 const std::string kPlyHead =
@@ -57,11 +58,12 @@ TEST(LoadErrors, PlyHeader) {
     EXPECT_ERROR(dir, "a.ply", "plx\nformat ascii 1.0\nend_header\n", ":1:", "not a PLY");
     EXPECT_ERROR(dir, "b.ply", "ply\nformat ascii 1.0\nelement vertex 3\n", "end_header");
     EXPECT_ERROR(dir, "c.ply", "ply\nformat utf8 1.0\nend_header\n", ":2:", "format");
-    EXPECT_ERROR(dir, "d.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float128 x\nend_header\n", ":4:",
-                 "float128");
+    EXPECT_ERROR(dir, "d.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float128 x\nend_header\n",
+                 ":4:", "float128");
     EXPECT_ERROR(dir, "e.ply", "ply\nformat ascii 1.0\nelement vertex -1\nend_header\n", ":3:");
     EXPECT_ERROR(dir, "f.ply", "ply\nelement vertex 0\nend_header\n", "format");
-    EXPECT_ERROR(dir, "g.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n0 0\n",
+    EXPECT_ERROR(dir, "g.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n0 0\n",
                  "x, y or z");
 }
 
@@ -150,8 +152,10 @@ TEST(LoadErrors, ObjJunk) {
 
 TEST(LoadErrors, StlAndOff) {
     test::TempDir dir;
-    EXPECT_ERROR(dir, "a.stl", "solid x\n facet normal 0 0 1\n outer loop\n vertex 0 0 0\n vertex 1 0 0\n", "end of file");
-    EXPECT_ERROR(dir, "b.stl", "solid x\n facet normal 0 0 1\n outer loop\n vertex 0 0 0\n vertex 1 O 0\n", ":5:", "'O'");
+    EXPECT_ERROR(dir, "a.stl", "solid x\n facet normal 0 0 1\n outer loop\n vertex 0 0 0\n vertex 1 0 0\n",
+                 "end of file");
+    EXPECT_ERROR(dir, "b.stl", "solid x\n facet normal 0 0 1\n outer loop\n vertex 0 0 0\n vertex 1 O 0\n",
+                 ":5:", "'O'");
     std::string bin(80, 'x');
     bin += std::string("\x10\x00\x00\x00", 4) + std::string(100, '\0');  // claims 16 triangles, has 2
     EXPECT_ERROR(dir, "c.stl", bin, "16 triangles");

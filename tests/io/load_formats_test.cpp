@@ -41,7 +41,8 @@ std::string binary_ply(bool big) {
     std::string s = "ply\nformat ";
     s += big ? "binary_big_endian" : "binary_little_endian";
     s += " 1.0\ncomment test\nobj_info made by hand\n"
-         "element vertex 5\nproperty double x\nproperty uchar flag\nproperty float y\nproperty int z\nproperty float nx\n"
+         "element vertex 5\nproperty double x\nproperty uchar flag\nproperty float y\nproperty int z\nproperty float "
+         "nx\n"
          "element face 2\nproperty int8 material\nproperty list int uint vertex_indices\n"
          "element edge 1\nproperty int vertex1\nproperty list uchar float junk\n"
          "end_header\n";
@@ -145,8 +146,9 @@ TEST(LoadPly, EmptyMeshLoads) {
 }
 
 TEST(LoadPly, NumbersEqualStrtof) {
-    const char* texts[] = {"0.1", "1e-3", "-2.5e-4", "3.4028234e38", "1.17549435e-38", "1e-45", "0.333333343267",
-                           "16777217", "-0", "1.00000006", "7.0064923e-46"};
+    const char* texts[] = {"0.1",          "1e-3",           "-2.5e-4",  "3.4028234e38", "1.17549435e-38",
+                           "1e-45",        "0.333333343267", "16777217", "-0",           "1.00000006",
+                           "7.0064923e-46"};
     std::string ply = "ply\nformat ascii 1.0\nelement vertex " + std::to_string(std::size(texts)) +
                       "\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
     for (const char* t : texts) ply += std::string(t) + " " + t + " " + t + "\n";
@@ -232,7 +234,8 @@ TEST(LoadOff, Tetrahedron) {
 
 TEST(LoadOff, PolygonsAndColoursGzip) {
     test::TempDir dir;
-    test::write_gzip(dir / "q.off.gz", "OFF 5 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n5 0 1 2 3 4 0.5 0.5 0.5\n3 4 3 2\n");
+    test::write_gzip(dir / "q.off.gz",
+                     "OFF 5 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n5 0 1 2 3 4 0.5 0.5 0.5\n3 4 3 2\n");
     const Mesh m = load_mesh(dir / "q.off.gz");
     ASSERT_EQ(m.triangles.size(), 4u);
     EXPECT_EQ(m.triangles[2], (Triangle{0, 3, 4}));

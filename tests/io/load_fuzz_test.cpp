@@ -27,17 +27,23 @@ struct SplitMix {
 
 std::string mutate(std::string s, SplitMix& rng) {
     const int edits = 1 + int(rng.below(4));
-    static const char* tokens[] = {"-1", "4294967296", "nan", "inf", "1e39", "99999999999", " ", "\n", "\r", "/",
-                                   "//", "#", "0", "3", "\xff", "\x01", "end_header\n",
-                                   "element face 1000000000\n"};
+    static const char* tokens[] = {"-1", "4294967296", "nan",  "inf",  "1e39",         "99999999999",
+                                   " ",  "\n",         "\r",   "/",    "//",           "#",
+                                   "0",  "3",          "\xff", "\x01", "end_header\n", "element face 1000000000\n"};
     for (int e = 0; e < edits; ++e) {
         const std::size_t at = rng.below(s.size() + 1);
         switch (rng.below(5)) {
-        case 0: if (!s.empty()) s[rng.below(s.size())] = char(rng.next()); break;
+        case 0:
+            if (!s.empty()) s[rng.below(s.size())] = char(rng.next());
+            break;
         case 1: s.resize(at); break;
         case 2: s.insert(at, tokens[rng.below(std::size(tokens))]); break;
-        case 3: if (at < s.size()) s.erase(at, 1 + rng.below(8)); break;
-        case 4: if (!s.empty()) s.insert(at, s.substr(rng.below(s.size()), 1 + rng.below(16))); break;
+        case 3:
+            if (at < s.size()) s.erase(at, 1 + rng.below(8));
+            break;
+        case 4:
+            if (!s.empty()) s.insert(at, s.substr(rng.below(s.size()), 1 + rng.below(16)));
+            break;
         }
     }
     return s;

@@ -184,8 +184,9 @@ TEST(LoadLimits, Utf8BomAcceptedOnPlyAndAsciiStl) {
     const std::string bom = "\xEF\xBB\xBF";
     test::write_text(dir / "bom.ply", bom + kPlyHead + kPlyBody);
     EXPECT_EQ(load_mesh(dir / "bom.ply").size(), 1u);
-    test::write_text(dir / "bom.stl", bom + "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
-                                            "vertex 0 1 0\nendloop\nendfacet\nendsolid s\n");
+    test::write_text(dir / "bom.stl", bom +
+                                          "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
+                                          "vertex 0 1 0\nendloop\nendfacet\nendsolid s\n");
     EXPECT_EQ(load_mesh(dir / "bom.stl").size(), 1u);
 }
 

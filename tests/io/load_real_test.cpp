@@ -33,7 +33,8 @@ std::string gunzip(const fs::path& file) {
 }
 
 fs::path assimp_models() {
-    for (const char* d : {"/usr/share/assimp/models", "/usr/share/assimp-testmodels/models", "/usr/share/assimp-testmodels"})
+    for (const char* d :
+         {"/usr/share/assimp/models", "/usr/share/assimp-testmodels/models", "/usr/share/assimp-testmodels"})
         if (fs::is_directory(d)) return d;
     return {};
 }
@@ -67,7 +68,8 @@ TEST(RealScenes, DragonVerticesEqualStrtof) {
             const float want = std::strtof(p, &end);
             ASSERT_NE(end, p) << "vertex " << i;
             p = end;
-            if (std::bit_cast<std::uint32_t>(want) != std::bit_cast<std::uint32_t>(m.positions[i][k]) && mismatches++ < 5)
+            if (std::bit_cast<std::uint32_t>(want) != std::bit_cast<std::uint32_t>(m.positions[i][k]) &&
+                mismatches++ < 5)
                 ADD_FAILURE() << "vertex " << i << " coord " << k << ": " << m.positions[i][k] << " != strtof " << want;
         }
     }
@@ -88,7 +90,10 @@ TEST(RealScenes, DragonVerticesEqualStrtof) {
 }
 
 TEST(RealScenes, NamedScenesLoad) {
-    struct Want { const char* name; std::size_t tris; };
+    struct Want {
+        const char* name;
+        std::size_t tris;
+    };
     for (const Want w : {Want{"dragon-res2", 0}, Want{"dragon-res3", 0}, Want{"dragon-res4", 0}, Want{"bunny", 3674},
                          Want{"teapot", 992}}) {
         if (!simdbvh::workloads::is_cached(w.name)) {
@@ -121,14 +126,17 @@ TEST(RealScenes, UncachedNamedSceneSaysHowToFetch) {
 TEST(AssimpModels, LoadValidModels) {
     const fs::path dir = assimp_models();
     if (dir.empty()) GTEST_SKIP() << "assimp-testmodels not installed (apt-get install assimp-testmodels)";
-    struct Want { const char* file; std::size_t tris; };
+    struct Want {
+        const char* file;
+        std::size_t tris;
+    };
     const Want wants[] = {
-        {"PLY/cube.ply", 12},           // "uint8 int32 vertex_index", trailing spaces
-        {"PLY/cube_binary.ply", 12},    // binary little endian
-        {"PLY/cube_uv.ply", 12},        // Blender 2.77
-        {"PLY/Wuson.ply", 0},           // Blender 2.47: non-standard "Created by Blender3D" header line
+        {"PLY/cube.ply", 12},         // "uint8 int32 vertex_index", trailing spaces
+        {"PLY/cube_binary.ply", 12},  // binary little endian
+        {"PLY/cube_uv.ply", 12},      // Blender 2.77
+        {"PLY/Wuson.ply", 0},         // Blender 2.47: non-standard "Created by Blender3D" header line
         {"PLY/float-color.ply", 1},
-        {"PLY/points.ply", 0},          // vertices only
+        {"PLY/points.ply", 0},  // vertices only
         {"OBJ/box.obj", 12},
         {"OBJ/box_without_lineending.obj", 12},
         {"OBJ/concave_polygon.obj", 0},

@@ -138,8 +138,8 @@ protected:
                         if (live->empty() || (*live)[i] != 0)
                             for (const auto& f : want[i])
                                 if (f.second < count) expect.push_back(f);
-                        ASSERT_EQ(got.size(), expect.size()) << what << ": " << name(run) << " ray " << i << ", "
-                                                             << count << " boxes";
+                        ASSERT_EQ(got.size(), expect.size())
+                            << what << ": " << name(run) << " ray " << i << ", " << count << " boxes";
                         for (std::size_t k = 0; k < got.size(); ++k) {
                             ASSERT_EQ(got[k].second, expect[k].second) << what << ": " << name(run) << " ray " << i;
                             ASSERT_EQ(bits_of(got[k].first), bits_of(expect[k].first))
@@ -230,8 +230,8 @@ protected:
                         ASSERT_TRUE(got.empty()) << what << ": ray " << i << " is not live";
                         continue;
                     }
-                    ASSERT_TRUE(same(got, want[i])) << what << ": " << name(run) << " ray " << i << ": "
-                                                    << got.size() << " leaves, want " << want[i].size();
+                    ASSERT_TRUE(same(got, want[i])) << what << ": " << name(run) << " ray " << i << ": " << got.size()
+                                                    << " leaves, want " << want[i].size();
                 }
             }
         Found out;
@@ -247,9 +247,9 @@ protected:
         EXPECT_THROW(kernels::collect_box8_tree(rays, {}, nodes, bad, out, first, isa), Error) << what;
         EXPECT_THROW(kernels::collect_box8_tree(rays, {}, nodes, std::span(children).first(31), out, first, isa),
                      Error);
-        EXPECT_THROW(kernels::collect_box8_tree(rays, {}, nodes, children, out, std::span(first).first(rays.size()),
-                                                isa),
-                     Error);
+        EXPECT_THROW(
+            kernels::collect_box8_tree(rays, {}, nodes, children, out, std::span(first).first(rays.size()), isa),
+            Error);
     }
 
     // The nested form: the groups above plus, per lane k, a group holding only
@@ -422,9 +422,7 @@ TEST_P(KernelsVsScalar, PrepareRaysIsPrepareAndTheBoundsTest) {
             case 2:  // an origin on a plane of the bounds
                 r.org[rng.below(3)] = rng.chance(0.5f) ? bounds.lo[rng.below(3)] : bounds.hi[rng.below(3)];
                 break;
-            case 3:
-                r.tmin = -rng.range(0.0f, 4.0f);
-                break;
+            case 3: r.tmin = -rng.range(0.0f, 4.0f); break;
             case 4: {  // invalid
                 const int k = rng.below(6);
                 if (k == 0) r.org.y = nan;
@@ -494,7 +492,6 @@ TEST_P(KernelsVsScalar, PrepareRaysIsPrepareAndTheBoundsTest) {
     EXPECT_GT(negative_tmin, 20);
 }
 
-
 TEST_P(KernelsVsScalar, Box8Random) {
     Rng rng(1);
     for (int blk = 0; blk < 300; ++blk) {
@@ -524,9 +521,9 @@ TEST_P(KernelsVsScalar, Box8AxisAlignedSignedZeroAndSlabPlanes) {
     Box8 box;
     box.clear();
     box.set(0, {{0, 0, 0}, {1, 1, 1}});
-    box.set(1, {{-1, 0, 0}, {0, 0, 1}});        // flat in y
+    box.set(1, {{-1, 0, 0}, {0, 0, 1}});                   // flat in y
     box.set(2, {{0.5f, 0.5f, 0.5f}, {0.5f, 0.5f, 0.5f}});  // a point
-    box.set(3, {{-kInf, -1, -1}, {kInf, 1, 1}});  // infinite slab
+    box.set(3, {{-kInf, -1, -1}, {kInf, 1, 1}});           // infinite slab
     box.set(5, {{2, 2, 2}, {3, 3, 3}});
     box.set(7, {{-1e30f, -1e-30f, 0}, {1e30f, 1e-30f, 1e-38f}});
     std::vector<Ray> rays;
@@ -564,10 +561,14 @@ TEST_P(KernelsVsScalar, Box8InvalidRaysMiss) {
     box.clear();
     for (int j = 0; j < 8; ++j) box.set(j, {{-10, -10, -10}, {10, 10, 10}});
     const std::vector<Ray> rays = {
-        Ray{{0, 0, 0}, 0, {0, 0, 0}, kInf},        Ray{{kNaN, 0, 0}, 0, {1, 0, 0}, kInf},
-        Ray{{0, 0, 0}, 0, {kNaN, 1, 0}, kInf},     Ray{{0, kInf, 0}, 0, {1, 0, 0}, kInf},
-        Ray{{0, 0, 0}, 0, {1, kInf, 0}, kInf},     Ray{{0, 0, 0}, kNaN, {1, 0, 0}, kInf},
-        Ray{{0, 0, 0}, 0, {1, 0, 0}, kNaN},        Ray{{0, 0, 0}, 2, {1, 0, 0}, 1},
+        Ray{{0, 0, 0}, 0, {0, 0, 0}, kInf},
+        Ray{{kNaN, 0, 0}, 0, {1, 0, 0}, kInf},
+        Ray{{0, 0, 0}, 0, {kNaN, 1, 0}, kInf},
+        Ray{{0, kInf, 0}, 0, {1, 0, 0}, kInf},
+        Ray{{0, 0, 0}, 0, {1, kInf, 0}, kInf},
+        Ray{{0, 0, 0}, kNaN, {1, 0, 0}, kInf},
+        Ray{{0, 0, 0}, 0, {1, 0, 0}, kNaN},
+        Ray{{0, 0, 0}, 2, {1, 0, 0}, 1},
         Ray{{0, 0, 0}, 0, {-0.0f, 0.0f, -0.0f}, kInf},
     };
     check_box8(rays, box, "invalid");
@@ -684,12 +685,18 @@ TEST_P(KernelsVsScalar, CollectBoxesWithNanPlanes) {
 Vec3 on_triangle(Rng& rng, const Tri1& t) {
     float u = rng.uniform(), v = rng.uniform();
     switch (rng.below(6)) {
-    case 0: u = float(rng.below(2)); v = u == 1 ? 0.0f : float(rng.below(2)); break;  // a vertex
-    case 1: v = 0; break;                    // on edge v0-v1
-    case 2: u = 0; break;                    // on edge v0-v2
-    case 3: v = 1 - u; break;                // on edge v1-v2 (approximately)
+    case 0:
+        u = float(rng.below(2));
+        v = u == 1 ? 0.0f : float(rng.below(2));
+        break;                 // a vertex
+    case 1: v = 0; break;      // on edge v0-v1
+    case 2: u = 0; break;      // on edge v0-v2
+    case 3: v = 1 - u; break;  // on edge v1-v2 (approximately)
     default:
-        if (u + v > 1) { u = 1 - u; v = 1 - v; }
+        if (u + v > 1) {
+            u = 1 - u;
+            v = 1 - v;
+        }
     }
     return t.v0 + (t.v1 - t.v0) * u + (t.v2 - t.v0) * v;
 }
@@ -733,7 +740,8 @@ TEST_P(KernelsVsScalar, Tri8Random) {
     Rng rng(2);
     int hits = 0;
     for (int round = 0; round < 40; ++round) {
-        std::vector<Tri1> tris = random_soup(rng, 8 * (1 + rng.below(6)) - rng.below(8), rng.chance(0.5f) ? 0.7f : 0.05f);
+        std::vector<Tri1> tris =
+            random_soup(rng, 8 * (1 + rng.below(6)) - rng.below(8), rng.chance(0.5f) ? 0.7f : 0.05f);
         std::vector<Tri8> blocks = test::pack_tri8(tris);
         std::vector<Ray> rays = rays_at(rng, tris, 200);
         std::vector<Hit> closest;
@@ -793,9 +801,9 @@ TEST_P(KernelsVsScalar, Tri8RaysAlongEdgesAndCoplanar) {
     const std::vector<Tri8> blocks = test::pack_tri8(tris);
     std::vector<Ray> rays;
     for (const auto& [p, q] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}, std::pair{a, Vec3{1, 1, 0}}}) {
-        rays.push_back(Ray{p - (q - p), 0, q - p, kInf});       // along the edge line
-        rays.push_back(Ray{p, 0, q - p, kInf});                  // from a vertex along the edge
-        rays.push_back(Ray{(p + q) * 0.5f, 0, q - p, kInf});     // from the middle of the edge
+        rays.push_back(Ray{p - (q - p), 0, q - p, kInf});                 // along the edge line
+        rays.push_back(Ray{p, 0, q - p, kInf});                           // from a vertex along the edge
+        rays.push_back(Ray{(p + q) * 0.5f, 0, q - p, kInf});              // from the middle of the edge
         rays.push_back(Ray{p + Vec3{0, 0, 1}, 0, Vec3{0, 0, -1}, kInf});  // down onto the vertex
         rays.push_back(Ray{(p + q) * 0.5f + Vec3{0, 0, -1}, 0, Vec3{0, -0.0f, 1}, kInf});  // up through the edge
     }
@@ -804,8 +812,8 @@ TEST_P(KernelsVsScalar, Tri8RaysAlongEdgesAndCoplanar) {
     if (HasFatalFailure()) return;
     // Exactly through the shared edge b-c (an edge function is exactly 0: the
     // exact path): watertight hits, both triangles at the same t, lower id wins.
-    std::vector<Ray> through{Ray{{0.5f, 0.5f, -1}, 0, {0, -0.0f, 1}, kInf}, Ray{{0.5f, 0.5f, 1}, 0, {0.0f, 0, -1}, kInf},
-                             Ray{{0.25f, 0.75f, -2}, 0, {0, 0, 2}, kInf}};
+    std::vector<Ray> through{Ray{{0.5f, 0.5f, -1}, 0, {0, -0.0f, 1}, kInf},
+                             Ray{{0.5f, 0.5f, 1}, 0, {0.0f, 0, -1}, kInf}, Ray{{0.25f, 0.75f, -2}, 0, {0, 0, 2}, kInf}};
     std::vector<Hit> h(through.size());
     kernels::intersect_tri8(through, blocks, TriangleTest::watertight, h, GetParam());
     for (std::size_t i = 0; i < through.size(); ++i) EXPECT_EQ(h[i].prim, 1u) << "ray " << i << " " << hit_str(h[i]);

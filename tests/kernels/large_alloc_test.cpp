@@ -82,7 +82,7 @@ TEST(LargeAlloc, ReuseScopeHandsFreedBlocksToLaterAllocations) {
         char* a = static_cast<char*>(large_alloc(big, 64));
         std::memset(a, 1, big);
         large_free(a, big, 64);
-        EXPECT_TRUE(mapping_of(a).found);  // kept while the scope lasts
+        EXPECT_TRUE(mapping_of(a).found);                          // kept while the scope lasts
         char* fresh = static_cast<char*>(large_alloc(small, 64));  // outside a LargeAllocTake: not a kept block
         EXPECT_TRUE(fresh < a || fresh >= a + big);
         large_free(fresh, small, 64);  // never touched: nothing kept
@@ -124,8 +124,8 @@ TEST(LargeAlloc, ReuseScopeKeepsOnlyTheResidentPartOfAFreedBlock) {
     char* a = static_cast<char*>(large_alloc(big, 64));
     std::memset(a, 7, touched);  // as a vector reserved far beyond its size
     large_free(a, big, 64);
-    EXPECT_TRUE(mapping_of(a + touched - 1).found);                    // the touched 2 MiB pages: kept
-    EXPECT_FALSE(mapping_of(a + (std::size_t(4) << 20)).found);        // the untouched rest: unmapped
+    EXPECT_TRUE(mapping_of(a + touched - 1).found);              // the touched 2 MiB pages: kept
+    EXPECT_FALSE(mapping_of(a + (std::size_t(4) << 20)).found);  // the untouched rest: unmapped
 }
 
 TEST(LargeAlloc, ReuseScopeMovesKeptBlocksIntoAnAllocationNoneFits) {

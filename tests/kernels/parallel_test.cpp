@@ -28,12 +28,14 @@ int cpus_allowed() {
 // The fewest CPUs any thread running a chunk may use.
 int min_cpus_in_workers() {
     std::atomic<int> least{1 << 20};
-    parallel_for(64, 2, [&](std::size_t, std::size_t) {
-        const int c = cpus_allowed();
-        for (int l = least.load(); c < l && !least.compare_exchange_weak(l, c);) {
-        }
-        std::this_thread::sleep_for(std::chrono::milliseconds(2));  // let the second thread take chunks
-    }, ParallelOptions{.grain = 1});
+    parallel_for(
+        64, 2,
+        [&](std::size_t, std::size_t) {
+            const int c = cpus_allowed();
+            for (int l = least.load(); c < l && !least.compare_exchange_weak(l, c);) {}
+            std::this_thread::sleep_for(std::chrono::milliseconds(2));  // let the second thread take chunks
+        },
+        ParallelOptions{.grain = 1});
     return least.load();
 }
 
@@ -72,22 +74,30 @@ TEST(Parallel, HostExecutorRunsEveryChunkOnItsThreads) {
     const std::size_t n = 10007;
     std::vector<int> seen(n, 0);
     std::set<std::thread::id> ran_on;
-    parallel_for(n, 2, [&](std::size_t b, std::size_t e) {
-        for (std::size_t i = b; i < e; ++i) ++seen[i];
-        std::lock_guard<std::mutex> lock(m);
-        ran_on.insert(std::this_thread::get_id());
-    }, ParallelOptions{.grain = 100});
+    parallel_for(
+        n, 2,
+        [&](std::size_t b, std::size_t e) {
+            for (std::size_t i = b; i < e; ++i) ++seen[i];
+            std::lock_guard<std::mutex> lock(m);
+            ran_on.insert(std::this_thread::get_id());
+        },
+        ParallelOptions{.grain = 100});
     EXPECT_EQ(calls.load(), 1);
     for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(seen[i], 1) << i;
-    for (const auto& id : ran_on) EXPECT_TRUE(host_threads.count(id)) << "a chunk ran on a thread the host did not give";
+    for (const auto& id : ran_on)
+        EXPECT_TRUE(host_threads.count(id)) << "a chunk ran on a thread the host did not give";
     // threads <= 1 still runs inline, without the executor.
     const std::thread::id caller = std::this_thread::get_id();
     parallel_for(n, 1, [&](std::size_t, std::size_t) { EXPECT_EQ(std::this_thread::get_id(), caller); });
     EXPECT_EQ(calls.load(), 1);
     // An exception in a chunk comes back to the caller, after the executor returned.
-    EXPECT_THROW(parallel_for(n, 2, [&](std::size_t b, std::size_t) {
-        if (b == 500) throw std::runtime_error("chunk 5");
-    }, ParallelOptions{.grain = 100}), std::runtime_error);
+    EXPECT_THROW(parallel_for(
+                     n, 2,
+                     [&](std::size_t b, std::size_t) {
+                         if (b == 500) throw std::runtime_error("chunk 5");
+                     },
+                     ParallelOptions{.grain = 100}),
+                 std::runtime_error);
     EXPECT_EQ(calls.load(), 2);
     set_executor({});
     parallel_for(n, 2, [&](std::size_t, std::size_t) {});

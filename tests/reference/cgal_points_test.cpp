@@ -78,7 +78,8 @@ void check_against_cgal(const std::string& name, const Mesh& mesh, std::size_t r
     EXPECT_EQ(wrong, 0u) << "of " << pts.size() << " points";
     std::size_t nested = 0;
     for (const PointSide& o : ours) nested += o.side != Side::surface && std::abs(o.winding) >= 2;
-    std::fprintf(stderr, "%s: %zu points of %zu have winding number >= 2 (inside by the winding rule, outside by parity)\n",
+    std::fprintf(stderr,
+                 "%s: %zu points of %zu have winding number >= 2 (inside by the winding rule, outside by parity)\n",
                  name.c_str(), nested, pts.size());
     EXPECT_GT(surface, 10u) << "the vertices are on the surface";
     EXPECT_GT(inside, 10u);
@@ -101,8 +102,8 @@ void check_against_cgal(const std::string& name, const Mesh& mesh, std::size_t r
         if (near[i].prim == ref[i].prim) continue;
         // A different triangle: a tie at a shared edge or vertex, where our rule
         // takes the lower id (CGAL takes any).
-        const TrianglePoint theirs = closest_point_on_triangle(some[i], mesh.vertex(ref[i].prim, 0),
-                                                               mesh.vertex(ref[i].prim, 1), mesh.vertex(ref[i].prim, 2));
+        const TrianglePoint theirs = closest_point_on_triangle(
+            some[i], mesh.vertex(ref[i].prim, 0), mesh.vertex(ref[i].prim, 1), mesh.vertex(ref[i].prim, 2));
         if (theirs.distance2 == near[i].distance2) {
             ++ties;
             ASSERT_LT(near[i].prim, ref[i].prim) << "point " << i << ": a tie goes to the lower id";

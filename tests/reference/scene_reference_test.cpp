@@ -71,9 +71,9 @@ TEST(SceneReference, EveryLabel) {
     EXPECT_EQ(label(SceneHit{3.0f, 0, 0, 0, 0, 0}), SceneLabel::agree);
     EXPECT_EQ(label(SceneHit{3.5f, 0, 0, 0, 0, 0}), SceneLabel::t_error);
     EXPECT_EQ(label(SceneHit{}), SceneLabel::false_miss);
-    EXPECT_EQ(label(SceneHit{7.0f, 0, 0, 0, 1, 1}), SceneLabel::farther_hit);   // the box, behind the sphere
+    EXPECT_EQ(label(SceneHit{7.0f, 0, 0, 0, 1, 1}), SceneLabel::farther_hit);             // the box, behind the sphere
     EXPECT_EQ(label(SceneHit{10.0f, 0, 0, 0, kNoGeometry, 3}), SceneLabel::farther_hit);  // the plane
-    EXPECT_EQ(label(SceneHit{3.0f, 0, 0, 5, 2, 2}), SceneLabel::false_hit);     // the icosphere off the axis
+    EXPECT_EQ(label(SceneHit{3.0f, 0, 0, 5, 2, 2}), SceneLabel::false_hit);               // the icosphere off the axis
     const Ray away{{0, 0, 0}, 0.0f, {0, 0, -1}, INFINITY};
     EXPECT_EQ(ref.classify(away, ref.closest(away), SceneHit{1.0f, 0, 0, 0, 0, 0}).label, SceneLabel::false_hit);
     EXPECT_EQ(ref.classify(away, ref.closest(away), SceneHit{}).label, SceneLabel::agree);
@@ -91,7 +91,8 @@ TEST(SceneReference, EveryLabel) {
 // Our traversal against the reference on random rays through a mixed scene: no hard disagreement.
 TEST(SceneReference, OursAgreesOnRandomRays) {
     SceneDesc d = hand_made();
-    d.instances.push_back({2, Affine3::translation({0, 3, 4}) * Affine3::rotation({1, 1, 0}, 0.7) * Affine3::scaling(1.5f)});
+    d.instances.push_back(
+        {2, Affine3::translation({0, 3, 4}) * Affine3::rotation({1, 1, 0}, 0.7) * Affine3::scaling(1.5f)});
     const SceneReferencer ref(d);
     const SceneBvhN<8> s = SceneBvhN<8>::build(d);
     std::mt19937 rng(3);

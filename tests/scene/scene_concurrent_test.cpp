@@ -19,7 +19,8 @@ namespace {
 SceneDesc mixed_scene() {
     SceneDesc s = workloads::instances_scene(workloads::icosphere(1), 20);
     s.geometries.push_back(workloads::spheres_scene(30).geometries[0]);
-    for (float x : {-2.0f, 0.0f, 2.0f}) s.instances.push_back({1, Affine3::translation({x, 0, 0}) * Affine3::scaling(2)});
+    for (float x : {-2.0f, 0.0f, 2.0f})
+        s.instances.push_back({1, Affine3::translation({x, 0, 0}) * Affine3::scaling(2)});
     s.planes.push_back({{0, -6, 0}, {0, 1, 0}});
     return s;
 }
@@ -57,8 +58,8 @@ TEST(Concurrent, ManyThreadsTraceOneScene) {
     for (auto& t : pool) t.join();
     for (int k = 0; k < kThreads; ++k)
         for (std::size_t i = 0; i < rays.size(); ++i) {
-            ASSERT_TRUE(got[k][i] == want[i]) << "thread " << k << " ray " << i << ": t " << got[k][i].t << " against "
-                                              << want[i].t;
+            ASSERT_TRUE(got[k][i] == want[i])
+                << "thread " << k << " ray " << i << ": t " << got[k][i].t << " against " << want[i].t;
             ASSERT_EQ(any[k][i].hit(), want_any[i].hit()) << "thread " << k << " ray " << i;
         }
 }

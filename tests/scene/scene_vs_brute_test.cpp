@@ -25,8 +25,8 @@
 namespace simdbvh {
 
 void PrintTo(const SceneHit& h, std::ostream* os) {
-    *os << "{t " << h.t << " u " << h.u << " v " << h.v << " prim " << h.prim << " geom " << h.geom << " inst " << h.inst
-        << "}";
+    *os << "{t " << h.t << " u " << h.u << " v " << h.v << " prim " << h.prim << " geom " << h.geom << " inst "
+        << h.inst << "}";
 }
 
 namespace {
@@ -47,11 +47,13 @@ SceneDesc test_scene() {
     SceneDesc s;
     s.geometries.push_back(workloads::icosphere(2));
     SphereSet spheres;
-    for (int i = 0; i < 40; ++i) spheres.spheres.push_back({{u(rng), u(rng), u(rng)}, 0.05f + 0.2f * std::fabs(u(rng))});
+    for (int i = 0; i < 40; ++i)
+        spheres.spheres.push_back({{u(rng), u(rng), u(rng)}, 0.05f + 0.2f * std::fabs(u(rng))});
     s.geometries.push_back(spheres);
     BoxSet boxes;
     for (int i = 0; i < 40; ++i) {
-        const Vec3 c{u(rng), u(rng), u(rng)}, h{0.2f * std::fabs(u(rng)), 0.2f * std::fabs(u(rng)), 0.2f * std::fabs(u(rng))};
+        const Vec3 c{u(rng), u(rng), u(rng)},
+            h{0.2f * std::fabs(u(rng)), 0.2f * std::fabs(u(rng)), 0.2f * std::fabs(u(rng))};
         boxes.boxes.push_back(Aabb{c - h, c + h});
     }
     boxes.boxes.push_back(Aabb{{1, 1, 1}, {1, 1.5f, 1.5f}});  // flat
@@ -73,7 +75,7 @@ std::vector<Ray> test_rays(std::size_t n) {
     for (std::size_t i = 0; i < n; ++i) {
         const Vec3 o{9 * u(rng), 9 * u(rng), 9 * u(rng)}, target{4 * u(rng), 4 * u(rng), 4 * u(rng)};
         Ray r{o, 0.0f, target - o, INFINITY};
-        if (i % 7 == 0) r.tmax = 0.9f;         // short rays
+        if (i % 7 == 0) r.tmax = 0.9f;           // short rays
         if (i % 11 == 0) r.dir = r.dir * 1e-3f;  // another parameter scale
         if (i % 13 == 0) {                       // far origins, the same lines
             r.org = target - r.dir * 2000.0f;
@@ -219,7 +221,9 @@ void check_builtin(const SceneDesc& desc, const std::vector<Ray>& rays, std::siz
 std::vector<Ray> rays_in(Vec3 lo, Vec3 hi, Vec3 aim_lo, Vec3 aim_hi, std::size_t n) {
     std::mt19937 rng(7);
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
-    auto pick = [&](Vec3 a, Vec3 b) { return Vec3{a.x + (b.x - a.x) * u(rng), a.y + (b.y - a.y) * u(rng), a.z + (b.z - a.z) * u(rng)}; };
+    auto pick = [&](Vec3 a, Vec3 b) {
+        return Vec3{a.x + (b.x - a.x) * u(rng), a.y + (b.y - a.y) * u(rng), a.z + (b.z - a.z) * u(rng)};
+    };
     std::vector<Ray> rays;
     for (std::size_t i = 0; i < n; ++i) {
         const Vec3 o = pick(lo, hi);
@@ -244,7 +248,8 @@ void check_width(const SceneDesc& d, const std::vector<Ray>& rays, const std::ve
     const SceneBvhN<N> s = SceneBvhN<N>::build(d);
     for (Isa isa : supported_isas()) {
         intersect(s, std::span<const Ray>(rays), std::span<SceneHit>(got), isa);
-        for (std::size_t i = 0; i < rays.size(); ++i) ASSERT_EQ(got[i], want[i]) << N << " " << name(isa) << " ray " << i;
+        for (std::size_t i = 0; i < rays.size(); ++i)
+            ASSERT_EQ(got[i], want[i]) << N << " " << name(isa) << " ray " << i;
         occluded(s, std::span<const Ray>(rays), std::span<SceneHit>(got), isa);
         for (std::size_t i = 0; i < rays.size(); ++i)
             ASSERT_EQ(got[i].hit(), want_any[i].hit()) << N << " " << name(isa) << " any, ray " << i;
@@ -483,7 +488,8 @@ TEST(SceneShapes, LargeSphereSetWithRaysInFlight) {
     SphereSet set;
     std::mt19937 rng(17);
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
-    for (int i = 0; i < 200000; ++i) set.spheres.push_back({{u(rng) * 40, u(rng) * 40, u(rng) * 40}, 0.05f + 0.2f * u(rng)});
+    for (int i = 0; i < 200000; ++i)
+        set.spheres.push_back({{u(rng) * 40, u(rng) * 40, u(rng) * 40}, 0.05f + 0.2f * u(rng)});
     d.geometries.push_back(set);
     d.instances.push_back({0, Affine3{}});
     const auto s4 = SceneBvhN<4>::build(d, SceneOptions{});
@@ -547,7 +553,8 @@ TEST(SceneShapes, SphereRootsCutByTminAndTmax) {
 }
 TEST(SceneBuiltins, Room) {
     if (!workloads::is_cached("bunny") || !workloads::is_cached("teapot")) GTEST_SKIP() << "bunny/teapot not cached";
-    check_builtin(workloads::room_scene(), rays_in({-3.5f, 0.1f, -3.5f}, {3.5f, 3, 3.5f}, {-4, 0, -4}, {4, 2, 4}, 300), 290);
+    check_builtin(workloads::room_scene(), rays_in({-3.5f, 0.1f, -3.5f}, {3.5f, 3, 3.5f}, {-4, 0, -4}, {4, 2, 4}, 300),
+                  290);
 }
 
 // Rays grazing the edges of an anisotropically transformed box placed far from
@@ -728,7 +735,8 @@ TEST(SceneValidate, ErrorsNameTheItem) {
 // brute force traced the scene; a sphere's center + radius past FLT_MAX built.
 // Scenes near the limit, still finite, build and match the brute force.
 TEST(SceneValidate, BoundsBeyondTheFloatRange) {
-    const std::vector<Ray> rays = {Ray{{0, 0, 0}, 0.0f, {1, 1, 1}, INFINITY}, Ray{{0, 0, 0}, 0.0f, {1, 0, 0}, INFINITY}};
+    const std::vector<Ray> rays = {Ray{{0, 0, 0}, 0.0f, {1, 1, 1}, INFINITY},
+                                   Ray{{0, 0, 0}, 0.0f, {1, 0, 0}, INFINITY}};
     auto expect_refused = [&](const SceneDesc& d, const std::string& want) {
         auto check = [&](const char* path, auto&& run) {
             try {
@@ -800,9 +808,11 @@ TEST(SceneFuzz, MutatedJsonScenesBuildAndMatchTheBruteForceOrNameTheProblem) {
                {"geometry": 0, "translate": [3, 0, 0], "rotate": {"axis": [0, 1, 0], "degrees": 30}, "scale": 0.5},
                {"geometry": 1, "scale": [1, 0.5, 2]}],
  "planes": [{"point": [0, -3, 0], "normal": [0, 1, 0]}]})";
-    static const char* tokens[] = {"-1", "0", "1e30", "3e38", "-3e38", "1e39", "1e-45", "nan", "NaN", "null", "true",
-                                   "[]", "{}", "[0, 0, 0]", "\"x\"", ",", ":", "]", "}", "[", "{", "\"scale\": 0",
-                                   "\"radius\": -1", "\"geometry\": 9", "\"balls\"", "4294967296", "-0", "2"};
+    static const char* tokens[] = {
+        "-1",        "0",          "1e30", "3e38", "-3e38", "1e39",         "1e-45",          "nan",
+        "NaN",       "null",       "true", "[]",   "{}",    "[0, 0, 0]",    "\"x\"",          ",",
+        ":",         "]",          "}",    "[",    "{",     "\"scale\": 0", "\"radius\": -1", "\"geometry\": 9",
+        "\"balls\"", "4294967296", "-0",   "2"};
     std::uint64_t state = 14;
     auto next = [&] {
         std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
@@ -818,19 +828,28 @@ TEST(SceneFuzz, MutatedJsonScenesBuildAndMatchTheBruteForceOrNameTheProblem) {
         for (int e = 0, edits = 1 + int(below(2)); e < edits; ++e) {
             const std::size_t at = below(s.size() + 1);
             switch (below(8)) {
-            case 4: case 5: case 6: case 7: {  // a number literal replaced by another value
-                static const char* values[] = {"-1", "0", "-0", "0.5", "2", "9", "1e20", "1e30", "3e38", "-3e38",
-                                               "1e-45", "1e-30", "4294967296", "1e39"};
+            case 4:
+            case 5:
+            case 6:
+            case 7: {  // a number literal replaced by another value
+                static const char* values[] = {"-1",   "0",    "-0",    "0.5",   "2",     "9",          "1e20",
+                                               "1e30", "3e38", "-3e38", "1e-45", "1e-30", "4294967296", "1e39"};
                 const std::size_t first = s.find_first_of("-0123456789", at);
                 if (first == std::string::npos) break;
                 const std::size_t end = s.find_first_not_of("-+.0123456789eE", first);
                 s.replace(first, (end == std::string::npos ? s.size() : end) - first, values[below(std::size(values))]);
                 break;
             }
-            case 0: if (!s.empty()) s[below(s.size())] = "0123456789-.e,:[]{}\" "[below(21)]; break;
+            case 0:
+                if (!s.empty()) s[below(s.size())] = "0123456789-.e,:[]{}\" "[below(21)];
+                break;
             case 1: s.insert(at, tokens[below(std::size(tokens))]); break;
-            case 2: if (at < s.size()) s.erase(at, 1 + below(6)); break;
-            default: if (!s.empty()) s.insert(at, s.substr(below(s.size()), 1 + below(24))); break;
+            case 2:
+                if (at < s.size()) s.erase(at, 1 + below(6));
+                break;
+            default:
+                if (!s.empty()) s.insert(at, s.substr(below(s.size()), 1 + below(24)));
+                break;
             }
         }
         SceneDesc d;
@@ -903,7 +922,8 @@ TEST(SceneTies, SubnormalTiesWithAPlaneGoToTheLowerId) {
     check_width<16>(d, rays, want, want_any);
     const SceneBvhN<8> s = SceneBvhN<8>::build(d);
     for (Isa isa : supported_isas())
-        for (std::size_t i = 0; i < rays.size(); ++i) ASSERT_EQ(intersect(s, rays[i], isa), want[i]) << name(isa) << " ray " << i;
+        for (std::size_t i = 0; i < rays.size(); ++i)
+            ASSERT_EQ(intersect(s, rays[i], isa), want[i]) << name(isa) << " ray " << i;
 }
 
 }  // namespace

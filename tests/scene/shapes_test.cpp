@@ -39,8 +39,8 @@ TEST(Sphere, OriginInsideReportsTheExit) {
     float t, u, v;
     ASSERT_TRUE(hit_sphere(ray({0, 0, 0}, {1, 0, 0}), Sphere{{0, 0, 0}, 2}, INFINITY, &t, &u, &v));
     EXPECT_EQ(t, 2.0f);
-    EXPECT_EQ(v, 0.5f);   // equator
-    EXPECT_EQ(u, 0.5f);   // n = (1, 0, 0): atan2(0, 1) = 0
+    EXPECT_EQ(v, 0.5f);  // equator
+    EXPECT_EQ(u, 0.5f);  // n = (1, 0, 0): atan2(0, 1) = 0
 }
 
 TEST(Sphere, MissesBesideAndBehindAndBeyondTmax) {
@@ -93,14 +93,15 @@ TEST(Sphere, LongitudeAndColatitudeMatchLibm) {
 TEST(Sphere, DistantSmallSphereIsPrecise) {
     const double zc = 1e4, r = 1.0, y = 0.5;
     float t, u, v;
-    ASSERT_TRUE(hit_sphere(ray({0, float(y), 0}, {0, 0, 1}), Sphere{{0, 0, float(zc)}, float(r)}, INFINITY, &t, &u, &v));
+    ASSERT_TRUE(
+        hit_sphere(ray({0, float(y), 0}, {0, 0, 1}), Sphere{{0, 0, float(zc)}, float(r)}, INFINITY, &t, &u, &v));
     EXPECT_EQ(t, float(zc - std::sqrt(r * r - y * y)));
     // Farther and smaller: 1e6 away, radius 1e-2, 0.6 of the radius off axis.
     const double zc2 = 1e6, r2 = 1e-2, y2 = 6e-3;
-    ASSERT_TRUE(hit_sphere(ray({0, float(y2), 0}, {0, 0, 1}), Sphere{{0, 0, float(zc2)}, float(r2)}, INFINITY, &t, &u,
-                           &v));
-    EXPECT_EQ(t, float(double(float(zc2)) - std::sqrt(double(float(r2)) * double(float(r2)) -
-                                                       double(float(y2)) * double(float(y2)))));
+    ASSERT_TRUE(
+        hit_sphere(ray({0, float(y2), 0}, {0, 0, 1}), Sphere{{0, 0, float(zc2)}, float(r2)}, INFINITY, &t, &u, &v));
+    EXPECT_EQ(t, float(double(float(zc2)) -
+                       std::sqrt(double(float(r2)) * double(float(r2)) - double(float(y2)) * double(float(y2)))));
 }
 
 TEST(Box, EntryFaceAndFaceCoordinates) {
@@ -111,8 +112,8 @@ TEST(Box, EntryFaceAndFaceCoordinates) {
     EXPECT_EQ(u, 0.25f);  // face x: u = y, v = z
     EXPECT_EQ(v, 0.5f);
     ASSERT_TRUE(hit_box(ray({0.75f, 3, 0.125f}, {0, -2, 0}), b, INFINITY, &t, &u, &v));
-    EXPECT_EQ(t, 1.0f);    // y = 1 at t = 1
-    EXPECT_EQ(u, 0.75f);   // face y: u = x, v = z
+    EXPECT_EQ(t, 1.0f);   // y = 1 at t = 1
+    EXPECT_EQ(u, 0.75f);  // face y: u = x, v = z
     EXPECT_EQ(v, 0.125f);
 }
 
@@ -255,21 +256,22 @@ TEST(Plane, BatchIsNearestPlaneOfEachRay) {
             Ray& r = rays[i];
             r.org = {u(rng), u(rng), u(rng)};
             r.dir = {u(rng), u(rng), u(rng)};
-            if (i % 5 == 1) r.dir.y = 0;  // parallel to the y planes
-            if (i % 7 == 2) r.dir = r.dir * 0x1p-60f;  // rescaled: t in the caller's parameter is 2^60 larger
+            if (i % 5 == 1) r.dir.y = 0;                // parallel to the y planes
+            if (i % 7 == 2) r.dir = r.dir * 0x1p-60f;   // rescaled: t in the caller's parameter is 2^60 larger
             if (i % 7 == 6) r.dir = r.dir * 0x1p-135f;  // rescaled from subnormal components
-            if (i % 9 == 3) r.dir.z = 1e-40f;  // a subnormal component prepare_scaled flushes to zero
+            if (i % 9 == 3) r.dir.z = 1e-40f;           // a subnormal component prepare_scaled flushes to zero
             if (i % 9 == 4) r.dir.y = -1e-40f;
             if (i % 4 == 3) r.tmin = -1.0f;
             if (i % 6 == 4) r.tmax = 1.5f;
             if (i % 11 == 5) r.org.x = std::numeric_limits<float>::quiet_NaN();
         }
-        expect_batch_is_per_ray(rays, planes, trial, [&](std::size_t, const PreparedRay& pr, bool any, Isa isa, bool hit) {
-            const bool count = !any && isa == Isa::scalar;
-            invalid += count && !pr.valid;
-            hits += count && hit;
-            rescaled += count && hit && pr.t_exp != 0;
-        });
+        expect_batch_is_per_ray(rays, planes, trial,
+                                [&](std::size_t, const PreparedRay& pr, bool any, Isa isa, bool hit) {
+                                    const bool count = !any && isa == Isa::scalar;
+                                    invalid += count && !pr.valid;
+                                    hits += count && hit;
+                                    rescaled += count && hit && pr.t_exp != 0;
+                                });
     }
     EXPECT_GT(hits, 500);
     EXPECT_GT(rescaled, 20);
@@ -300,10 +302,16 @@ TEST(Plane, BatchTakesPlainGroupsAsGiven) {
         return r;
     };
     const std::vector<std::function<void(Ray&)>> odd = {
-        [](Ray& r) { r.dir = r.dir * 0x1p-60f; },  [](Ray& r) { r.dir = r.dir * 0x1p40f; },
-        [](Ray& r) { r.dir.y = 1e-40f; },          [&](Ray& r) { r.org.z = nan; },
-        [&](Ray& r) { r.org.x = inf; },            [](Ray& r) { r.dir = {0, 0, 0}; },
-        [](Ray& r) { r.tmin = 2.0f, r.tmax = 1.0f; }, [&](Ray& r) { r.tmax = nan; },
+        [](Ray& r) { r.dir = r.dir * 0x1p-60f; },
+        [](Ray& r) { r.dir = r.dir * 0x1p40f; },
+        [](Ray& r) { r.dir.y = 1e-40f; },
+        [&](Ray& r) { r.org.z = nan; },
+        [&](Ray& r) { r.org.x = inf; },
+        [](Ray& r) {
+            r.dir = {0, 0, 0};
+        },
+        [](Ray& r) { r.tmin = 2.0f, r.tmax = 1.0f; },
+        [&](Ray& r) { r.tmax = nan; },
         [&](Ray& r) { r.dir.x = inf; },
     };
     int plain_hits = 0, checked = 0;
@@ -323,10 +331,11 @@ TEST(Plane, BatchTakesPlainGroupsAsGiven) {
                     if (g == lane) odd[k](r);
                     rays.push_back(r);
                 }
-        expect_batch_is_per_ray(rays, planes, trial, [&](std::size_t i, const PreparedRay&, bool any, Isa isa, bool hit) {
-            ++checked;
-            plain_hits += hit && i < 4 && !any && isa == Isa::scalar;
-        });
+        expect_batch_is_per_ray(rays, planes, trial,
+                                [&](std::size_t i, const PreparedRay&, bool any, Isa isa, bool hit) {
+                                    ++checked;
+                                    plain_hits += hit && i < 4 && !any && isa == Isa::scalar;
+                                });
     }
     EXPECT_GT(plain_hits, 200);
     EXPECT_GT(checked, 10000);

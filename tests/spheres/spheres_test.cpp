@@ -42,8 +42,8 @@ TEST_P(SpheresVsBrute, ClosestAndAnyHitMatchBruteForce) {
     const Mesh mesh = workloads::load_scene(c.scene);
     const SphereBvh bvh = SphereBvh::build(mesh);
     // (an eighth of the rays under a sanitizer: support/sanitizer.h)
-    const std::size_t count = test::sampled(
-        std::clamp<std::size_t>(100'000'000 / std::max<std::size_t>(mesh.size(), 1), 500, 20000), 200);
+    const std::size_t count =
+        test::sampled(std::clamp<std::size_t>(100'000'000 / std::max<std::size_t>(mesh.size(), 1), 500, 20000), 200);
     const auto rays = workloads::generate_rays(mesh, c.kind, count, /*seed=*/11);
     std::vector<Hit> got(rays.size()), any(rays.size());
     intersect(bvh, rays, got);
@@ -85,7 +85,8 @@ TEST_P(SpheresVsBrute, ClosestAndAnyHitMatchBruteForce) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, SpheresVsBrute,
-                         testing::Values(Case{"icosphere-4", RayKind::primary}, Case{"icosphere-4", RayKind::incoherent},
+                         testing::Values(Case{"icosphere-4", RayKind::primary},
+                                         Case{"icosphere-4", RayKind::incoherent},
                                          Case{"icosphere-4", RayKind::diffuse}, Case{"soup-3000", RayKind::primary},
                                          Case{"soup-3000", RayKind::incoherent}, Case{"bunny", RayKind::primary},
                                          Case{"bunny", RayKind::incoherent}),

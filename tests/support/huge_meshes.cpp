@@ -47,7 +47,8 @@ Mesh extreme_mesh() {
         const float sx = c.x > 0 ? -1.0f : 1.0f, sy = c.y > 0 ? -1.0f : 1.0f;
         for (int j = 0; j < 4; ++j) {
             const float o = d * float(j);
-            add_triangle(m, {c.x + sx * o, c.y, c.z}, {c.x + sx * (o + d), c.y, c.z}, {c.x + sx * o, c.y + sy * d, c.z});
+            add_triangle(m, {c.x + sx * o, c.y, c.z}, {c.x + sx * (o + d), c.y, c.z},
+                         {c.x + sx * o, c.y + sy * d, c.z});
         }
     }
     return m;
@@ -62,13 +63,19 @@ std::vector<Ray> huge_mesh_rays(const Mesh& mesh) {
             rays.push_back(Ray{{0.5f + 0.2f * float(i), 0.5f + 0.25f * float(j), 10.0f}, 0.0f, {0, 0, -1}, kInf});
     // Slanted and from below, every octant through the origin region.
     std::uint32_t s = 12345;
-    auto rnd = [&] { s = s * 1664525u + 1013904223u; return float(s >> 8) * 0x1p-24f; };
+    auto rnd = [&] {
+        s = s * 1664525u + 1013904223u;
+        return float(s >> 8) * 0x1p-24f;
+    };
     for (int i = 0; i < 2000; ++i) {
         const Vec3 o{20.0f * rnd() - 5.0f, 20.0f * rnd() - 5.0f, 40.0f * rnd() - 20.0f};
         // A point inside small triangle k (mostly a hit, unless another is in the way).
         const int k = int(8.0f * rnd()) & 7;
         float u = rnd(), v = rnd();
-        if (u + v > 1.0f) { u = 1.0f - u; v = 1.0f - v; }
+        if (u + v > 1.0f) {
+            u = 1.0f - u;
+            v = 1.0f - v;
+        }
         const Vec3 t{1.0f + float(k) + 0.9f * u, 1.0f + 0.5f * float(k) + 0.9f * v, 1.0f};
         Vec3 d = t - o;
         if (i % 4 == 3) d = Vec3{rnd() - 0.5f, rnd() - 0.5f, rnd() - 0.5f};

@@ -23,8 +23,8 @@ inline std::size_t sampled(std::size_t n, std::size_t at_least = 1) {
     return s < at_least ? (n < at_least ? n : at_least) : s;
 }
 
-#define SIMDBVH_SKIP_ADDRESS_LIMIT_UNDER_SANITIZER()                                          \
-    do {                                                                                      \
+#define SIMDBVH_SKIP_ADDRESS_LIMIT_UNDER_SANITIZER()                                                          \
+    do {                                                                                                      \
         if (::test::kUnderSanitizer) GTEST_SKIP() << "an address-space limit cannot apply under a sanitizer"; \
     } while (0)
 

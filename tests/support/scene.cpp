@@ -60,7 +60,8 @@ TempDir::TempDir(bool in_memory) {
     static std::atomic<unsigned> counter{0};
     std::error_code ec;
     auto base = std::filesystem::temp_directory_path();
-    if (in_memory && std::filesystem::is_directory("/dev/shm", ec) && ::access("/dev/shm", W_OK) == 0) base = "/dev/shm";
+    if (in_memory && std::filesystem::is_directory("/dev/shm", ec) && ::access("/dev/shm", W_OK) == 0)
+        base = "/dev/shm";
     for (int attempt = 0; attempt < 1000; ++attempt) {
         auto p = base / ("simdbvh_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
         if (std::filesystem::create_directory(p)) {

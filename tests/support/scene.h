@@ -21,13 +21,13 @@ std::string skip_message(std::string_view name);
 //   const auto m = test::load_or_skip("dragon"); if (::testing::Test::IsSkipped()) return;
 // or use SIMDBVH_LOAD_OR_SKIP(m, "dragon"); which does both.
 simdbvh::Mesh load_or_skip(std::string_view name);
-#define SIMDBVH_LOAD_OR_SKIP(var, name)                         \
-    const ::simdbvh::Mesh var = ::test::load_or_skip(name);     \
+#define SIMDBVH_LOAD_OR_SKIP(var, name)                     \
+    const ::simdbvh::Mesh var = ::test::load_or_skip(name); \
     if (::testing::Test::IsSkipped()) return
 
 // Tiny meshes.
-simdbvh::Mesh one_triangle();        // (0,0,0) (1,0,0) (0,1,0)
-simdbvh::Mesh unit_cube();           // [0,1]^3, 12 triangles, outward counter-clockwise
+simdbvh::Mesh one_triangle();  // (0,0,0) (1,0,0) (0,1,0)
+simdbvh::Mesh unit_cube();     // [0,1]^3, 12 triangles, outward counter-clockwise
 
 // A fresh, empty temporary folder removed (recursively) on destruction.
 class TempDir {

@@ -91,8 +91,8 @@ TEST(NamedScenes, Procedural) {
     EXPECT_THROW(wl::load_scene("icosphere-99"), simdbvh::Error);
     EXPECT_THROW(wl::load_scene("no-such-scene"), simdbvh::Error);  // treated as a path
     const auto names = wl::scene_names();
-    for (const char* n : {"dragon", "dragon-res2", "dragon-res3", "dragon-res4", "bunny", "teapot", "icosphere", "soup",
-                          "terrain"})
+    for (const char* n :
+         {"dragon", "dragon-res2", "dragon-res3", "dragon-res4", "bunny", "teapot", "icosphere", "soup", "terrain"})
         EXPECT_NE(std::find(names.begin(), names.end(), n), names.end()) << n;
     EXPECT_FALSE(wl::cached_scene_file("icosphere").has_value());
 }

@@ -27,7 +27,8 @@ const std::string kSpheres = R"({"name": "balls", "spheres": [{"center": [0, 0, 
 
 TEST(SceneJson, ParsesEveryKind) {
     const SceneDesc s = parse(R"({
-      "geometries": [)" + kSpheres + R"(,
+      "geometries": [)" + kSpheres +
+                              R"(,
         {"boxes": [{"min": [0, 0, 0], "max": [1, 2, 3]}]},
         {"mesh": "icosphere-1"}],
       "instances": [

@@ -35,7 +35,8 @@ private:
 };
 
 TEST(SceneInputs, ProceduralNamesReadNothing) {
-    for (const char* n : {"icosphere", "icosphere-3", "soup-100", "terrain"}) EXPECT_TRUE(wl::scene_input_files(n).empty()) << n;
+    for (const char* n : {"icosphere", "icosphere-3", "soup-100", "terrain"})
+        EXPECT_TRUE(wl::scene_input_files(n).empty()) << n;
     // spheres-N reads nothing as a scene; to the mesh commands it is a path.
     EXPECT_EQ(paths("spheres-10"), std::vector<std::string>{"spheres-10"});
 }
@@ -55,7 +56,8 @@ TEST(SceneInputs, CachedNamesAndBuiltinsLeadToTheCacheFiles) {
     EXPECT_EQ(paths("bunny"), std::vector<std::string>{(dir / "bunny.ply").string()});
     EXPECT_EQ(wl::scene_input_files("bunny").at(0).via, "the cache file of 'bunny'");
     // room: the bunny and the teapot; and, to the mesh commands, a file named "room".
-    EXPECT_EQ(paths("room"), (std::vector<std::string>{(dir / "bunny.ply").string(), (dir / "teapot.ply").string(), "room"}));
+    EXPECT_EQ(paths("room"),
+              (std::vector<std::string>{(dir / "bunny.ply").string(), (dir / "teapot.ply").string(), "room"}));
     EXPECT_EQ(wl::scene_input_files("room").at(1).via, "the cache file of 'teapot'");
 }
 
@@ -74,12 +76,13 @@ TEST(SceneInputs, JsonMeshesRelativeToTheFileAndNestedScenes) {
     const auto in = wl::scene_input_files(main);
     std::vector<std::string> got;
     for (const auto& i : in) got.push_back(i.path.string());
-    const std::vector<std::string> want{main,
-                                        (dir / "a.obj").string(),
-                                        (dir / "cache" / "bunny.ply").string(),
-                                        (dir / "sub/inner.json").string(),
-                                        (dir / "sub/inner.json").parent_path().string() + "/b.obj",
-                                        (dir / "elsewhere.obj").string()};  // missing: still beside the file, never the cwd
+    const std::vector<std::string> want{
+        main,
+        (dir / "a.obj").string(),
+        (dir / "cache" / "bunny.ply").string(),
+        (dir / "sub/inner.json").string(),
+        (dir / "sub/inner.json").parent_path().string() + "/b.obj",
+        (dir / "elsewhere.obj").string()};  // missing: still beside the file, never the cwd
     EXPECT_EQ(got, want);
     EXPECT_EQ(in.at(1).via, "geometries[0].mesh");
     EXPECT_EQ(in.at(2).via, "geometries[2].mesh -> the cache file of 'bunny'");
@@ -91,7 +94,8 @@ TEST(SceneInputs, GzipJsonSceneNamesItsMeshes) {
     test::TempDir dir;
     test::write_text(dir / "a.obj", "x");
     test::write_gzip(dir / "z.json", R"({"geometries": [{"mesh": "a.obj"}]})");
-    EXPECT_EQ(paths((dir / "z.json").string()), (std::vector<std::string>{(dir / "z.json").string(), (dir / "a.obj").string()}));
+    EXPECT_EQ(paths((dir / "z.json").string()),
+              (std::vector<std::string>{(dir / "z.json").string(), (dir / "a.obj").string()}));
 }
 
 TEST(SceneInputs, UnparsableJsonIsOnlyItself) {

@@ -145,7 +145,8 @@ TEST(SceneJsonMeshes, PathsAreRelativeToTheJsonFileNeverTheCurrentFolder) {
     test::write_text(dir / "scenes" / "part.obj", kTriangleObj);
     test::write_text(dir / "scenes" / "sub" / "two.obj", kTriangleObj + "f 3 2 1\n");
     test::write_text(dir / "scenes" / "t.json", R"({"geometries": [{"mesh": "part.obj"}, {"mesh": "sub/two.obj"},
-        {"mesh": ")" + (dir / "other" / "part.obj").string() + R"("}, {"mesh": "icosphere-1"}]})");
+        {"mesh": ")" + (dir / "other" / "part.obj").string() +
+                                                    R"("}, {"mesh": "icosphere-1"}]})");
     SceneDesc s;
     in_folder(dir / "other", [&] { s = load_scene_json(fs::path("..") / "scenes" / "t.json"); });
     ASSERT_EQ(s.geometries.size(), 4u);
@@ -179,7 +180,8 @@ TEST(SceneJsonMeshes, NulInAMeshStringIsRefused) {
     test::write_text(dir / "s.json", R"({"geometries": [{"mesh": "part.obj\u0000.ply"}]})");
     const std::string msg = json_error(dir / "s.json");
     expect_has(msg, (dir / "s.json").string() + R"(: geometries[0].mesh: 'part.obj\x00.ply' contains a NUL character)");
-    expect_has(text_error(R"({"geometries": [{"mesh": "bunny\u0000"}]})"), "geometries[0].mesh: 'bunny\\x00' contains a NUL");
+    expect_has(text_error(R"({"geometries": [{"mesh": "bunny\u0000"}]})"),
+               "geometries[0].mesh: 'bunny\\x00' contains a NUL");
 }
 
 // Text from the file is quoted short with its control characters escaped:
@@ -196,7 +198,8 @@ TEST(SceneJsonMessages, FileTextIsQuotedShortAndEscaped) {
     EXPECT_EQ(msg.find('\x1b'), std::string::npos);
     msg = text_error(R"({"geometries": [{"spheres": []}], "instances": [{"geometry": "\u001b]0;x\u0007"}]})");
     expect_has(msg, R"(t.json: instances[0].geometry: no geometry named '\x1b]0;x\x07')");
-    msg = text_error(R"({"geometries": [{"name": "a", "spheres": []}, {"name": "a", "spheres": [], "radius": 1, "radius": 2}]})");
+    msg = text_error(
+        R"({"geometries": [{"name": "a", "spheres": []}, {"name": "a", "spheres": [], "radius": 1, "radius": 2}]})");
     expect_has(msg, "t.json: geometries[1]: duplicate key 'radius'");
     // nlohmann's message quotes the token it stopped in: cut short too.
     msg = text_error(R"({")" + big + "\x01" + R"("})");
@@ -233,15 +236,16 @@ TEST(SceneJsonInstances, AbsentPlacesEveryGeometryOnceEmptyPlacesNone) {
         EXPECT_EQ(s.instances[i].transform.m, Affine3{}.m);
     }
     EXPECT_TRUE(parse_scene_json("{" + g + R"(, "instances": []})", ".", "t.json").instances.empty());
-    EXPECT_TRUE(parse_scene_json(R"({"planes": [{"point": [0, 0, 0], "normal": [0, 1, 0]}]})", ".", "t.json").instances.empty());
+    EXPECT_TRUE(parse_scene_json(R"({"planes": [{"point": [0, 0, 0], "normal": [0, 1, 0]}]})", ".", "t.json")
+                    .instances.empty());
 }
 
 // "scale": [1e-11, 1e10, 1] (det 0.1) was refused as singular; a singular
 // transform's message says what the test measures and its limit.
 TEST(SceneJsonInstances, AnisotropicScaleIsAccepted) {
     const std::string g = R"("geometries": [{"spheres": [{"center": [0, 0, 0], "radius": 1}]}])";
-    const SceneDesc s = parse_scene_json("{" + g + R"(, "instances": [{"geometry": 0, "scale": [1e-11, 1e10, 1]}]})", ".",
-                                         "t.json");
+    const SceneDesc s =
+        parse_scene_json("{" + g + R"(, "instances": [{"geometry": 0, "scale": [1e-11, 1e10, 1]}]})", ".", "t.json");
     ASSERT_EQ(s.instances.size(), 1u);
     EXPECT_EQ(s.instances[0].transform.m[0][0], 1e-11f);
     EXPECT_EQ(s.instances[0].transform.m[1][1], 1e10f);
@@ -308,15 +312,15 @@ TEST(SceneJsonBounds, LongWhitespaceKeepsStringsAndPositions) {
     std::string text = R"({"geometries": [)";
     for (const char* head : {"", "\\\""})
         for (std::size_t run : {5000, 4096})
-            text += std::string(text.back() == '[' ? "" : ", ") + R"({"name": ")" + head + std::string(run, ' ') + "x\", " +
-                    sphere + "}";
+            text += std::string(text.back() == '[' ? "" : ", ") + R"({"name": ")" + head + std::string(run, ' ') +
+                    "x\", " + sphere + "}";
     text += R"(], "instances": [{"geometry": "\")" + std::string(4096, ' ') + "x\"}]}";
     const SceneDesc s = parse_scene_json(text, ".", "t.json");
     ASSERT_EQ(s.geometries.size(), 4u);
     ASSERT_EQ(s.instances.size(), 1u);
     EXPECT_EQ(s.instances[0].geometry, 3u);
-    expect_has(text_error(std::string(3, '\n') + std::string(10000, ' ') + "{\"geometries\":\n" + std::string(20000, ' ') +
-                          "[1, NaN]}"),
+    expect_has(text_error(std::string(3, '\n') + std::string(10000, ' ') + "{\"geometries\":\n" +
+                          std::string(20000, ' ') + "[1, NaN]}"),
                "t.json: not valid JSON at line 5, column 20005: syntax error while parsing value - invalid literal");
     expect_has(text_error("{\"geometries\": [1, NaN]}"), "t.json: not valid JSON at line 1, column 20: syntax error");
 }

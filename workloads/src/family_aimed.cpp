@@ -52,7 +52,8 @@ Aimed aim_torus(const Mesh& m, float major_r, float minor_r, std::uint64_t seed)
     Rng rng(seed);
     for (const Vec3& t : a.targets) {
         const float phi = std::atan2(t.y, t.x) + rng.uniform(-0.05f, 0.05f);
-        a.origins.push_back(Vec3{major_r * std::cos(phi), major_r * std::sin(phi), 0.0f} + in_ball(rng, 0.5f * minor_r));
+        a.origins.push_back(Vec3{major_r * std::cos(phi), major_r * std::sin(phi), 0.0f} +
+                            in_ball(rng, 0.5f * minor_r));
     }
     return a;
 }
@@ -139,7 +140,8 @@ std::vector<FamilyCase> family_direction_scale(const FamilyOptions& o) {
             const Vec3 org = a.origins[i], t = a.targets[i];
             Ray r;
             r.org = org;
-            r.dir = {float(std::ldexp(double(t.x) - double(org.x), e)), float(std::ldexp(double(t.y) - double(org.y), e)),
+            r.dir = {float(std::ldexp(double(t.x) - double(org.x), e)),
+                     float(std::ldexp(double(t.y) - double(org.y), e)),
                      float(std::ldexp(double(t.z) - double(org.z), e))};
             if (r.dir == Vec3{}) continue;  // every component rounded to zero
             c.rays.push_back(r);

@@ -3,7 +3,6 @@
 // diagonals with +-0.0 components, from origins on the slab planes.
 #include "family_parts.h"
 
-
 namespace simdbvh::workloads::detail {
 
 namespace {

@@ -69,7 +69,8 @@ std::vector<FamilyCase> family_degenerate(const FamilyOptions& o) {
             const Mesh& m = out[i].mesh;
             const auto base = std::uint32_t(c.mesh.positions.size());
             c.mesh.positions.insert(c.mesh.positions.end(), m.positions.begin(), m.positions.end());
-            for (const Triangle& t : m.triangles) c.mesh.triangles.push_back(Triangle{t[0] + base, t[1] + base, t[2] + base});
+            for (const Triangle& t : m.triangles)
+                c.mesh.triangles.push_back(Triangle{t[0] + base, t[1] + base, t[2] + base});
         }
         finish(std::move(c), o.seed * 7 + 9);
     }

@@ -13,7 +13,10 @@ namespace detail {
 
 std::string decade(double v) {
     int e = 0;
-    while (v >= 10.0) { v /= 10.0; ++e; }
+    while (v >= 10.0) {
+        v /= 10.0;
+        ++e;
+    }
     return "1e" + std::to_string(e);
 }
 

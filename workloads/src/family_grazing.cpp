@@ -17,7 +17,8 @@ std::vector<FamilyCase> family_grazing(const FamilyOptions& o) {
     const int g = o.quick ? 16 : 64;
     for (int i = 0; i <= g; ++i)
         for (int j = 0; j <= g; ++j)
-            c.mesh.positions.push_back(Vec3{-1.0f + 2.0f * float(i) / float(g), 0.0f, -1.0f + 2.0f * float(j) / float(g)});
+            c.mesh.positions.push_back(
+                Vec3{-1.0f + 2.0f * float(i) / float(g), 0.0f, -1.0f + 2.0f * float(j) / float(g)});
     for (int i = 0; i < g; ++i)
         for (int j = 0; j < g; ++j) {
             const auto a = std::uint32_t(i * (g + 1) + j), b = a + 1, cc = a + std::uint32_t(g + 1), d = cc + 1;
@@ -42,7 +43,8 @@ std::vector<FamilyCase> family_grazing(const FamilyOptions& o) {
                 c.expect.push_back(RayExpect{Expect::hit, kInvalidPrim, -double(r.org.y) / double(r.dir.y)});
             } else {
                 r.dir = {float(ax), (k & 1) ? -0.0f : 0.0f, float(az)};
-                r.org = {float(hx - ax * run), (k & 2) ? float(run * 1e-6) : ((k & 4) ? -0.0f : 0.0f), float(hz - az * run)};
+                r.org = {float(hx - ax * run), (k & 2) ? float(run * 1e-6) : ((k & 4) ? -0.0f : 0.0f),
+                         float(hz - az * run)};
                 c.rays.push_back(r);
                 c.expect.push_back(RayExpect{Expect::miss});
             }

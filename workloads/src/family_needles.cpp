@@ -32,7 +32,8 @@ std::vector<FamilyCase> family_needles(const FamilyOptions& o) {
             const double w = 1.0 / aspect;
             c.mesh.positions.push_back(place(0, 0, 0));
             for (int j = 0; j <= k; ++j) c.mesh.positions.push_back(place(1.0, (j - k / 2) * w, 0));
-            for (int j = 0; j < k; ++j) c.mesh.triangles.push_back(Triangle{0, std::uint32_t(j + 1), std::uint32_t(j + 2)});
+            for (int j = 0; j < k; ++j)
+                c.mesh.triangles.push_back(Triangle{0, std::uint32_t(j + 1), std::uint32_t(j + 2)});
             const Expect e = rotated ? Expect::reference : Expect::hit;
             for (int side = 0; side < 2; ++side) {
                 const double oz = side ? -1.0 : 1.0, ox = side ? 0.4 : 0.5;

@@ -15,10 +15,10 @@ namespace simdbvh::workloads::detail {
 
 inline constexpr float kTwoPi = 6.28318530717958648f;
 
-std::string decade(double v);             // 1e0, 1e3, ...
-Vec3 translate(Vec3 p, double off);       // p + (off, off, off) in double, rounded to float
-Vec3 in_ball(Rng& rng, float r);          // a point strictly inside the ball of radius r (rejection sampling)
-Vec3 unit_vector(Rng& rng);               // uniform on the unit sphere
+std::string decade(double v);        // 1e0, 1e3, ...
+Vec3 translate(Vec3 p, double off);  // p + (off, off, off) in double, rounded to float
+Vec3 in_ball(Rng& rng, float r);     // a point strictly inside the ball of radius r (rejection sampling)
+Vec3 unit_vector(Rng& rng);          // uniform on the unit sphere
 
 std::vector<FamilyCase> family_watertight(const FamilyOptions& o);
 std::vector<FamilyCase> family_offsets(const FamilyOptions& o);

@@ -20,7 +20,8 @@ std::vector<FamilyCase> family_random(const FamilyOptions& o) {
         const Mesh soup = random_soup(4000, o.seed * 3 + 1);
         const auto base = std::uint32_t(c.mesh.positions.size());
         c.mesh.positions.insert(c.mesh.positions.end(), soup.positions.begin(), soup.positions.end());
-        for (const Triangle& t : soup.triangles) c.mesh.triangles.push_back(Triangle{t[0] + base, t[1] + base, t[2] + base});
+        for (const Triangle& t : soup.triangles)
+            c.mesh.triangles.push_back(Triangle{t[0] + base, t[1] + base, t[2] + base});
         c.name = "random/icosphere+soup";
     }
     c.rays = incoherent_rays(c.mesh.bounds(), o.quick ? 2000 : 20000, o.seed * 3 + 2);

@@ -25,8 +25,8 @@ std::vector<Hit> trace(const Mesh& m, const std::vector<Ray>& rays) {
 // Secondary rays from the hits of `primary`: the hit point from the
 // barycentrics, offset along the geometric normal turned towards the incoming
 // ray, directions cosine-weighted about that normal.
-FamilyCase secondary_case(std::string name, Mesh mesh, const std::vector<Ray>& primary, double off,
-                          std::size_t count, std::uint64_t seed) {
+FamilyCase secondary_case(std::string name, Mesh mesh, const std::vector<Ray>& primary, double off, std::size_t count,
+                          std::uint64_t seed) {
     FamilyCase c;
     c.family = Family::surface_start;
     c.name = std::move(name);

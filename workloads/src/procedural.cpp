@@ -16,8 +16,8 @@ namespace {
 // Appends an icosphere to `mesh` (shared vertices; counter-clockwise seen from outside).
 void append_icosphere(Mesh& mesh, int level, float radius, Vec3 center) {
     const float t = 1.6180339887498949f;  // golden ratio
-    const Vec3 base[12] = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                           {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+    const Vec3 base[12] = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                           {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
     static const std::uint32_t faces[20][3] = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
                                                {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
                                                {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
@@ -104,8 +104,9 @@ Mesh icosphere(int level, float radius, Vec3 center) {
 Mesh random_soup(std::size_t triangles, std::uint64_t seed) {
     // 3 new vertices per triangle: 3 n must fit the uint32 vertex indices (checked before allocating).
     if (triangles > 0xFFFFFFFFull / 3)
-        throw Error("soup of " + std::to_string(triangles) + " triangles: its " + std::to_string(3 * std::uint64_t(triangles)) +
-                    " vertices do not fit 32-bit indices (max " + std::to_string(0xFFFFFFFFull / 3) + " triangles)");
+        throw Error("soup of " + std::to_string(triangles) + " triangles: its " +
+                    std::to_string(3 * std::uint64_t(triangles)) + " vertices do not fit 32-bit indices (max " +
+                    std::to_string(0xFFFFFFFFull / 3) + " triangles)");
     Rng rng(seed);
     Mesh mesh;
     mesh.positions.reserve(triangles * 3);
@@ -117,15 +118,16 @@ Mesh random_soup(std::size_t triangles, std::uint64_t seed) {
                      rng.uniform(0.5f * s, 1.0f - 0.5f * s)};
         const auto b = std::uint32_t(mesh.positions.size());
         for (int k = 0; k < 3; ++k)
-            mesh.positions.push_back(c + Vec3{rng.uniform(-0.5f, 0.5f), rng.uniform(-0.5f, 0.5f),
-                                              rng.uniform(-0.5f, 0.5f)} * s);
+            mesh.positions.push_back(
+                c + Vec3{rng.uniform(-0.5f, 0.5f), rng.uniform(-0.5f, 0.5f), rng.uniform(-0.5f, 0.5f)} * s);
         mesh.triangles.push_back(Triangle{b, b + 1, b + 2});
     }
     return mesh;
 }
 
 Mesh terrain(std::size_t min_triangles, std::uint64_t seed) {
-    if (min_triangles >= kMaxTriangles / 2) throw Error("terrain of " + std::to_string(min_triangles) + " triangles > max");
+    if (min_triangles >= kMaxTriangles / 2)
+        throw Error("terrain of " + std::to_string(min_triangles) + " triangles > max");
     constexpr float kSize = 100.0f, kHeight = 12.0f, kFeature = 1.0f / 16.0f;  // noise cycles per unit
     // 85% of the budget to the heightfield (2 triangles per cell), the rest to objects.
     std::size_t g = 2;

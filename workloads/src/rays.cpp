@@ -55,7 +55,8 @@ Vec3 unit(Vec3 d) {
 Vec3 unit_between(Vec3 from, Vec3 to) {
     const Vec3 d = to - from;
     if (is_finite(d)) return unit(d);
-    const double x = double(to.x) - double(from.x), y = double(to.y) - double(from.y), z = double(to.z) - double(from.z);
+    const double x = double(to.x) - double(from.x), y = double(to.y) - double(from.y),
+                 z = double(to.z) - double(from.z);
     const double l = std::sqrt(x * x + y * y + z * z);
     return Vec3{float(x / l), float(y / l), float(z / l)};
 }

@@ -81,8 +81,9 @@ SceneDesc room_scene() {
     const Mesh bunny = load_scene("bunny"), teapot = load_scene("teapot");
     s.geometries.push_back(bunny);   // 0
     s.geometries.push_back(teapot);  // 1
-    s.geometries.push_back(BoxSet{{Aabb{{-3.5f, 0, -3.5f}, {-2.5f, 1, -2.5f}}, Aabb{{2.2f, 0, -3.6f}, {3.6f, 0.6f, -2.2f}},
-                                   Aabb{{2.6f, 0.6f, -3.2f}, {3.2f, 1.4f, -2.6f}}}});  // 2
+    s.geometries.push_back(
+        BoxSet{{Aabb{{-3.5f, 0, -3.5f}, {-2.5f, 1, -2.5f}}, Aabb{{2.2f, 0, -3.6f}, {3.6f, 0.6f, -2.2f}},
+                Aabb{{2.6f, 0.6f, -3.2f}, {3.2f, 1.4f, -2.6f}}}});  // 2
     s.geometries.push_back(SphereSet{{Sphere{{-1.0f, 0.5f, 1.5f}, 0.5f}, Sphere{{2.5f, 0.35f, 1.0f}, 0.35f},
                                       Sphere{{0.0f, 2.5f, -3.0f}, 0.6f}}});  // 3
     s.instances.push_back({0, stand(bunny, {-1.5f, 0, -1.0f}, 1.5f, 0)});

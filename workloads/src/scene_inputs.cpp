@@ -95,7 +95,8 @@ private:
         } catch (const std::exception&) {
             return;  // unreadable: loading it fails before any output is written
         }
-        const nlohmann::json root = nlohmann::json::parse(text.begin(), text.end(), nullptr, /*allow_exceptions=*/false);
+        const nlohmann::json root =
+            nlohmann::json::parse(text.begin(), text.end(), nullptr, /*allow_exceptions=*/false);
         if (!root.is_object() || !root.contains("geometries") || !root["geometries"].is_array()) return;
         const nlohmann::json& geoms = root["geometries"];
         for (std::size_t i = 0; i < geoms.size(); ++i) {

@@ -52,7 +52,7 @@ constexpr std::size_t kMaxDepth = 512;  // the format itself nests 6 deep (a sph
 class DocumentBuilder {
 public:
     Json root;
-    std::string error;  // set when a handler stops the parse
+    std::string error;                    // set when a handler stops the parse
     std::optional<std::size_t> error_at;  // nlohmann's syntax errors: characters read when it stopped
 
     bool null() { return put(nullptr); }
@@ -116,8 +116,8 @@ private:
     }
     bool open(Json&& container) {
         if (stack_.size() >= kMaxDepth)
-            return stop("not valid JSON for a scene: arrays and objects nested deeper than " + std::to_string(kMaxDepth) +
-                        " levels (a scene nests at most 6)");
+            return stop("not valid JSON for a scene: arrays and objects nested deeper than " +
+                        std::to_string(kMaxDepth) + " levels (a scene nests at most 6)");
         const std::string* key;
         Json* v = place(std::move(container), &key);
         stack_.push_back({v, key});
@@ -225,7 +225,8 @@ std::string text_position(std::string_view text, std::size_t offset) {
 Json parse_document(std::string_view text) {
     DocumentBuilder b;
     Skips skips;
-    const BlankSqueezer first(text.data(), text.data() + text.size(), &skips), last(text.data() + text.size(), nullptr, nullptr);
+    const BlankSqueezer first(text.data(), text.data() + text.size(), &skips),
+        last(text.data() + text.size(), nullptr, nullptr);
     if (Json::sax_parse(first, last, &b, Json::input_format_t::json, /*strict=*/true)) return std::move(b.root);
     if (b.error_at) {
         // nlohmann's message after its own position ("... column N: ").
@@ -233,7 +234,8 @@ Json parse_document(std::string_view text) {
         const std::size_t col = what.find(", column ");
         const std::size_t colon = col == std::string::npos ? col : what.find(": ", col);
         if (colon != std::string::npos) what = what.substr(colon + 2);
-        throw Error("not valid JSON " + text_position(text, skips.offset(*b.error_at)) + ": " + io::detail::printable(what, 200));
+        throw Error("not valid JSON " + text_position(text, skips.offset(*b.error_at)) + ": " +
+                    io::detail::printable(what, 200));
     }
     throw Error(b.error.empty() ? std::string("not valid JSON") : b.error);
 }
@@ -243,7 +245,7 @@ Json parse_document(std::string_view text) {
 struct Path {
     static constexpr std::size_t kNoIndex = std::size_t(-1);
     const Path* parent = nullptr;
-    std::string_view name;  // a member's key, or
+    std::string_view name;         // a member's key, or
     std::size_t index = kNoIndex;  // an array element's index
 
     Path operator[](std::size_t i) const { return {this, {}, i}; }
@@ -385,7 +387,8 @@ struct Parser {
         if (!g) fail(path, "needs geometry");
         if (g->is_string()) {
             auto it = names.find(g->get_ref<const std::string&>());
-            if (it == names.end()) fail(path / "geometry", "no geometry named " + json_quote(g->get_ref<const std::string&>()));
+            if (it == names.end())
+                fail(path / "geometry", "no geometry named " + json_quote(g->get_ref<const std::string&>()));
             in.geometry = it->second;
         } else if (g->is_number_unsigned()) {
             const auto v = g->get<std::uint64_t>();
@@ -444,7 +447,8 @@ struct Parser {
             const Path p = top / "geometries";
             const Json& a = array(*g, p);
             s.geometries.reserve(a.size());
-            for (std::size_t i = 0; i < a.size(); ++i) s.geometries.push_back(geometry(a[i], p[i], names, std::uint32_t(i)));
+            for (std::size_t i = 0; i < a.size(); ++i)
+                s.geometries.push_back(geometry(a[i], p[i], names, std::uint32_t(i)));
         }
         // Without "instances" every geometry is placed once, untransformed (as
         // simdbvh.Scene without instances= in Python); an explicit list, even
@@ -453,7 +457,8 @@ struct Parser {
             const Path p = top / "instances";
             const Json& a = array(*in, p);
             s.instances.reserve(a.size());
-            for (std::size_t i = 0; i < a.size(); ++i) s.instances.push_back(instance(a[i], p[i], names, s.geometries.size()));
+            for (std::size_t i = 0; i < a.size(); ++i)
+                s.instances.push_back(instance(a[i], p[i], names, s.geometries.size()));
         } else {
             for (std::size_t g = 0; g < s.geometries.size(); ++g) s.instances.push_back({std::uint32_t(g), Affine3{}});
         }

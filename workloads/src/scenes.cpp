@@ -21,9 +21,12 @@ struct Cached {
     const char* file;  // in cache_dir()
 };
 constexpr Cached kCached[] = {
-    {"dragon", "dragon_vrip.ply.gz"},           {"dragon-res2", "dragon_vrip_res2.ply.gz"},
-    {"dragon-res3", "dragon_vrip_res3.ply.gz"}, {"dragon-res4", "dragon_vrip_res4.ply.gz"},
-    {"bunny", "bunny.ply"},                     {"teapot", "teapot.ply"},
+    {"dragon", "dragon_vrip.ply.gz"},
+    {"dragon-res2", "dragon_vrip_res2.ply.gz"},
+    {"dragon-res3", "dragon_vrip_res3.ply.gz"},
+    {"dragon-res4", "dragon_vrip_res4.ply.gz"},
+    {"bunny", "bunny.ply"},
+    {"teapot", "teapot.ply"},
 };
 
 // "base" or "base-N" with N a non-negative decimal number.

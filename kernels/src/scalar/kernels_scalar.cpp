@@ -41,8 +41,9 @@ void intersect_tri1(std::span<const Ray> rays, std::span<const Tri1> tris, Trian
         const Tri1& tri = tris[i];
         Hit h;
         float t, u, v;
-        if (r.valid && (test == TriangleTest::watertight ? intersect_watertight(r, tri.v0, tri.v1, tri.v2, r.tmax, &t, &u, &v)
-                                                        : intersect_moller(r, tri.v0, tri.v1, tri.v2, r.tmax, &t, &u, &v)))
+        if (r.valid &&
+            (test == TriangleTest::watertight ? intersect_watertight(r, tri.v0, tri.v1, tri.v2, r.tmax, &t, &u, &v)
+                                              : intersect_moller(r, tri.v0, tri.v1, tri.v2, r.tmax, &t, &u, &v)))
             h = Hit{t, u, v, tri.prim};
         hits[i] = to_caller(r, h);
     }

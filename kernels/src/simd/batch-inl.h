@@ -54,8 +54,7 @@ struct BatchLoops {
     // supers empty: every ray against every group; else against the supers,
     // then the groups in the super lanes it hits (the others: mask 0, +inf).
     static SIMDBVH_FORCE_INLINE void box8_groups(std::span<const Ray> rays, std::span<const Box8> supers,
-                                                 std::span<const Box8> groups, std::uint8_t* masks,
-                                                 float* entries) {
+                                                 std::span<const Box8> groups, std::uint8_t* masks, float* entries) {
         const std::size_t ng = groups.size();
         const Batch<Arch> inf(std::numeric_limits<float>::infinity());
         for (std::size_t i = 0; i < rays.size(); ++i) {
@@ -167,13 +166,9 @@ struct BatchLoops {
     // Each lane runs intersect_box's arithmetic on its own ray (its near
     // planes chosen by the signs of its reciprocals, as prepare() does), so
     // the bits are those of the per-ray tests.
-    static SIMDBVH_FORCE_INLINE kernels::detail::TreeWalk boxes_in_lanes(std::span<const Ray> rays,
-                                                                         std::span<const std::uint8_t> live,
-                                                                         std::span<const Box8> groups,
-                                                                         std::size_t count,
-                                                                         std::pair<float, std::uint32_t>* out,
-                                                                         std::size_t used, std::size_t cap,
-                                                                         std::uint32_t* first) {
+    static SIMDBVH_FORCE_INLINE kernels::detail::TreeWalk boxes_in_lanes(
+        std::span<const Ray> rays, std::span<const std::uint8_t> live, std::span<const Box8> groups, std::size_t count,
+        std::pair<float, std::uint32_t>* out, std::size_t used, std::size_t cap, std::uint32_t* first) {
         using B = Batch<Arch>;
         constexpr std::size_t kW = B::size;
         static_assert(kW == 8, "8 rays per batch");
@@ -196,7 +191,7 @@ struct BatchLoops {
             for (std::size_t q = 0; q < nrows; ++q) rows[q] = transpose_bits8x8(rows[q]);
             return [&](std::size_t l, std::size_t used) __attribute__((always_inline)) {
                 for (std::size_t q0 = 0; q0 < nrows; q0 += 8) {  // 64 boxes per word
-                    std::uint64_t hit = 0;  // lane l's ray hits box q0 * 8 + bit
+                    std::uint64_t hit = 0;                       // lane l's ray hits box q0 * 8 + bit
                     for (std::size_t q = q0; q < std::min(nrows, q0 + 8); ++q)
                         hit |= ((rows[q] >> (8 * l)) & 0xFFu) << (8 * (q - q0));
                     for (std::uint64_t m = hit; m != 0; m &= m - 1) {
@@ -221,13 +216,9 @@ struct BatchLoops {
     // intersect_box8's lane, intersect_box's bits. A ray of instances-100's
     // incoherent chunks tests the 2 supers and 3.46 of the 13 groups (0.52 of
     // them with a hit).
-    static SIMDBVH_FORCE_INLINE kernels::detail::TreeWalk boxes_under_unions(std::span<const Ray> rays,
-                                                                             std::span<const std::uint8_t> live,
-                                                                             std::span<const Box8> groups,
-                                                                             std::size_t count,
-                                                                             std::pair<float, std::uint32_t>* out,
-                                                                             std::size_t used, std::size_t cap,
-                                                                             std::uint32_t* first) {
+    static SIMDBVH_FORCE_INLINE kernels::detail::TreeWalk boxes_under_unions(
+        std::span<const Ray> rays, std::span<const std::uint8_t> live, std::span<const Box8> groups, std::size_t count,
+        std::pair<float, std::uint32_t>* out, std::size_t used, std::size_t cap, std::uint32_t* first) {
         using B = Batch<Arch>;
         constexpr std::size_t kW = B::size;
         static_assert(kW == 8, "8 rays per batch");
@@ -312,9 +303,8 @@ struct BatchLoops {
     static SIMDBVH_FORCE_INLINE kernels::detail::TreeWalk boxes(std::span<const Ray> rays,
                                                                 std::span<const std::uint8_t> live,
                                                                 std::span<const Box8> groups, std::size_t count,
-                                                                std::pair<float, std::uint32_t>* out,
-                                                                std::size_t used, std::size_t cap,
-                                                                std::uint32_t* first) {
+                                                                std::pair<float, std::uint32_t>* out, std::size_t used,
+                                                                std::size_t cap, std::uint32_t* first) {
         if (count <= kLanesBoxesMax) return boxes_in_lanes(rays, live, groups, count, out, used, cap, first);
         return boxes_under_unions(rays, live, groups, count, out, used, cap, first);
     }

@@ -25,13 +25,13 @@ std::optional<Builder> parse_builder(std::string_view s);
 
 struct BuildOptions {
     Builder builder = Builder::sah_binned;
-    int bins = 16;                  // binned SAH: 8, 16, 32 or 64
-    int max_leaf_size = 8;          // SAH builders: leaves never hold more (unless the depth cap forces it)
+    int bins = 16;          // binned SAH: 8, 16, 32 or 64
+    int max_leaf_size = 8;  // SAH builders: leaves never hold more (unless the depth cap forces it)
     int min_leaf_size = 1;
-    float traversal_cost = 1.0f;    // SAH: cost of one box test relative to ...
-    float intersection_cost = 1.0f; // ... one triangle test
-    int max_depth = 64;             // hard cap; the traversal stack is sized from it
-    int threads = 1;                // build threads (one below 32,768 primitives); the same tree for any count
+    float traversal_cost = 1.0f;     // SAH: cost of one box test relative to ...
+    float intersection_cost = 1.0f;  // ... one triangle test
+    int max_depth = 64;              // hard cap; the traversal stack is sized from it
+    int threads = 1;                 // build threads (one below 32,768 primitives); the same tree for any count
 };
 inline constexpr int kMaxDepth = 64;
 
@@ -43,7 +43,8 @@ struct Bvh2Topology {
 
 // Builds a BVH2 over primitives given by their boxes and centroids. Primitives
 // with an empty box are left out of the tree (they can never be hit).
-Bvh2Topology build_topology(std::span<const Aabb> boxes, std::span<const Vec3> centroids, const BuildOptions& opts = {});
+Bvh2Topology build_topology(std::span<const Aabb> boxes, std::span<const Vec3> centroids,
+                            const BuildOptions& opts = {});
 
 // The same over a mesh's triangles (box of the three vertices, centroid = box centre).
 struct Mesh;

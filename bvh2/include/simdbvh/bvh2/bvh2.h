@@ -42,8 +42,8 @@ enum class Reorder : std::uint8_t { automatic, off, on };
 struct TraceOptions {
     TriangleTest test = TriangleTest::watertight;
     BoxTest box = BoxTest::conservative;  // BVH2 only
-    TraceStats* stats = nullptr;  // non-null: count (slower path; forces one thread)
-    int threads = 1;              // batched calls: split the rays over this many threads
+    TraceStats* stats = nullptr;          // non-null: count (slower path; forces one thread)
+    int threads = 1;                      // batched calls: split the rays over this many threads
     // Wide trees (BVH4/8/16, batched calls): rays interleaved per traversal
     // loop. 0: by the tree's size, 1 for trees of at most 4 MiB (nodes and
     // triangle blocks: they stay in cache, interleaving only costs state

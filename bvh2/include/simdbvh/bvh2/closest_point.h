@@ -23,10 +23,10 @@
 namespace simdbvh {
 
 struct ClosestPoint {
-    Vec3 point;                                             // on the triangle (rounded from double)
+    Vec3 point;                                               // on the triangle (rounded from double)
     float distance = std::numeric_limits<float>::infinity();  // |point - p| (rounded from double)
     std::uint32_t prim = kInvalidPrim;
-    float u = 0.0f, v = 0.0f;                               // barycentrics of v1 and v2 (Hit's convention)
+    float u = 0.0f, v = 0.0f;                                    // barycentrics of v1 and v2 (Hit's convention)
     double distance2 = std::numeric_limits<double>::infinity();  // the squared distance that decided
 
     constexpr bool found() const { return prim != kInvalidPrim; }

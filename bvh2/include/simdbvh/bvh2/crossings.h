@@ -22,7 +22,7 @@ namespace simdbvh {
 struct Crossing {
     float t = 0, u = 0, v = 0;  // as Hit (t in the caller's units)
     std::uint32_t prim = kInvalidPrim;
-    std::int32_t facing = 0;    // +1: the triangle's normal points along the ray (leaving), -1 entering
+    std::int32_t facing = 0;  // +1: the triangle's normal points along the ray (leaving), -1 entering
 };
 
 struct AllHits {
@@ -31,7 +31,7 @@ struct AllHits {
 };
 
 struct CrossingCount {
-    std::int32_t winding = 0;     // sum of facing over the crossings in [tmin, tmax]
+    std::int32_t winding = 0;  // sum of facing over the crossings in [tmin, tmax]
     std::uint32_t crossings = 0;
 };
 

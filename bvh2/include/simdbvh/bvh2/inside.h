@@ -22,9 +22,9 @@ namespace simdbvh {
 // two equal corners are ignored.
 struct MeshClosure {
     std::size_t edges = 0;
-    std::size_t boundary_edges = 0;      // used by one triangle
-    std::size_t nonmanifold_edges = 0;   // used by three or more
-    std::size_t misoriented_edges = 0;   // used twice in the same direction
+    std::size_t boundary_edges = 0;     // used by one triangle
+    std::size_t nonmanifold_edges = 0;  // used by three or more
+    std::size_t misoriented_edges = 0;  // used twice in the same direction
     bool closed() const { return boundary_edges == 0 && nonmanifold_edges == 0; }
     bool consistently_oriented() const { return closed() && misoriented_edges == 0; }
 };
@@ -43,8 +43,8 @@ CountRay count_ray_named(std::string_view name);
 struct PointSide {
     Side side = Side::outside;
     CountRay ray = CountRay::plus_z;  // the ray counted along (never shortest)
-    std::int32_t winding = 0;         // sum over crossings of the sign of the triangle's normal along the ray (+1 leaving)
-    std::uint32_t crossings = 0;      // crossings of the ray
+    std::int32_t winding = 0;     // sum over crossings of the sign of the triangle's normal along the ray (+1 leaving)
+    std::uint32_t crossings = 0;  // crossings of the ray
 };
 
 struct InsideOptions {

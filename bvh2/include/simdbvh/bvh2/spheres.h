@@ -27,8 +27,8 @@ struct SphereBuildStats {
     double build_ms = 0;
     std::size_t nodes = 0, leaves = 0, triangles = 0;
     int depth = 0;
-    double sah_cost = 0;         // SAH of the same topology with its AABBs (comparable with the BVH2 rows)
-    double sphere_sah_cost = 0;  // the same sum with sphere surface areas (4 pi r^2) in place of box areas
+    double sah_cost = 0;            // SAH of the same topology with its AABBs (comparable with the BVH2 rows)
+    double sphere_sah_cost = 0;     // the same sum with sphere surface areas (4 pi r^2) in place of box areas
     double bytes_per_triangle = 0;  // nodes + prim ids + gathered triangles
 };
 

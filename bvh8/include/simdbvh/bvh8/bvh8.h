@@ -58,16 +58,15 @@ using Bvh8Options = WideOptions;
 struct WideStats {
     double build_ms = 0;  // collapse + pack (add the BVH2's build_ms for the total)
     std::size_t nodes = 0, leaves = 0, blocks = 0, triangles = 0;
-    std::size_t shared_blocks = 0; // blocks holding the triangles of more than one leaf
-    int width = 0;                 // N: child slots per node
+    std::size_t shared_blocks = 0;  // blocks holding the triangles of more than one leaf
+    int width = 0;                  // N: child slots per node
     int depth = 0;
-    double sah_cost = 0;           // sum of cost * A(n)/A(root) (as the BVH2), node_cost / block_cost model
-    double bytes_per_triangle = 0; // nodes (and quantized nodes) + triangle blocks
-    double fill_rate = 0;          // used child slots / (N * nodes)
-    double block_fill = 0;         // used triangle lanes: triangles / (kBlockWidth * blocks)
+    double sah_cost = 0;            // sum of cost * A(n)/A(root) (as the BVH2), node_cost / block_cost model
+    double bytes_per_triangle = 0;  // nodes (and quantized nodes) + triangle blocks
+    double fill_rate = 0;           // used child slots / (N * nodes)
+    double block_fill = 0;          // used triangle lanes: triangles / (kBlockWidth * blocks)
 };
 using Bvh8Stats = WideStats;
-
 
 // N-wide BVH (N = 4, 8, 16), all from the same BVH2 and the same collapse.
 template <int N>
@@ -107,7 +106,7 @@ public:
 
 private:
     friend struct WideAccess;
-    void quantize();  // qnodes_ from nodes_ when opts_.quantized_nodes (build.cpp)
+    void quantize();   // qnodes_ from nodes_ when opts_.quantized_nodes (build.cpp)
     NodesN<N> nodes_;  // root at 0 (when the mesh is not empty)
     Tri8Blocks blocks_;
     std::vector<QNode> qnodes_;
@@ -140,11 +139,9 @@ using Bvh16 = BvhN<16>;
 // below 0.97 and that one is faster in all but an eighth of the comparisons;
 // before that, the best detected ISA. traversal_isa_choice() reports it.
 template <int N>
-void intersect(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& opts,
-               Isa isa);
+void intersect(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& opts, Isa isa);
 template <int N>
-void occluded(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& opts,
-              Isa isa);
+void occluded(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& opts, Isa isa);
 template <int N>
 void intersect(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& opts = {});
 template <int N>

@@ -55,7 +55,7 @@ struct MethodCost {  // milliseconds; see the formula above
 };
 
 struct CostModel {
-    Isa isa = Isa::scalar;             // the ISA the coefficients were measured with
+    Isa isa = Isa::scalar;                             // the ISA the coefficients were measured with
     std::array<MethodCost, kAccelMethodCount> cost{};  // indexed by AccelMethod
 };
 

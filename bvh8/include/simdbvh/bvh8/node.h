@@ -85,9 +85,9 @@ struct alignas(64) NodeN {
 using Node4 = NodeN<4>;
 using Node8 = NodeN<8>;
 using Node16 = NodeN<16>;
-static_assert(sizeof(Node4) == 128 && alignof(Node4) == 64);   // 2 cache lines
-static_assert(sizeof(Node8) == 256 && alignof(Node8) == 64);   // 4
-static_assert(sizeof(Node16) == 512 && alignof(Node16) == 64); // 8
+static_assert(sizeof(Node4) == 128 && alignof(Node4) == 64);    // 2 cache lines
+static_assert(sizeof(Node8) == 256 && alignof(Node8) == 64);    // 4
+static_assert(sizeof(Node16) == 512 && alignof(Node16) == 64);  // 8
 static_assert(offsetof(Node8, children) == sizeof(Box8));
 
 // A wide tree's nodes, on huge pages like its blocks (large_alloc.h): a

@@ -26,17 +26,15 @@ struct QBoxN {
     static_assert(kValidWidth<N>, "node widths: 4, 8, 16");
     using Mask = std::conditional_t<(N <= 8), std::uint8_t, std::uint16_t>;
     std::uint8_t q[6 * N];
-    float origin[3];          // the grid's corner per axis (the node's lower bound)
-    std::uint8_t exp[3];      // biased exponent of the step: 2^(exp - 127), 1 <= exp <= 254
-    Mask valid;               // bit i: slot i holds a child (empty slots never hit)
+    float origin[3];      // the grid's corner per axis (the node's lower bound)
+    std::uint8_t exp[3];  // biased exponent of the step: 2^(exp - 127), 1 <= exp <= 254
+    Mask valid;           // bit i: slot i holds a child (empty slots never hit)
 
     // The step of axis a: the float whose bits are exp << 23.
     float scale(int a) const { return std::bit_cast<float>(std::uint32_t(exp[a]) << 23); }
     // Plane p (0..5) of lane i, dequantized; the node test's value, bit for bit.
     float plane(int p, int i) const { return origin[p / 2] + float(q[p * N + i]) * scale(p / 2); }
-    Aabb get(int i) const {
-        return {{plane(0, i), plane(2, i), plane(4, i)}, {plane(1, i), plane(3, i), plane(5, i)}};
-    }
+    Aabb get(int i) const { return {{plane(0, i), plane(2, i), plane(4, i)}, {plane(1, i), plane(3, i), plane(5, i)}}; }
 };
 
 template <int N>
@@ -48,8 +46,8 @@ struct alignas(64) QNodeN {
 using QNode4 = QNodeN<4>;
 using QNode8 = QNodeN<8>;
 using QNode16 = QNodeN<16>;
-static_assert(sizeof(QBoxN<8>) == 64 && sizeof(QNode8) == 128);   // 2 cache lines (NodeN: 4)
-static_assert(sizeof(QNode16) == 256);                            // 4 (NodeN: 8)
-static_assert(sizeof(QNode4) == 128);                             // 2 (as NodeN)
+static_assert(sizeof(QBoxN<8>) == 64 && sizeof(QNode8) == 128);  // 2 cache lines (NodeN: 4)
+static_assert(sizeof(QNode16) == 256);                           // 4 (NodeN: 8)
+static_assert(sizeof(QNode4) == 128);                            // 2 (as NodeN)
 
 }  // namespace simdbvh

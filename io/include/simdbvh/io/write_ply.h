@@ -11,5 +11,4 @@ namespace simdbvh::io {
 std::vector<unsigned char> encode_ply(const Mesh& mesh);
 void write_ply(const std::filesystem::path& file, const Mesh& mesh);
 
-
 }  // namespace simdbvh::io

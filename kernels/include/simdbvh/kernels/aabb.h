@@ -13,14 +13,19 @@ struct Aabb {
             -std::numeric_limits<float>::infinity()};
 
     static constexpr Aabb empty() { return {}; }
-    constexpr void grow(Vec3 p) { lo = vmin(p, lo); hi = vmax(p, hi); }
-    constexpr void grow(const Aabb& b) { lo = vmin(b.lo, lo); hi = vmax(b.hi, hi); }
+    constexpr void grow(Vec3 p) {
+        lo = vmin(p, lo);
+        hi = vmax(p, hi);
+    }
+    constexpr void grow(const Aabb& b) {
+        lo = vmin(b.lo, lo);
+        hi = vmax(b.hi, hi);
+    }
     constexpr bool is_empty() const { return !(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z); }
     constexpr Vec3 extent() const { return hi - lo; }
     constexpr Vec3 center() const { return (lo + hi) * 0.5f; }
     constexpr bool contains(const Aabb& b) const {
-        return lo.x <= b.lo.x && lo.y <= b.lo.y && lo.z <= b.lo.z && hi.x >= b.hi.x && hi.y >= b.hi.y &&
-               hi.z >= b.hi.z;
+        return lo.x <= b.lo.x && lo.y <= b.lo.y && lo.z <= b.lo.z && hi.x >= b.hi.x && hi.y >= b.hi.y && hi.z >= b.hi.z;
     }
     constexpr int largest_axis() const {
         Vec3 e = extent();

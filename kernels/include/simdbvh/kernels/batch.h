@@ -33,8 +33,8 @@ namespace simdbvh::kernels {
 // wide traversals start their rays this way, 8 at a time; the SIMD paths
 // compute the 8 rays' fields in vector lanes (rays whose direction prepare()
 // rescales one at a time).
-void prepare_rays(std::span<const Ray> rays, const Aabb* bounds, std::span<PreparedRay> out,
-                  std::span<std::uint8_t> ok, Isa isa = active_isa());
+void prepare_rays(std::span<const Ray> rays, const Aabb* bounds, std::span<PreparedRay> out, std::span<std::uint8_t> ok,
+                  Isa isa = active_isa());
 // Every ray against one Box8, interval [tmin, tmax] of the ray: masks[i] bit j =
 // ray i hits box j; entries[8*i + j] = its entry distance (lanes that miss:
 // whatever the slab test computed; invalid rays: +inf).
@@ -94,8 +94,8 @@ void collect_boxes(std::span<const Ray> rays, std::span<const std::uint8_t> live
 // time (each block is read once per tile): callers that split rays over
 // threads keep at least this many rays per call.
 inline constexpr std::size_t kBruteRayTile = 16;
-void intersect_tri8(std::span<const Ray> rays, std::span<const Tri8> blocks, TriangleTest test,
-                    std::span<Hit> hits, Isa isa = active_isa());
+void intersect_tri8(std::span<const Ray> rays, std::span<const Tri8> blocks, TriangleTest test, std::span<Hit> hits,
+                    Isa isa = active_isa());
 // Any hit of each ray over the blocks in [tmin, tmax]: occluded[i] = 0/1.
 // When first_hits is not empty it receives the first hit found (blocks in
 // order, lanes in order), Hit{} when none.

@@ -78,7 +78,9 @@ struct LargeAllocator {
         ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
     }
     template <class U, std::size_t A>
-    bool operator==(const LargeAllocator<U, A>&) const noexcept { return true; }
+    bool operator==(const LargeAllocator<U, A>&) const noexcept {
+        return true;
+    }
 };
 
 template <class T, std::size_t kAlign = alignof(T)>

@@ -21,8 +21,8 @@ void set_thread_pinning(bool on);
 bool thread_pinning();
 
 struct ParallelOptions {
-    std::size_t grain = 2048;    // items per chunk
-    bool pin = thread_pinning(); // pin the threads this call starts (see set_thread_pinning)
+    std::size_t grain = 2048;     // items per chunk
+    bool pin = thread_pinning();  // pin the threads this call starts (see set_thread_pinning)
 };
 
 // Options for items whose cost is known up front (a brute-force ray costs one

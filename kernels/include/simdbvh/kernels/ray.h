@@ -35,18 +35,18 @@ static_assert(sizeof(Ray) == 32);
 // overflows or becomes subnormal).
 struct PreparedRay {
     Vec3 org;
-    Vec3 dir;          // the direction the kernels use (rescaled, subnormals flushed)
-    Vec3 rdir;         // 1/d, +-inf for +-0 components (sign kept)
+    Vec3 dir;   // the direction the kernels use (rescaled, subnormals flushed)
+    Vec3 rdir;  // 1/d, +-inf for +-0 components (sign kept)
     float tmin = 0.0f;
     float tmax = 0.0f;
-    int near_x = 0;    // 0: the near plane is the box's lower bound, 1: the upper bound
+    int near_x = 0;  // 0: the near plane is the box's lower bound, 1: the upper bound
     int near_y = 0;
     int near_z = 0;
-    int octant = 0;    // bit i set when rdir[i] is negative (sign bit)
-    int kx = 0, ky = 1, kz = 2;  // watertight permutation (Woop et al. 2013)
+    int octant = 0;                         // bit i set when rdir[i] is negative (sign bit)
+    int kx = 0, ky = 1, kz = 2;             // watertight permutation (Woop et al. 2013)
     float sx = 0.0f, sy = 0.0f, sz = 0.0f;  // watertight shear constants
-    bool valid = false;  // false: zero/NaN/Inf direction, NaN/Inf origin, NaN or empty interval
-    int t_exp = 0;       // a caller's t = ldexp(kernel t, t_exp)
+    bool valid = false;                     // false: zero/NaN/Inf direction, NaN/Inf origin, NaN or empty interval
+    int t_exp = 0;                          // a caller's t = ldexp(kernel t, t_exp)
     // Added to every widened far distance: 0 when tmin >= 0; for an interval
     // reaching behind the origin, the absolute error of a negative slab
     // distance (kFarWiden's relative widening shrinks a negative far bound).
@@ -135,8 +135,14 @@ inline __attribute__((always_inline)) PreparedRay prepare(const Ray& r) {
     int kz = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
     int kx = kz == 2 ? 0 : kz + 1;
     int ky = kx == 2 ? 0 : kx + 1;
-    if (d[kz] < 0.0f) { int t = kx; kx = ky; ky = t; }  // keep the winding
-    p.kx = kx; p.ky = ky; p.kz = kz;
+    if (d[kz] < 0.0f) {
+        int t = kx;
+        kx = ky;
+        ky = t;
+    }  // keep the winding
+    p.kx = kx;
+    p.ky = ky;
+    p.kz = kz;
     p.far_slack = std::isnan(p.tmin) ? 0.0f : far_slack_for(p.tmin);
     if (p.valid) {
         p.sx = d[kx] / d[kz];

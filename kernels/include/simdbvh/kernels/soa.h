@@ -27,8 +27,12 @@ struct alignas(4 * N) BoxN {
         hi_x[i] = hi_y[i] = hi_z[i] = -inf;
     }
     void set(int i, const Aabb& b) {
-        lo_x[i] = b.lo.x; lo_y[i] = b.lo.y; lo_z[i] = b.lo.z;
-        hi_x[i] = b.hi.x; hi_y[i] = b.hi.y; hi_z[i] = b.hi.z;
+        lo_x[i] = b.lo.x;
+        lo_y[i] = b.lo.y;
+        lo_z[i] = b.lo.z;
+        hi_x[i] = b.hi.x;
+        hi_y[i] = b.hi.y;
+        hi_z[i] = b.hi.z;
     }
     Aabb get(int i) const { return {{lo_x[i], lo_y[i], lo_z[i]}, {hi_x[i], hi_y[i], hi_z[i]}}; }
 };
@@ -56,9 +60,15 @@ struct alignas(32) Tri8 {
         prim[i] = kInvalidPrim;
     }
     void set(int i, const Vec3& a, const Vec3& b, const Vec3& c, std::uint32_t id) {
-        v0x[i] = a.x; v0y[i] = a.y; v0z[i] = a.z;
-        v1x[i] = b.x; v1y[i] = b.y; v1z[i] = b.z;
-        v2x[i] = c.x; v2y[i] = c.y; v2z[i] = c.z;
+        v0x[i] = a.x;
+        v0y[i] = a.y;
+        v0z[i] = a.z;
+        v1x[i] = b.x;
+        v1y[i] = b.y;
+        v1z[i] = b.z;
+        v2x[i] = c.x;
+        v2y[i] = c.y;
+        v2z[i] = c.z;
         prim[i] = id;
     }
     Vec3 v0(int i) const { return {v0x[i], v0y[i], v0z[i]}; }

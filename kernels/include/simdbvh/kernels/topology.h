@@ -8,11 +8,11 @@
 namespace simdbvh {
 
 struct Topology {
-    int physical_cores = 0;      // 0 when unknown
-    int logical_cpus = 0;        // processing units (hardware threads)
-    std::size_t l1d_bytes = 0;   // per core; 0 when unknown
+    int physical_cores = 0;     // 0 when unknown
+    int logical_cpus = 0;       // processing units (hardware threads)
+    std::size_t l1d_bytes = 0;  // per core; 0 when unknown
     std::size_t l2_bytes = 0;
-    std::size_t l3_bytes = 0;    // per L3 instance
+    std::size_t l3_bytes = 0;  // per L3 instance
     bool from_hwloc = false;
 };
 

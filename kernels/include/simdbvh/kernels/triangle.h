@@ -103,8 +103,8 @@ inline bool accept_t(const PreparedRay& r, const ShearedTriangle& s, const Vec3&
 
 // Watertight ray/triangle test (Woop, Benthin, Wald 2013, JCGT 2(1)), both faces.
 // Hit when tmin <= t <= tmax; u, v are the barycentrics of v1, v2.
-inline bool intersect_watertight(const PreparedRay& r, const Vec3& v0, const Vec3& v1, const Vec3& v2,
-                                 float tmax, float* t, float* u, float* v) {
+inline bool intersect_watertight(const PreparedRay& r, const Vec3& v0, const Vec3& v1, const Vec3& v2, float tmax,
+                                 float* t, float* u, float* v) {
     const detail::ShearedTriangle s = detail::shear(r, v0, v1, v2);
     float eu, ev, ew;
     detail::edge_functions(s, &eu, &ev, &ew);
@@ -127,8 +127,8 @@ inline bool intersect_watertight(const PreparedRay& r, const Vec3& v0, const Vec
 }
 
 // Moller-Trumbore (1997), no epsilon: the fast, non-watertight comparison variant.
-inline bool intersect_moller(const PreparedRay& r, const Vec3& v0, const Vec3& v1, const Vec3& v2, float tmax,
-                             float* t, float* u, float* v) {
+inline bool intersect_moller(const PreparedRay& r, const Vec3& v0, const Vec3& v1, const Vec3& v2, float tmax, float* t,
+                             float* u, float* v) {
     const Vec3 e1 = v1 - v0, e2 = v2 - v0;
     const Vec3 p = cross(r.dir, e2);
     const float det = dot(e1, p);

@@ -68,7 +68,7 @@ bool differ(const Ray& ray, const Hit& a, const Hit& b);
 struct Disagreement {  // one ray on which the two methods differ (closest hit) or disagree (any hit)
     std::size_t ray = 0;
     Verdict a, b;
-    double t_ref = 0;                     // +inf when the reference misses
+    double t_ref = 0;  // +inf when the reference misses
     std::uint32_t ref_prim = kInvalidPrim;
 };
 

@@ -34,25 +34,25 @@ std::optional<EmbreeQuality> parse_embree_quality(std::string_view s);
 
 struct EmbreeOptions {
     EmbreeQuality quality = EmbreeQuality::medium;
-    bool robust = false;  // RTC_SCENE_FLAG_ROBUST (watertight-ish test, no culling of thin boxes)
-    int threads = 0;      // device config "threads=N"; 0: Embree's default (all hardware threads)
+    bool robust = false;        // RTC_SCENE_FLAG_ROBUST (watertight-ish test, no culling of thin boxes)
+    int threads = 0;            // device config "threads=N"; 0: Embree's default (all hardware threads)
     bool count_filter = false;  // RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION, which count_hits() needs
 };
 // "embree-medium", "embree-high-robust", ... (for tables and chart legends).
 std::string method_name(const EmbreeOptions& o);
 
 struct EmbreeStats {
-    double setup_ms = 0;        // device + scene + geometry buffers (copying the mesh)
-    double build_ms = 0;        // rtcCommitScene only
-    int threads = 0;            // threads the device was configured with (resolved when options.threads == 0)
+    double setup_ms = 0;  // device + scene + geometry buffers (copying the mesh)
+    double build_ms = 0;  // rtcCommitScene only
+    int threads = 0;      // threads the device was configured with (resolved when options.threads == 0)
     std::size_t triangles = 0;
-    std::size_t vertices = 0;   // the vertex buffer's size (fixed at construction)
+    std::size_t vertices = 0;  // the vertex buffer's size (fixed at construction)
     // From rtcSetDeviceMemoryMonitorFunction (bytes Embree allocated minus freed):
-    bool memory_tracked = false;     // false when the monitor never fired
-    std::int64_t buffer_bytes = 0;   // vertex + index buffers (Embree's copy of the mesh)
-    std::int64_t bvh_bytes = 0;      // kept after commit, minus buffers: the BVH incl. its triangle blocks
-    std::int64_t peak_bytes = 0;     // peak total during setup + build (temporaries included)
-    double bytes_per_triangle = 0;   // bvh_bytes / triangles (comparable to our BuildStats)
+    bool memory_tracked = false;    // false when the monitor never fired
+    std::int64_t buffer_bytes = 0;  // vertex + index buffers (Embree's copy of the mesh)
+    std::int64_t bvh_bytes = 0;     // kept after commit, minus buffers: the BVH incl. its triangle blocks
+    std::int64_t peak_bytes = 0;    // peak total during setup + build (temporaries included)
+    double bytes_per_triangle = 0;  // bvh_bytes / triangles (comparable to our BuildStats)
 };
 
 class EmbreeScene {

@@ -40,7 +40,7 @@ namespace simdbvh::reference {
 enum class SceneLabel : std::uint8_t { agree, tie, false_miss, false_hit, farther_hit, t_error };
 std::string_view name(SceneLabel l);
 
-struct ObjectRef {  // one object (instance and primitive, or a plane) against the ray, in double
+struct ObjectRef {        // one object (instance and primitive, or a plane) against the ray, in double
     bool strict = false;  // hit in [tmin, tmax]
     bool near = false;    // hit with the slack above (strict implies near)
     bool robust = false;  // strict, and still a hit with the slack taken away
@@ -53,10 +53,11 @@ struct ObjectRef {  // one object (instance and primitive, or a plane) against t
 struct SceneReference {
     bool valid = false;  // prepare(ray).valid; invalid rays miss
     double t = std::numeric_limits<double>::infinity();
-    std::uint32_t inst = kInvalidPrim, prim = kInvalidPrim;  // closest strict hit, ties by (inst, prim); planes as in SceneHit
+    std::uint32_t inst = kInvalidPrim,
+                  prim = kInvalidPrim;  // closest strict hit, ties by (inst, prim); planes as in SceneHit
     double tau = 0;
     double t_sensitivity = 1.0;  // the closest object's
-    bool robust = false;  // the closest object is robustly hit
+    bool robust = false;         // the closest object is robustly hit
     bool hit() const { return prim != kInvalidPrim; }
 };
 

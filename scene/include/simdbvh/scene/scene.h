@@ -70,12 +70,12 @@ struct SceneOptions {
 struct SceneStats {
     double build_ms = 0;
     std::size_t geometries = 0, instances = 0, planes = 0;
-    std::size_t primitives = 0;           // over the geometries (each counted once)
-    std::size_t instanced_primitives = 0; // over the instances (what a flattened scene holds)
+    std::size_t primitives = 0;            // over the geometries (each counted once)
+    std::size_t instanced_primitives = 0;  // over the instances (what a flattened scene holds)
     // Sums of the instance world-box volumes by each method (both computed at every build).
     double volume_corners = 0, volume_child_corners = 0;
-    std::size_t bytes = 0;                // bottom trees + top tree + instance records + planes
-    std::size_t bytes_per_instance = 0;   // instance record + its share of the top trees (its world box lives there)
+    std::size_t bytes = 0;               // bottom trees + top tree + instance records + planes
+    std::size_t bytes_per_instance = 0;  // instance record + its share of the top trees (its world box lives there)
     double max_cond = 1.0;
 };
 
@@ -95,9 +95,9 @@ struct ShapeTree {
 template <int N>
 struct BottomLevel {
     std::variant<BvhN<N>, ShapeTree<N>> tree;
-    std::vector<Sphere> spheres;  // spheres[i]: primitive prim_ids[i] (sphere sets)
-    std::vector<Aabb> boxes;      // boxes[i]: primitive prim_ids[i] (box sets)
-    Aabb bounds;                  // root box
+    std::vector<Sphere> spheres;      // spheres[i]: primitive prim_ids[i] (sphere sets)
+    std::vector<Aabb> boxes;          // boxes[i]: primitive prim_ids[i] (box sets)
+    Aabb bounds;                      // root box
     std::vector<Aabb> root_children;  // the root's child boxes
 };
 
@@ -171,8 +171,7 @@ template <int N>
 void intersect(const SceneBvhN<N>& scene, std::span<const Ray> rays, std::span<SceneHit> hits, Isa isa,
                int threads = 1);
 template <int N>
-void occluded(const SceneBvhN<N>& scene, std::span<const Ray> rays, std::span<SceneHit> hits, Isa isa,
-              int threads = 1);
+void occluded(const SceneBvhN<N>& scene, std::span<const Ray> rays, std::span<SceneHit> hits, Isa isa, int threads = 1);
 // A batch is traced in wavefront chunks of at most this many rays (fewer when
 // the threads split a smaller batch, at least 2,048): a caller feeding a large
 // batch in pieces loses nothing with pieces of this size (smaller pieces give

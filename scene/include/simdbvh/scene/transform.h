@@ -28,8 +28,8 @@ Affine3 operator*(const Affine3& a, const Affine3& b);  // a after b, in double,
 // The inverse of an instance's transform and what the scene needs to bound the
 // error of rays mapped through it.
 struct InverseAffine {
-    Affine3 inv;         // A^-1 and -A^-1 b, computed in double, each entry rounded once to float
-    double cond = 1.0;   // ||A||_inf * ||A^-1||_inf (row-sum norms), >= 1
+    Affine3 inv;        // A^-1 and -A^-1 b, computed in double, each entry rounded once to float
+    double cond = 1.0;  // ||A||_inf * ||A^-1||_inf (row-sum norms), >= 1
 };
 
 // Throws simdbvh::Error for a non-finite entry or a singular A: |det A| at

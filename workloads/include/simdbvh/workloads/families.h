@@ -19,19 +19,19 @@
 namespace simdbvh::workloads {
 
 enum class Family : std::uint8_t {
-    watertight,     // closed icosphere and torus, origins inside, aimed at every vertex and edge midpoint
-    offsets,        // the watertight cases translated by 1e0..1e7 (in double, rounded to float)
-    axis_aligned,   // axis directions with +-0.0 elsewhere, origins exactly on vertex and slab planes
-    surface_start,  // secondary rays from hit points offset along Ng (Wachter and Binder, RT Gems ch. 6)
-    grazing,        // tessellated plane, angles 1e-1..1e-6 rad and exactly 0 (coplanar and parallel)
-    needles,        // fans of very thin triangles, aspect 1e1..1e7
-    degenerate,     // duplicates, zero-area triangles, equal centroids
-    random,         // incoherent rays on a real mesh (or a procedural stand-in)
+    watertight,       // closed icosphere and torus, origins inside, aimed at every vertex and edge midpoint
+    offsets,          // the watertight cases translated by 1e0..1e7 (in double, rounded to float)
+    axis_aligned,     // axis directions with +-0.0 elsewhere, origins exactly on vertex and slab planes
+    surface_start,    // secondary rays from hit points offset along Ng (Wachter and Binder, RT Gems ch. 6)
+    grazing,          // tessellated plane, angles 1e-1..1e-6 rad and exactly 0 (coplanar and parallel)
+    needles,          // fans of very thin triangles, aspect 1e1..1e7
+    degenerate,       // duplicates, zero-area triangles, equal centroids
+    random,           // incoherent rays on a real mesh (or a procedural stand-in)
     direction_scale,  // the watertight icosphere rays with directions scaled by 2^-149 .. 2^127
 };
-inline constexpr Family kAllFamilies[] = {Family::watertight, Family::offsets,  Family::axis_aligned,
+inline constexpr Family kAllFamilies[] = {Family::watertight,    Family::offsets, Family::axis_aligned,
                                           Family::surface_start, Family::grazing, Family::needles,
-                                          Family::degenerate, Family::random,   Family::direction_scale};
+                                          Family::degenerate,    Family::random,  Family::direction_scale};
 // "watertight", "offsets", "axis-aligned", "surface-start", "grazing", "needles", "degenerate", "random",
 // "direction-scale".
 std::string_view name(Family f);
@@ -47,8 +47,8 @@ std::string_view name(Expect e);
 
 struct RayExpect {
     Expect kind = Expect::reference;
-    std::uint32_t source = kInvalidPrim;                      // no_self_hit: the starting triangle
-    double t = std::numeric_limits<double>::quiet_NaN();      // grazing: h / sin(theta), from the float ray
+    std::uint32_t source = kInvalidPrim;                  // no_self_hit: the starting triangle
+    double t = std::numeric_limits<double>::quiet_NaN();  // grazing: h / sin(theta), from the float ray
 };
 
 struct FamilyCase {
@@ -61,7 +61,7 @@ struct FamilyCase {
 };
 
 struct FamilyOptions {
-    bool quick = false;        // smaller meshes and fewer rays (seconds, for tests and --quick)
+    bool quick = false;  // smaller meshes and fewer rays (seconds, for tests and --quick)
     std::uint64_t seed = 1;
     // random: a scene name or mesh file (load_scene); empty: dragon-res4 when
     // cached, else a procedural stand-in (icosphere-4 plus a 4,000-triangle soup).

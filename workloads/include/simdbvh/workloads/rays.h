@@ -17,7 +17,7 @@ enum class RayKind : std::uint8_t { primary, incoherent, diffuse };
 std::string_view name(RayKind k);
 std::optional<RayKind> parse_ray_kind(std::string_view s);
 
-struct Camera {  // pinhole, looking at the bounds' centre from a 3/4 view
+struct Camera {                    // pinhole, looking at the bounds' centre from a 3/4 view
     Vec3 eye, forward, right, up;  // right and up scaled to the half-extent of the image plane at distance 1
     int width = 0, height = 0;
 };

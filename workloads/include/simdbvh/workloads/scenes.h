@@ -31,8 +31,8 @@ bool is_cached(std::string_view name);
 Mesh load_scene(std::string_view name_or_path);
 
 // Procedural scenes.
-Mesh icosphere(int level, float radius = 1.0f, Vec3 center = {});  // closed, 20*4^level triangles
-Mesh random_soup(std::size_t triangles, std::uint64_t seed);        // in the unit cube
+Mesh icosphere(int level, float radius = 1.0f, Vec3 center = {});             // closed, 20*4^level triangles
+Mesh random_soup(std::size_t triangles, std::uint64_t seed);                  // in the unit cube
 Mesh terrain(std::size_t min_triangles = 1'000'000, std::uint64_t seed = 1);  // fractal terrain + scattered objects
 
 }  // namespace simdbvh::workloads

@@ -146,12 +146,12 @@ struct AxisFrame {
 template <class Fn>
 decltype(auto) visit_frame(const RayFrame& f, Fn&& fn) {
     switch (f.ray()) {
-        case CountRay::plus_x: return fn(AxisFrame<0, true>{});
-        case CountRay::minus_x: return fn(AxisFrame<0, false>{});
-        case CountRay::plus_y: return fn(AxisFrame<1, true>{});
-        case CountRay::minus_y: return fn(AxisFrame<1, false>{});
-        case CountRay::minus_z: return fn(AxisFrame<2, false>{});
-        default: return fn(AxisFrame<2, true>{});
+    case CountRay::plus_x: return fn(AxisFrame<0, true>{});
+    case CountRay::minus_x: return fn(AxisFrame<0, false>{});
+    case CountRay::plus_y: return fn(AxisFrame<1, true>{});
+    case CountRay::minus_y: return fn(AxisFrame<1, false>{});
+    case CountRay::minus_z: return fn(AxisFrame<2, false>{});
+    default: return fn(AxisFrame<2, true>{});
     }
 }
 

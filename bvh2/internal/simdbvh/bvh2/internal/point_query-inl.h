@@ -89,9 +89,12 @@ inline std::vector<std::uint32_t> morton_order(std::span<const Vec3> points, int
     const std::size_t chunks = std::max<std::size_t>(1, std::min<std::size_t>(std::max(threads, 1), n >> 16));
     auto chunk_range = [&](std::size_t c) { return std::pair{n * c / chunks, n * (c + 1) / chunks}; };
     auto each_chunk = [&](const std::function<void(std::size_t)>& f) {
-        parallel_for(chunks, threads, [&](std::size_t b, std::size_t e) {
-            for (std::size_t c = b; c < e; ++c) f(c);
-        }, ParallelOptions{.grain = 1});
+        parallel_for(
+            chunks, threads,
+            [&](std::size_t b, std::size_t e) {
+                for (std::size_t c = b; c < e; ++c) f(c);
+            },
+            ParallelOptions{.grain = 1});
     };
     std::vector<Aabb> boxes(chunks);
     each_chunk([&](std::size_t c) {
@@ -118,10 +121,10 @@ inline std::vector<std::uint32_t> morton_order(std::span<const Vec3> points, int
         const auto [b, e] = chunk_range(c);
         for (std::size_t i = b; i < e; ++i) {
             const Vec3& p = points[i];
-            const std::uint64_t code =
-                usable(p) ? (spread(cell(p.x, lo.x, ext.x)) << 2 | spread(cell(p.y, lo.y, ext.y)) << 1 |
-                             spread(cell(p.z, lo.z, ext.z)))
-                          : (1u << 30);
+            const std::uint64_t code = usable(p)
+                                           ? (spread(cell(p.x, lo.x, ext.x)) << 2 |
+                                              spread(cell(p.y, lo.y, ext.y)) << 1 | spread(cell(p.z, lo.z, ext.z)))
+                                           : (1u << 30);
             keys[i] = code << 32 | i;
         }
     });
@@ -166,9 +169,12 @@ void closest_points(std::span<const Vec3> points, std::span<ClosestPoint> out, c
         for (const std::uint32_t i : order) out[i] = query(points[i], max_d2, opts.stats);
         return;
     }
-    parallel_for(points.size(), opts.threads, [&](std::size_t b, std::size_t e) {
-        for (std::size_t k = b; k < e; ++k) out[order[k]] = query(points[order[k]], max_d2, nullptr);
-    }, ParallelOptions{.grain = 256});
+    parallel_for(
+        points.size(), opts.threads,
+        [&](std::size_t b, std::size_t e) {
+            for (std::size_t k = b; k < e; ++k) out[order[k]] = query(points[order[k]], max_d2, nullptr);
+        },
+        ParallelOptions{.grain = 256});
 }
 
 }  // namespace simdbvh::detail

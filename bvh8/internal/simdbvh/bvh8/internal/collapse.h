@@ -30,7 +30,7 @@ struct WideNode {
 
 template <int N>
 struct WideTopology {
-    LargeVector<WideNode<N>> nodes;        // root at 0; a node's inner children are allocated together
+    LargeVector<WideNode<N>> nodes;  // root at 0; a node's inner children are allocated together
     // Triangles in the leaves. A leaf's are the positions [index, index + count)
     // in the BVH2 leaf order (Bvh2::prim_ids()): a BVH2 subtree's leaves are
     // contiguous there, as every builder partitions its references in place.
@@ -56,8 +56,8 @@ double sah_cost(const WideTopology<N>& topo, const WideOptions& opts);
 // (all but build_ms and sah_cost). Nodes are packed on `threads` threads
 // (each node's blocks are placed first, so the result does not depend on it).
 template <int N>
-void pack(const Bvh2& bvh2, const WideTopology<N>& topo, NodesN<N>& nodes, Tri8Blocks& blocks,
-          WideStats& stats, int threads = 1);
+void pack(const Bvh2& bvh2, const WideTopology<N>& topo, NodesN<N>& nodes, Tri8Blocks& blocks, WideStats& stats,
+          int threads = 1);
 // The same from the mesh and the BVH2's leaf order (prim_ids), for a BVH2
 // that never gathered its triangles (BvhN::build(mesh)).
 // Whether pack(mesh) scatters the mesh's triangles to their lanes (in mesh
@@ -66,7 +66,7 @@ void pack(const Bvh2& bvh2, const WideTopology<N>& topo, NodesN<N>& nodes, Tri8B
 bool scatter_pays(std::span<const std::uint32_t> prim_ids, std::size_t triangles);
 
 template <int N>
-void pack(const Mesh& mesh, std::span<const std::uint32_t> prim_ids, const WideTopology<N>& topo,
-          NodesN<N>& nodes, Tri8Blocks& blocks, WideStats& stats, int threads = 1);
+void pack(const Mesh& mesh, std::span<const std::uint32_t> prim_ids, const WideTopology<N>& topo, NodesN<N>& nodes,
+          Tri8Blocks& blocks, WideStats& stats, int threads = 1);
 
 }  // namespace simdbvh::bvh8

@@ -13,8 +13,8 @@ template <class Node, class Child>
 inline __attribute__((always_inline)) void prefetch_child(const Node* nodes, const Tri8* blocks, Child c) {
     constexpr int kNodeLines = int(sizeof(Node) / 64), kBlockLines = int((sizeof(Tri8) + 63) / 64);
     constexpr int kBoth = kNodeLines < kBlockLines ? kNodeLines : kBlockLines;
-    const char* p = c.is_inner() ? reinterpret_cast<const char*>(nodes + c.index)
-                                 : reinterpret_cast<const char*>(blocks + c.index);
+    const char* p =
+        c.is_inner() ? reinterpret_cast<const char*>(nodes + c.index) : reinterpret_cast<const char*>(blocks + c.index);
     for (int l = 0; l < kBoth; ++l) __builtin_prefetch(p + 64 * l);
     if constexpr (kBlockLines > kBoth) {
         if (!c.is_inner())

@@ -44,8 +44,8 @@ struct QBoxPlanes {
 // Lanes [lane0, lane0 + W) of a QBoxN: box_lanes of box8-inl.h for the
 // quantized kind (the used slots are masked by intersect_qboxn).
 template <class L, int N, class Arch>
-SIMDBVH_FORCE_INLINE std::uint32_t box_lanes(const RayPack<Arch>& r, const QBoxN<N>& b, int lane0,
-                                             const Batch<L>& tmax, Batch<L>& tnear) {
+SIMDBVH_FORCE_INLINE std::uint32_t box_lanes(const RayPack<Arch>& r, const QBoxN<N>& b, int lane0, const Batch<L>& tmax,
+                                             Batch<L>& tnear) {
     return slab_lanes<L>(r, QBoxPlanes<L, N>{b, lane0}, tmax, tnear);
 }
 

@@ -83,7 +83,8 @@ struct SimdKernels {
         const __m256 e = _mm256_set1_ps(entry);
         std::uint32_t m = 0;
         for (int k = 0; k < 4; ++k)
-            m |= std::uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(e, _mm256_load_ps(cull + 8 * k), _CMP_LE_OQ))) << (8 * k);
+            m |= std::uint32_t(_mm256_movemask_ps(_mm256_cmp_ps(e, _mm256_load_ps(cull + 8 * k), _CMP_LE_OQ)))
+                 << (8 * k);
         return m;
     }
     template <TriangleTest kTest>

@@ -50,9 +50,9 @@ namespace simdbvh::bvh8::detail {
 
 #define SIMDBVH_STREAM_INLINE inline __attribute__((always_inline))
 
-inline constexpr int kStream = 32;                  // rays per stream (one bit each in a uint32 mask)
-inline constexpr std::size_t kProbeRays = 512;      // rays per probe of trace_auto()
-inline constexpr std::size_t kMaxBackoff = 128;     // single-ray blocks between probes, at most
+inline constexpr int kStream = 32;               // rays per stream (one bit each in a uint32 mask)
+inline constexpr std::size_t kProbeRays = 512;   // rays per probe of trace_auto()
+inline constexpr std::size_t kMaxBackoff = 128;  // single-ray blocks between probes, at most
 
 // Node tests and active rays over them, for trace_auto()'s choice.
 struct StreamCounts {

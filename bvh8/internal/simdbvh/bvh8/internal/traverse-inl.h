@@ -98,8 +98,7 @@ struct StackEntry {
 // into the lowest hit slot at the nearest of their entry distances, so the
 // block is tested once. Called with two or more hits in `mask`.
 template <class Node>
-inline __attribute__((always_inline)) std::uint32_t merge_shared(const Node& n, std::uint32_t mask,
-                                                                 float* entries) {
+inline __attribute__((always_inline)) std::uint32_t merge_shared(const Node& n, std::uint32_t mask, float* entries) {
     for (std::uint32_t m = mask; m != 0;) {
         const int i = __builtin_ctz(m);
         const std::uint32_t group = n.children[i].sharing_slots() & mask;  // i is its lowest hit slot
@@ -134,8 +133,7 @@ struct RayState {
 // sets s.cur to the next node or leaf to visit. Returns true when the ray is
 // finished, its result in s.best (Query::finish turns it into the Hit).
 template <class K, int N, class Leaf, class Query, bool kStats, class Node, class State>
-inline __attribute__((always_inline)) bool step(const Node* nodes, const Leaf& leaf, State& s,
-                                                TraceStats* stats) {
+inline __attribute__((always_inline)) bool step(const Node* nodes, const Leaf& leaf, State& s, TraceStats* stats) {
     using Child = ChildN<N>;
     const typename K::RayData& rd = s.rd;
     Hit& best = s.best;
@@ -334,8 +332,7 @@ inline __attribute__((always_inline)) void trace_one(const Node* nodes, const Aa
         std::size_t ray;
         RayRefs<typename K::RayData, Keep, N> s{rd, pr, best, cull, cur, sp, t_exp, ray, stack};
         start<K, N>(s, *r, rays[i], i);
-        while (!step<K, N, Leaf, Query, kStats>(nodes, leaf, s, stats)) {
-        }
+        while (!step<K, N, Leaf, Query, kStats>(nodes, leaf, s, stats)) {}
         Query::finish(best, t_exp, hits[ray]);
     }
 }
@@ -389,8 +386,8 @@ inline __attribute__((always_inline)) void trace_span(const BvhN<N>& bvh, std::s
     const Aabb* root = bvh.nodes().empty() ? nullptr : &bounds;
     if constexpr (N != 4) {  // a BVH4 has no quantized nodes (WideOptions::quantized_nodes)
         if (!bvh.qnodes().empty())
-            return trace_span<K, N, Leaf, Query, kStats, kFlight>(bvh.qnodes().data(), root,
-                                                                  Leaf{bvh.blocks().data()}, rays, hits, stats);
+            return trace_span<K, N, Leaf, Query, kStats, kFlight>(bvh.qnodes().data(), root, Leaf{bvh.blocks().data()},
+                                                                  rays, hits, stats);
     }
     trace_span<K, N, Leaf, Query, kStats, kFlight>(bvh.nodes().data(), root, Leaf{bvh.blocks().data()}, rays, hits,
                                                    stats);
@@ -410,8 +407,8 @@ inline __attribute__((always_inline)) bool trace_streams_auto(const BvhN<N>& bvh
     if constexpr (K::kStreams) {
         if (o.stats || o.packets == Packets::off || !bvh.qnodes().empty() || bvh.nodes().empty()) return false;
         const Aabb bounds = bvh.bounds();
-        const bool one = one_in_flight(bvh.nodes().size() * sizeof(NodeN<N>) + bvh.blocks().size() * sizeof(Tri8),
-                                       o.in_flight);
+        const bool one =
+            one_in_flight(bvh.nodes().size() * sizeof(NodeN<N>) + bvh.blocks().size() * sizeof(Tri8), o.in_flight);
         auto go = [&]<class Leaf>(Leaf leaf) {
             if (one) trace_auto<K, N, Leaf, Query, 1>(bvh.nodes().data(), &bounds, leaf, rays, hits, o.packets);
             else trace_auto<K, N, Leaf, Query, kInFlight>(bvh.nodes().data(), &bounds, leaf, rays, hits, o.packets);
@@ -434,18 +431,21 @@ inline __attribute__((always_inline)) void trace(const BvhN<N>& bvh, std::span<c
     } else {
         if (Traversal<K, N>::occluded_streams(bvh, rays, hits, o)) return;
     }
-    const bool one = one_in_flight((bvh.qnodes().empty() ? bvh.nodes().size() * sizeof(NodeN<N>)
-                                                         : bvh.qnodes().size() * sizeof(QNodeN<N>)) +
-                                       bvh.blocks().size() * sizeof(Tri8),
-                                   o.in_flight);
+    const bool one = one_in_flight(
+        (bvh.qnodes().empty() ? bvh.nodes().size() * sizeof(NodeN<N>) : bvh.qnodes().size() * sizeof(QNodeN<N>)) +
+            bvh.blocks().size() * sizeof(Tri8),
+        o.in_flight);
     if (o.stats) {
-        if (o.test == watertight) trace_span<K, N, Tri8Leaf<K, watertight, true>, Query, true>(bvh, rays, hits, o.stats);
+        if (o.test == watertight)
+            trace_span<K, N, Tri8Leaf<K, watertight, true>, Query, true>(bvh, rays, hits, o.stats);
         else trace_span<K, N, Tri8Leaf<K, moller, true>, Query, true>(bvh, rays, hits, o.stats);
     } else if (one) {
-        if (o.test == watertight) trace_span<K, N, Tri8Leaf<K, watertight, false>, Query, false, 1>(bvh, rays, hits, nullptr);
+        if (o.test == watertight)
+            trace_span<K, N, Tri8Leaf<K, watertight, false>, Query, false, 1>(bvh, rays, hits, nullptr);
         else trace_span<K, N, Tri8Leaf<K, moller, false>, Query, false, 1>(bvh, rays, hits, nullptr);
     } else {
-        if (o.test == watertight) trace_span<K, N, Tri8Leaf<K, watertight, false>, Query, false>(bvh, rays, hits, nullptr);
+        if (o.test == watertight)
+            trace_span<K, N, Tri8Leaf<K, watertight, false>, Query, false>(bvh, rays, hits, nullptr);
         else trace_span<K, N, Tri8Leaf<K, moller, false>, Query, false>(bvh, rays, hits, nullptr);
     }
 }
@@ -458,13 +458,13 @@ namespace simdbvh::bvh8 {
 
 // The per-ISA entry points (traverse.h, flattened there).
 template <class K, int N>
-void Traversal<K, N>::intersect(const BvhN<N>& bvh, std::span<const Ray> rays,
-                                                         std::span<Hit> hits, const TraceOptions& o) {
+void Traversal<K, N>::intersect(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits,
+                                const TraceOptions& o) {
     detail::trace<K, N, detail::ClosestHit>(bvh, rays, hits, o);
 }
 template <class K, int N>
-void Traversal<K, N>::occluded(const BvhN<N>& bvh, std::span<const Ray> rays,
-                                                        std::span<Hit> hits, const TraceOptions& o) {
+void Traversal<K, N>::occluded(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits,
+                               const TraceOptions& o) {
     detail::trace<K, N, detail::AnyHit>(bvh, rays, hits, o);
 }
 template <class K, int N>

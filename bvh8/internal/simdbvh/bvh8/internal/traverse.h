@@ -45,9 +45,15 @@ inline bool one_in_flight(std::size_t tree_bytes, int requested) {
 }
 }  // namespace detail
 
-namespace scalar { struct Kernels; }  // src/scalar/traverse_scalar.cpp
-namespace avx2 { struct Kernels; }    // src/avx2/traverse_avx2.cpp
-namespace avx512 { struct Kernels; }  // src/avx512/traverse_avx512.cpp
+namespace scalar {
+struct Kernels;
+}  // namespace scalar
+namespace avx2 {
+struct Kernels;
+}  // namespace avx2
+namespace avx512 {
+struct Kernels;
+}  // namespace avx512
 
 // Flattened (on the declaration: GCC drops it from an out-of-class template
 // member definition), so the whole loop, its kernels and lambdas are one function.
@@ -66,9 +72,9 @@ struct Traversal {
                                                                  std::span<Hit> hits, const TraceOptions& o);
 };
 
-#define SIMDBVH_WIDE_ISA(isa)                               \
-    extern template struct Traversal<isa::Kernels, 4>;     \
-    extern template struct Traversal<isa::Kernels, 8>;     \
+#define SIMDBVH_WIDE_ISA(isa)                          \
+    extern template struct Traversal<isa::Kernels, 4>; \
+    extern template struct Traversal<isa::Kernels, 8>; \
     extern template struct Traversal<isa::Kernels, 16>;
 SIMDBVH_WIDE_ISA(scalar)
 SIMDBVH_WIDE_ISA(avx2)

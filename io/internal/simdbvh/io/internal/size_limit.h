@@ -29,7 +29,8 @@ struct Allowance {
 // Called with the data read so far (a prefix; `complete` when it is the whole
 // file) until it returns an allowance; throws Error when the prefix shows the
 // file is not of the format; nullopt while the prefix is too short to tell.
-using SizeLimit = std::function<std::optional<Allowance>(const std::string& file, std::string_view prefix, bool complete)>;
+using SizeLimit =
+    std::function<std::optional<Allowance>(const std::string& file, std::string_view prefix, bool complete)>;
 
 inline constexpr std::uint64_t kMaxTextBytes = std::uint64_t(64) << 30;
 inline constexpr std::uint64_t kMaxJsonBytes = std::uint64_t(4) << 30;

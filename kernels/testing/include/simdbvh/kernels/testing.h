@@ -25,8 +25,7 @@ static_assert(sizeof(Tri1) == 40);
 void intersect_box1(std::span<const Ray> rays, std::span<const Aabb> boxes, std::span<std::uint8_t> hits,
                     std::span<float> entries);
 // Ray i against tris[i]: hits[i] = the hit in [tmin, tmax] or Hit{}.
-void intersect_tri1(std::span<const Ray> rays, std::span<const Tri1> tris, TriangleTest test,
-                    std::span<Hit> hits);
+void intersect_tri1(std::span<const Ray> rays, std::span<const Tri1> tris, TriangleTest test, std::span<Hit> hits);
 
 // Every ray against every block: the total number of (ray, box) hits. Streams
 // `blocks` once per ray (the benchmark's memory-bound form).

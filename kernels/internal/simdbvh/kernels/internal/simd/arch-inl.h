@@ -99,8 +99,7 @@ SIMDBVH_FORCE_INLINE std::uint32_t bits(const Mask<Arch>& m) {
 // selection: the offset is chosen once per ray).
 template <class Arch>
 SIMDBVH_FORCE_INLINE Batch<Arch> load8(const void* base, std::uint32_t byte_offset) {
-    return Batch<Arch>::load_aligned(
-        reinterpret_cast<const float*>(static_cast<const char*>(base) + byte_offset));
+    return Batch<Arch>::load_aligned(reinterpret_cast<const float*>(static_cast<const char*>(base) + byte_offset));
 }
 
 }  // namespace simdbvh::simd

@@ -74,8 +74,8 @@ struct BoxPlanes {
 // Lanes [lane0, lane0 + W) of a BoxN against the ray. Overloaded per box kind
 // (qbox-inl.h: quantized nodes), for intersect_boxn below.
 template <class L, int N, class Arch>
-SIMDBVH_FORCE_INLINE std::uint32_t box_lanes(const RayPack<Arch>& r, const BoxN<N>& b, int lane0,
-                                             const Batch<L>& tmax, Batch<L>& tnear) {
+SIMDBVH_FORCE_INLINE std::uint32_t box_lanes(const RayPack<Arch>& r, const BoxN<N>& b, int lane0, const Batch<L>& tmax,
+                                             Batch<L>& tnear) {
     return slab_lanes<L>(r, BoxPlanes<L, N>{reinterpret_cast<const char*>(&b) + 4 * lane0}, tmax, tnear);
 }
 
@@ -104,8 +104,7 @@ SIMDBVH_FORCE_INLINE std::uint32_t intersect_box8(const RayPack<Arch>& r, const 
 // 4 * N bytes) receives the N entry distances. `Box`: a BoxN, or any box kind
 // with a box_lanes overload (a QBoxN: qbox-inl.h).
 template <class Arch, int N, class Box>
-SIMDBVH_FORCE_INLINE std::uint32_t intersect_boxn(const RayPack<Arch>& r, const Box& b, float tmax,
-                                                  float* entries) {
+SIMDBVH_FORCE_INLINE std::uint32_t intersect_boxn(const RayPack<Arch>& r, const Box& b, float tmax, float* entries) {
     static_assert(N == 4 || N == 8 || N == 16, "node widths: 4, 8, 16");
     using X4 = typename Lanes<Arch>::X4;
     using X16 = typename Lanes<Arch>::X16;

@@ -86,8 +86,23 @@ SIMDBVH_FORCE_INLINE RayLanes8<Arch> ray_lanes8(const Ray* rays, std::size_t g) 
     // (never 0 or NaN for a finite direction), and far_slack_for(tmin).
     const B rdx = one / dx, rdy = one / dy, rdz = one / dz;
     const B slack = xsimd::select(tmin < zero, (-tmin) * B(2.0f * (kFarWiden - 1.0f)), zero);
-    return {ox,  oy,  oz,  dx,    dy,          dz,          tmin,        tmax,
-            rdx, rdy, rdz, slack, rdx < zero, rdy < zero, rdz < zero, valid, valid & bits<Arch>(rescaled)};
+    return {ox,
+            oy,
+            oz,
+            dx,
+            dy,
+            dz,
+            tmin,
+            tmax,
+            rdx,
+            rdy,
+            rdz,
+            slack,
+            rdx < zero,
+            rdy < zero,
+            rdz < zero,
+            valid,
+            valid & bits<Arch>(rescaled)};
 }
 
 // intersect_box(r, b, r.tmax) in every lane (box.h's conservative slab test,

@@ -58,7 +58,8 @@ SIMDBVH_FORCE_INLINE Tri8Lanes<Arch> watertight_lanes(const RayPack<Arch>& r, co
     const B zero(0.0f);
     out.exact = bits<Arch>((eu == zero) | (ev == zero) | (ew == zero));
     // Same signs (NaN lanes fail here; in the reference they fail at the t test).
-    const Mask<Arch> inside = ((eu >= zero) & (ev >= zero) & (ew >= zero)) | ((eu <= zero) & (ev <= zero) & (ew <= zero));
+    const Mask<Arch> inside =
+        ((eu >= zero) & (ev >= zero) & (ew >= zero)) | ((eu <= zero) & (ev <= zero) & (ew <= zero));
     std::uint32_t cand = bits<Arch>(inside) & ~out.exact;
     if (cand == 0) {
         out.t = out.u_num = out.v_num = out.den = zero;
@@ -124,9 +125,9 @@ SIMDBVH_FORCE_INLINE Tri8Lanes<Arch> tri8_lanes(const RayPack<Arch>& r, const Tr
 
 // Lane i's (t, u, v) if it hits [tmin, tmax]; the exact path for `exact` lanes.
 template <class Arch, TriangleTest kTest>
-SIMDBVH_FORCE_INLINE bool lane_result(const RayPack<Arch>& r, const Tri8& b, const Tri8Lanes<Arch>& l,
-                                      const float* t, const float* un, const float* vn, const float* den, int i,
-                                      float tmax, float* ot, float* ou, float* ov) {
+SIMDBVH_FORCE_INLINE bool lane_result(const RayPack<Arch>& r, const Tri8& b, const Tri8Lanes<Arch>& l, const float* t,
+                                      const float* un, const float* vn, const float* den, int i, float tmax, float* ot,
+                                      float* ou, float* ov) {
     if constexpr (kTest == TriangleTest::watertight) {
         if ((l.exact >> i) & 1u) {
             if (r.ray) return detail::watertight_exact(*r.ray, b, i, tmax, ot, ou, ov);
