@@ -11,14 +11,19 @@
 
 namespace simdbvh::cli {
 
-bool is_wide(const std::string& method) { return method == "bvh4" || method == "bvh8" || method == "bvh16"; }
-
-int MethodSpec::width() const {
-    if (method == "bvh4") return 4;
-    if (method == "bvh8") return 8;
-    if (method == "bvh16") return 16;
-    return 0;
+bool is_wide(const std::string& method) {
+    const auto m = parse_accel_method(method);
+    return m && simdbvh::is_wide(*m);
 }
+
+std::vector<std::string> wide_methods() {
+    std::vector<std::string> names;
+    for (AccelMethod m : kAccelMethods)
+        if (simdbvh::is_wide(m)) names.emplace_back(name(m));
+    return names;
+}
+
+int MethodSpec::width() const { return is_wide(method) ? tree_width(*parse_accel_method(method)) : 0; }
 
 std::string MethodSpec::label() const {
     // The wide trees without --isa choose per query when they trace: the ISA is reported apart (isa_name).
@@ -88,16 +93,15 @@ Choice parse_wide_choice(const Options& o, const std::string& key, const std::st
 MethodSpec parse_method(const Options& o, const std::string& fallback) {
     MethodSpec s;
     s.method = o.get("method", fallback);
-    if (s.method != "auto" && s.method != "brute" && s.method != "brute8" && s.method != "bvh2" && !is_wide(s.method) &&
-        s.method != "embree" && s.method != "spheres")
-        throw UsageError("unknown --method '" + s.method +
-                         "' (auto, brute, brute8, bvh2, bvh4, bvh8, bvh16, embree, spheres)");
+    // The library's methods (the registry of cost_model.h) and the CLI's own: auto, embree, spheres.
+    if (s.method != "auto" && !parse_accel_method(s.method) && s.method != "embree" && s.method != "spheres")
+        throw UsageError("unknown --method '" + s.method + "' ('auto', " +
+                         method_names([](AccelMethod) { return true; }) + ", 'embree' or 'spheres')");
     if (o.has("isa")) {
         auto isa = parse_isa(o.get("isa"));
         if (!isa) throw UsageError("unknown --isa '" + o.get("isa") + "' (scalar, avx2, avx512)");
         require(*isa);
-        set_active_isa(*isa);
-        s.isa = *isa;
+        s.isa = *isa;  // passed to every trace; the process-wide choice is left alone
     } else {
         s.isa = active_isa();
         s.isa_auto = true;
@@ -348,9 +352,10 @@ std::unique_ptr<Tracer> make_tracer(const Mesh& mesh, const MethodSpec& spec) {
     if (spec.method == "brute") return std::make_unique<BruteTracer>(mesh, spec);
     if (spec.method == "brute8") return std::make_unique<Brute8Tracer>(mesh, spec);
     if (spec.method == "bvh2") return std::make_unique<Bvh2Tracer>(mesh, spec);
-    if (spec.method == "bvh4") return std::make_unique<WideTracer<4>>(mesh, spec);
-    if (spec.method == "bvh8") return std::make_unique<WideTracer<8>>(mesh, spec);
-    if (spec.method == "bvh16") return std::make_unique<WideTracer<16>>(mesh, spec);
+    if (const int w = spec.width())
+        return with_width(w, [&](auto n) -> std::unique_ptr<Tracer> {
+            return std::make_unique<WideTracer<decltype(n)::value>>(mesh, spec);
+        });
     if (spec.method == "embree") return std::make_unique<EmbreeTracer>(mesh, spec);
     if (spec.method == "spheres") return std::make_unique<SpheresTracer>(mesh, spec);
     throw Error("unknown method " + spec.method);

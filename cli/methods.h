@@ -5,6 +5,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "options.h"
 #include "simdbvh/bvh8/bvh8.h"
@@ -52,7 +53,7 @@ public:
 };
 
 // The wide methods, narrowest first.
-inline constexpr const char* kWideMethods[] = {"bvh4", "bvh8", "bvh16"};
+std::vector<std::string> wide_methods();  // the registry's wide trees, narrowest first
 bool is_wide(const std::string& method);
 
 // Options every tracing command accepts: --method --isa --builder --bins

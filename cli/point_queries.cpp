@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "simdbvh/bvh2/inside.h"
+#include "simdbvh/bvh8/cost_model.h"
 
 namespace simdbvh::cli {
 
@@ -37,16 +38,15 @@ CountRay parse_ray(const Options& o) {
 
 std::string parse_tree(const Options& o, const std::string& fallback) {
     const std::string tree = o.get("tree", fallback);
-    if (tree != "bvh2" && tree != "bvh4" && tree != "bvh8" && tree != "bvh16")
-        throw UsageError("unknown --tree '" + tree + "' (bvh2, bvh4, bvh8, bvh16)");
+    const auto m = parse_accel_method(tree);
+    if (!m || !is_tree(*m)) throw UsageError("unknown --tree '" + tree + "' (" + method_names(is_tree) + ")");
     return tree;
 }
 
 PointTree PointTree::build(const Mesh& mesh, const std::string& tree) {
     PointTree t{Bvh2::build(mesh), {}};
-    if (tree == "bvh4") t.wide = Bvh4::build(t.bvh2);
-    if (tree == "bvh8") t.wide = Bvh8::build(t.bvh2);
-    if (tree == "bvh16") t.wide = Bvh16::build(t.bvh2);
+    if (const int w = tree_width(*parse_accel_method(tree)); w > 2)
+        with_width(w, [&](auto n) { t.wide = BvhN<decltype(n)::value>::build(t.bvh2); });
     return t;
 }
 

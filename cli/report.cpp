@@ -203,6 +203,7 @@ bool PythonRun::ok() const { return started && !timed_out && WIFEXITED(status) &
 int PythonRun::exit_code() const { return started && !timed_out && WIFEXITED(status) ? WEXITSTATUS(status) : -1; }
 
 std::string PythonRun::describe() const {
+    if (!missing.empty()) return missing;
     if (!started) return "could not start python3";
     if (timed_out) return "timed out";
     if (WIFEXITED(status)) return "exit status " + std::to_string(WEXITSTATUS(status));
@@ -211,10 +212,32 @@ std::string PythonRun::describe() const {
     return "wait status " + std::to_string(status);
 }
 
+std::filesystem::path scripts_dir() {
+    // No path is baked in at build time: the environment, else the executable's own tree (the build tree puts
+    // share/simdbvh beside the simdbvh binary, one or two levels above the test binaries; an install puts it
+    // in <prefix>/share/simdbvh beside <prefix>/bin). Empty when none is found.
+    if (const char* env = std::getenv("SIMDBVH_SCRIPTS"); env && *env) return fs::path(env);
+    std::error_code ec;
+    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+    if (ec) return {};
+    fs::path root = exe.parent_path();
+    for (int up = 0; up < 3 && !root.empty(); ++up, root = root.parent_path()) {
+        const fs::path d = root / "share" / "simdbvh" / "scripts";
+        if (fs::is_directory(d, ec)) return d;
+    }
+    return {};
+}
+
 PythonRun run_python_script(const std::string& script, const std::vector<std::string>& args,
                             const PythonOptions& options) {
     const std::string py = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-    const std::string path = std::string(SIMDBVH_SOURCE_DIR) + "/scripts/" + script;
+    const fs::path dir = scripts_dir();
+    PythonRun run;
+    if (dir.empty()) {
+        run.missing = "no share/simdbvh/scripts beside this executable and SIMDBVH_SCRIPTS is not set";
+        return run;
+    }
+    const std::string path = (dir / script).string();
     std::vector<const char*> argv{py.c_str(), path.c_str()};
     for (const std::string& a : args) argv.push_back(a.c_str());
     argv.push_back(nullptr);
@@ -244,7 +267,6 @@ PythonRun run_python_script(const std::string& script, const std::vector<std::st
     if (!options.stderr_file.empty())
         posix_spawn_file_actions_addopen(&fa, STDERR_FILENO, options.stderr_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
                                          0644);
-    PythonRun run;
     pid_t pid = 0;
     const int err = ::posix_spawnp(&pid, argv[0], &fa, nullptr, const_cast<char* const*>(argv.data()),
                                    const_cast<char* const*>(envp.data()));
@@ -278,9 +300,8 @@ int running_script_pid() noexcept { return g_running_script.load(); }
 bool run_chart_script(const std::string& script, const std::string& json_file, const std::string& out_dir) {
     const PythonRun run = run_python_script(script, {json_file, out_dir});
     if (!run.ok())
-        std::cerr << "[simdbvh] warning: chart script failed (scripts/" << script << " " << json_file << " " << out_dir
-                  << ": " << run.describe()
-                  << "; needs /usr/bin/python3 with matplotlib); the report has tables only\n";
+        std::cerr << "[simdbvh] warning: chart script failed (" << script << " " << json_file << " " << out_dir << ": "
+                  << run.describe() << "; needs /usr/bin/python3 with matplotlib); the report has tables only\n";
     return run.ok();
 }
 

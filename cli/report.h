@@ -91,6 +91,7 @@ struct PythonRun {
     bool started = false;    // the child ran (posix_spawn succeeded)
     bool timed_out = false;  // killed (SIGKILL) after the timeout
     int status = 0;          // its waitpid status
+    std::string missing;     // why it was not started when the scripts are not found (scripts_dir)
     bool ok() const;         // started, not timed out, exit status 0
     int exit_code() const;   // its exit status; -1 when it did not exit by itself
     // "exit status 1", "killed by signal 6 (Aborted)", "timed out", "could not start python3"
@@ -103,7 +104,11 @@ struct PythonOptions {
     double timeout_seconds = 0;    // 0: wait as long as it runs
 };
 
-// Runs scripts/SCRIPT ARGS... with /usr/bin/python3 (else python3 on the PATH), without a shell (any path
+// The folder of the Python scripts the reports run: SIMDBVH_SCRIPTS, else share/simdbvh/scripts in the
+// executable's folder or up to two above it (the build tree and an install both have one); empty when none.
+std::filesystem::path scripts_dir();
+
+// Runs scripts_dir()/SCRIPT ARGS... with /usr/bin/python3 (else python3 on the PATH), without a shell (any path
 // works), with PYTHONDONTWRITEBYTECODE=1 (no __pycache__ in the source tree); its stdout goes to /dev/null.
 // Waits for it (at most the timeout, then kills it).
 PythonRun run_python_script(const std::string& script, const std::vector<std::string>& args,

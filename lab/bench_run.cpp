@@ -58,7 +58,7 @@ std::vector<MethodSpec> bench_methods(bool trees_only) {
     if (!trees_only) methods.push_back(m);
     m.method = "bvh2";
     methods.push_back(m);
-    for (const char* wide : kWideMethods)
+    for (const std::string& wide : wide_methods())
         for (Isa isa : kAllIsas) {
             if (!supported(isa)) {
                 progress("skipping " + std::string(wide) + "/" + std::string(name(isa)) + ": this CPU lacks it", true);

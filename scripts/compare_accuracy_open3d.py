@@ -17,7 +17,7 @@ Open3D misses every ray). A third row, Embree 3 called directly by the simdbvh C
 --robust`: rtcIntersect1 with RTC_SCENE_FLAG_ROBUST, as Open3D sets it), separates Embree's arithmetic from
 Open3D's wrapping.
 
-    SIMDBVH_CACHE=.cache/scenes /usr/bin/python3 scripts/compare_accuracy_open3d.py --out out/o3d-accuracy \\
+    /usr/bin/python3 scripts/compare_accuracy_open3d.py --out out/o3d-accuracy \\
         --chart docs/python/open3d_accuracy.png
 
 Writes DIR/compare_accuracy_open3d.json and DIR/compare_accuracy_open3d.md.

@@ -40,8 +40,17 @@ SCENES = {"dragon": "dragon_vrip.ply.gz", "dragon-res2": "dragon_vrip_res2.ply.g
           "bunny": "bunny.ply", "teapot": "teapot.ply"}
 
 
+def cache_dir():
+    """The scene cache, by the rule of scripts/fetch_scenes.sh and the library's workloads::cache_dir()."""
+    if os.environ.get("SIMDBVH_CACHE"):
+        return os.environ["SIMDBVH_CACHE"]
+    xdg = os.environ.get("XDG_CACHE_HOME", "")
+    base = xdg if xdg.startswith("/") else os.path.join(os.path.expanduser("~"), ".cache")
+    return os.path.join(base, "simdbvh", "scenes")
+
+
 def mesh_path(scene, tmp):
-    path = os.path.join(ROOT, ".cache", "scenes", SCENES[scene]) if scene in SCENES else scene
+    path = os.path.join(cache_dir(), SCENES[scene]) if scene in SCENES else scene
     if not os.path.isfile(path):
         sys.exit(f"compare_points: {path}: not found (run scripts/fetch_scenes.sh)")
     if path.endswith(".gz"):

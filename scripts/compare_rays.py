@@ -19,7 +19,7 @@ python3-open3d 0.16.1 sets ray.mask = 0 and Debian's libembree3 honours masks,
 so without the shim every ray misses (docs/open3d.md). The shim sets the mask
 to all ones before Embree's call and changes nothing else.
 
-    SIMDBVH_CACHE=.cache/scenes /usr/bin/python3 scripts/compare_rays.py --scene dragon --count 1000000
+    /usr/bin/python3 scripts/compare_rays.py --scene dragon --count 1000000
 
 Writes DIR/compare_rays.json and, with --chart, a bar chart (matplotlib).
 """

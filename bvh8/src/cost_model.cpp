@@ -29,6 +29,18 @@ std::optional<AccelMethod> parse_accel_method(std::string_view s) {
 
 bool is_tree(AccelMethod m) { return m != AccelMethod::brute && m != AccelMethod::brute8; }
 
+bool is_wide(AccelMethod m) { return tree_width(m) > 2; }
+
+int tree_width(AccelMethod m) {
+    switch (m) {
+    case AccelMethod::bvh2: return 2;
+    case AccelMethod::bvh4: return 4;
+    case AccelMethod::bvh8: return 8;
+    case AccelMethod::bvh16: return 16;
+    default: return 0;
+    }
+}
+
 double build_size_term(AccelMethod m, std::size_t triangles) {
     const double n = double(triangles);
     if (m == AccelMethod::brute) return 0.0;

@@ -3,7 +3,7 @@
 // library will run on, with that ISA forced (the bench fits, checks on held-out
 // points and rewrites its own block below):
 //
-//   SIMDBVH_CACHE=.cache/scenes SIMDBVH_ISA=<isa> build/release/simdbvh bench --sweep --report out/sweep
+//   SIMDBVH_ISA=<isa> build/release/simdbvh bench --sweep --report out/sweep
 //       --model-out bvh8/src/cost_model_fit.cpp   (one line)
 //
 // An ISA whose block is empty (fitted = false) uses the nearest narrower

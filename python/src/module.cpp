@@ -12,11 +12,13 @@
 #include <optional>
 #include <shared_mutex>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "arrays.h"
 #include "point_blocks.h"
 #include "rw_lock.h"
+#include "simdbvh/bvh8/cost_model.h"
 #include "simdbvh/bvh2/closest_point.h"
 #include "simdbvh/bvh2/crossings.h"
 #include "simdbvh/bvh2/inside.h"
@@ -50,8 +52,11 @@ class Bvh {
 public:
     Bvh(Mesh mesh, const std::string& method, const std::optional<std::string>& isa)
         : mesh_(std::move(mesh)), method_(method) {
-        if (method_ != "bvh4" && method_ != "bvh8" && method_ != "bvh16" && method_ != "bvh2" && method_ != "brute")
-            throw Error("method must be 'bvh4', 'bvh8', 'bvh16', 'bvh2' or 'brute' (got '" + method_ + "')");
+        const auto m = parse_accel_method(method_);
+        if (!m || *m == AccelMethod::brute8)
+            throw Error("method must be " + method_names([](AccelMethod a) { return a != AccelMethod::brute8; }) +
+                        " (got '" + method_ + "')");
+        width_ = tree_width(*m);
         if (const auto parsed = isa_arg(isa)) {
             isa_ = *parsed;
         } else {
@@ -61,10 +66,8 @@ public:
         py::gil_scoped_release nogil;
         // The wide trees build straight from the mesh (Bvh8::build(mesh), the build docs/results.md measures), not from a
         // BVH2 built first and kept: docs/open3d.md has the dragon's build through this module both ways.
-        if (method_ == "bvh4") bvh4_ = Bvh4::build(mesh_);
-        else if (method_ == "bvh8") bvh8_ = Bvh8::build(mesh_);
-        else if (method_ == "bvh16") bvh16_ = Bvh16::build(mesh_);
-        else if (method_ == "bvh2") bvh2();
+        if (width_ > 2) with_width(width_, [&](auto n) { wide_ = BvhN<decltype(n)::value>::build(mesh_); });
+        else if (width_ == 2) bvh2();
     }
 
     // The BVH2 of count and all (and of method 'bvh2'): built on first use, once, from the current vertices.
@@ -104,7 +107,7 @@ public:
                 }
                 if (!all.empty()) std::copy(h.begin(), h.end(), all.begin() + std::ptrdiff_t(b));
             };
-            if (bvh4_ || bvh8_ || bvh16_) {
+            if (width_ > 2) {
                 auto wide = [&](const auto& bvh) {
                     auto trace = [&](std::span<const Ray> r, std::span<Hit> h, const TraceOptions& opts) {
                         if (isa_auto_) {  // chosen by speed (bvh8.h), or the forced SIMDBVH_ISA
@@ -136,9 +139,7 @@ public:
                                        });
                     }
                 };
-                if (bvh4_) wide(*bvh4_);
-                else if (bvh8_) wide(*bvh8_);
-                else wide(*bvh16_);
+                visit_wide(wide);
             } else if (method_ == "bvh2") {
                 // The chunks are spread over the threads; each traces on one.
                 for_ray_chunks(rays, nthreads, interrupt, [&](std::span<const Ray> r, std::span<Hit> h, std::size_t b) {
@@ -263,9 +264,7 @@ public:
     // answers as the BVH2, faster: bench/bvh8), else the BVH2.
     template <class F>
     void with_tree(F&& f) const {
-        if (bvh4_) f(*bvh4_);
-        else if (bvh8_) f(*bvh8_);
-        else if (bvh16_) f(*bvh16_);
+        if (width_ > 2) visit_wide(f);
         else f(bvh2());
     }
 
@@ -422,16 +421,13 @@ public:
         py::gil_scoped_release nogil;
         const std::unique_lock<RwLock> hold(lock_);    // waits for the running queries, holds back new ones
         if (bvh2_built_) bvh2_.refit(moved, threads);  // else built later from the moved vertices
-        if (bvh4_) bvh4_->refit(moved, threads);
-        if (bvh8_) bvh8_->refit(moved, threads);
-        if (bvh16_) bvh16_->refit(moved, threads);
+        if (width_ > 2) visit_wide([&](auto& bvh) { bvh.refit(moved, threads); });
         mesh_.positions.swap(moved.positions);
     }
 
     std::string isa() const {
-        if (!(bvh4_ || bvh8_ || bvh16_)) return std::string(name(Isa::scalar));
-        const int w = bvh4_ ? 4 : (bvh8_ ? 8 : 16);
-        return std::string(name(isa_auto_ ? traversal_isa_choice(w, false).isa : isa_));
+        if (width_ <= 2) return std::string(name(Isa::scalar));
+        return std::string(name(isa_auto_ ? traversal_isa_choice(width_, false).isa : isa_));
     }
 
 private:
@@ -442,9 +438,25 @@ private:
     mutable std::once_flag bvh2_once_;
     mutable Bvh2 bvh2_;
     mutable bool bvh2_built_ = false;
-    std::optional<Bvh4> bvh4_;
-    std::optional<Bvh8> bvh8_;
-    std::optional<Bvh16> bvh16_;
+    int width_ = 0;    // tree_width(method): 0 brute, 2 bvh2, 4/8/16 the wide tree in wide_
+    AnyWideBvh wide_;  // the wide tree of a wide method
+    // f(the wide tree), mutable or not as this BVH is.
+    template <class F>
+    void visit_wide(F&& f) const {
+        std::visit(
+            [&](const auto& b) {
+                if constexpr (!std::is_same_v<std::decay_t<decltype(b)>, std::monostate>) f(b);
+            },
+            wide_);
+    }
+    template <class F>
+    void visit_wide(F&& f) {
+        std::visit(
+            [&](auto& b) {
+                if constexpr (!std::is_same_v<std::decay_t<decltype(b)>, std::monostate>) f(b);
+            },
+            wide_);
+    }
     // Queries hold it shared, refit alone: a query sees the vertices and boxes before or after a refit.
     mutable RwLock lock_;
 };

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "arrays.h"
+#include "simdbvh/bvh8/cost_model.h"
 #include "simdbvh/workloads/scene_desc.h"
 #include "simdbvh/scene/scene.h"
 
@@ -151,14 +152,16 @@ class Scene {
 public:
     Scene(SceneDesc desc, const std::string& method, const std::optional<std::string>& isa)
         : desc_(std::move(desc)), method_(method) {
-        if (method_ != "bvh4" && method_ != "bvh8" && method_ != "bvh16" && method_ != "brute")
-            throw Error("method must be 'bvh4', 'bvh8', 'bvh16' or 'brute' (got '" + method_ + "')");
+        const auto m = parse_accel_method(method_);
+        if (!m || !(is_wide(*m) || *m == AccelMethod::brute))
+            throw Error("method must be " +
+                        method_names([](AccelMethod a) { return is_wide(a) || a == AccelMethod::brute; }) + " (got '" +
+                        method_ + "')");
         const auto parsed = isa_arg(isa);
         isa_ = parsed ? *parsed : active_isa();
         py::gil_scoped_release nogil;
-        if (method_ == "bvh4") bvh_ = SceneBvhN<4>::build(desc_);
-        else if (method_ == "bvh8") bvh_ = SceneBvhN<8>::build(desc_);
-        else if (method_ == "bvh16") bvh_ = SceneBvhN<16>::build(desc_);
+        if (is_wide(*m))
+            with_width(tree_width(*m), [&](auto n) { bvh_ = SceneBvhN<decltype(n)::value>::build(desc_); });
         else brute_stats();  // validates
         std::visit(
             [&](const auto& b) {

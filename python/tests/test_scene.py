@@ -4,7 +4,7 @@ to the CLI, closed-form hits on spheres, planes, boxes and translated
 instances, every bad input as simdbvh.Error, the GIL released during a trace.
 
 Built-ins that need cached meshes (room: bunny and teapot; instances-N: the
-dragon) skip when the cache (SIMDBVH_CACHE, or the source tree's .cache/scenes)
+dragon) skip when the cache (SIMDBVH_CACHE, else ~/.cache/simdbvh/scenes)
 lacks them."""
 import os
 import subprocess

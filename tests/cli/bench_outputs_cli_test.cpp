@@ -96,7 +96,7 @@ TEST_F(BenchOutputs, BadPictureTargetFailsBeforeAnyOutput) {
 TEST_F(BenchOutputs, ReportWritesOnlyUnderItsFolderAndPublishWritesTheDoc) {
     fs::create_directory(dir_ / "work");
     fs::create_directory(dir_ / "tmp");
-    const fs::path pycache = fs::path(SIMDBVH_SOURCE_DIR) / "scripts" / "__pycache__";
+    const fs::path pycache = fs::path(SIMDBVH_BINARY_DIR) / "share" / "simdbvh" / "scripts" / "__pycache__";
     const bool had_pycache = fs::exists(pycache);
     const std::string in_work = "cd " + p("work") + " && TMPDIR=" + p("tmp") + " env -u PYTHONDONTWRITEBYTECODE ";
     // The scene bench: its chart script imports a sibling module (plot_sphere_precision.py).

@@ -7,6 +7,7 @@
 #include <bit>
 #include <cstdlib>
 #include <cstring>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -119,8 +120,28 @@ TEST(RealScenes, UncachedNamedSceneSaysHowToFetch) {
     } catch (const simdbvh::Error& e) {
         EXPECT_NE(std::string(e.what()).find("scripts/fetch_scenes.sh"), std::string::npos) << e.what();
     }
+}
+
+// Without SIMDBVH_CACHE: the XDG rule (an absolute XDG_CACHE_HOME, else HOME's .cache), never a compiled-in path.
+TEST(RealScenes, CacheFollowsTheXdgRule) {
+    struct Env {
+        const char* name;
+        std::optional<std::string> old;
+        explicit Env(const char* n) : name(n) {
+            if (const char* v = std::getenv(n)) old = v;
+        }
+        ~Env() { old ? ::setenv(name, old->c_str(), 1) : ::unsetenv(name); }
+    } cache("SIMDBVH_CACHE"), xdg("XDG_CACHE_HOME"), home("HOME");
     ::unsetenv("SIMDBVH_CACHE");
-    EXPECT_EQ(simdbvh::workloads::cache_dir(), fs::path(SIMDBVH_SOURCE_DIR) / ".cache" / "scenes");
+    ::setenv("HOME", "/home/someone", 1);
+    ::setenv("XDG_CACHE_HOME", "/var/cache/me", 1);
+    EXPECT_EQ(simdbvh::workloads::cache_dir(), fs::path("/var/cache/me/simdbvh/scenes"));
+    ::setenv("XDG_CACHE_HOME", "relative/not/used", 1);
+    EXPECT_EQ(simdbvh::workloads::cache_dir(), fs::path("/home/someone/.cache/simdbvh/scenes"));
+    ::unsetenv("XDG_CACHE_HOME");
+    EXPECT_EQ(simdbvh::workloads::cache_dir(), fs::path("/home/someone/.cache/simdbvh/scenes"));
+    ::unsetenv("HOME");
+    EXPECT_THROW(simdbvh::workloads::cache_dir(), simdbvh::Error);
 }
 
 TEST(AssimpModels, LoadValidModels) {

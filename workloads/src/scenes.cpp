@@ -9,10 +9,6 @@
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/io/load.h"
 
-#ifndef SIMDBVH_SOURCE_DIR
-#error "SIMDBVH_SOURCE_DIR must be defined (the source tree)"
-#endif
-
 namespace simdbvh::workloads {
 namespace {
 
@@ -47,7 +43,13 @@ bool match(std::string_view s, std::string_view base, std::optional<std::uint64_
 
 std::filesystem::path cache_dir() {
     if (const char* env = std::getenv("SIMDBVH_CACHE"); env && *env) return std::filesystem::path(env);
-    return std::filesystem::path(SIMDBVH_SOURCE_DIR) / ".cache" / "scenes";
+    // The XDG base directory rule, as scripts/fetch_scenes.sh applies it: no path is compiled in, so the
+    // installed CLI and the module find the same cache from any folder.
+    if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg && xdg[0] == '/')
+        return std::filesystem::path(xdg) / "simdbvh" / "scenes";
+    if (const char* home = std::getenv("HOME"); home && *home)
+        return std::filesystem::path(home) / ".cache" / "simdbvh" / "scenes";
+    throw Error("no scene cache: set SIMDBVH_CACHE (or HOME) to the folder scripts/fetch_scenes.sh fills");
 }
 
 std::vector<std::string> scene_names() {

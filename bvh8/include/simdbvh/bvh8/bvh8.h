@@ -8,6 +8,9 @@
 #include <span>
 #include <string_view>
 #include <optional>
+#include <string>
+#include <type_traits>
+#include <variant>
 #include <vector>
 
 #include "simdbvh/bvh2/bvh2.h"
@@ -120,6 +123,20 @@ extern template class BvhN<16>;
 using Bvh4 = BvhN<4>;
 using Bvh8 = BvhN<8>;
 using Bvh16 = BvhN<16>;
+// Any one of the wide trees, or none.
+using AnyWideBvh = std::variant<std::monostate, Bvh4, Bvh8, Bvh16>;
+
+// The one width ladder: f(std::integral_constant<int, N>{}) for N = width, one of 4, 8, 16 (tree_width in
+// cost_model.h); throws simdbvh::Error for any other width.
+template <class F>
+decltype(auto) with_width(int width, F&& f) {
+    switch (width) {
+    case 4: return f(std::integral_constant<int, 4>{});
+    case 8: return f(std::integral_constant<int, 8>{});
+    case 16: return f(std::integral_constant<int, 16>{});
+    default: throw Error("no wide tree of width " + std::to_string(width) + " (4, 8 or 16)");
+    }
+}
 
 // Closest hit and any hit, bit-identical to the BVH2 (same kernels, same tie
 // rule) on every ISA. TraceOptions::stats: nodes_visited counts wide nodes;

@@ -45,9 +45,24 @@ inline constexpr std::size_t kAccelMethodCount = 6;
 inline constexpr AccelMethod kAccelMethods[kAccelMethodCount] = {AccelMethod::brute, AccelMethod::brute8,
                                                                  AccelMethod::bvh2,  AccelMethod::bvh4,
                                                                  AccelMethod::bvh8,  AccelMethod::bvh16};
+// The method registry: every method's name, its parse, and its tree width; the library, the CLI, the lab and
+// the Python module name and parse methods through these alone.
 std::string_view name(AccelMethod m);
 std::optional<AccelMethod> parse_accel_method(std::string_view s);
 bool is_tree(AccelMethod m);
+bool is_wide(AccelMethod m);    // bvh4, bvh8, bvh16
+int tree_width(AccelMethod m);  // 2 for bvh2, 4, 8 or 16 for the wide trees, 0 for the brute forces
+// "a, b or c": the names of the methods `keep` accepts, for messages.
+template <class Keep>
+std::string method_names(Keep keep) {
+    std::string s, last;
+    for (AccelMethod m : kAccelMethods) {
+        if (!keep(m)) continue;
+        if (!last.empty()) s += s.empty() ? "'" + last + "'" : ", '" + last + "'";
+        last = std::string(name(m));
+    }
+    return s.empty() ? "'" + last + "'" : s + " or '" + last + "'";
+}
 
 struct MethodCost {  // milliseconds; see the formula above
     double build0 = 0, build1 = 0, call = 0, ray0 = 0, ray1 = 0, ray2 = 0;
