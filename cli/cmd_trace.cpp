@@ -90,8 +90,8 @@ int cmd_gen_rays(const std::vector<std::string>& args) {
     const std::string scene_name = o.require("scene");
     const auto kind = workloads::parse_ray_kind(kind_s);
     if (!kind)
-        throw UsageError("unknown --kind '" + kind_s +
-                         "' (primary, incoherent, diffuse, or a family: watertight, offsets, axis-aligned, "
+        throw UsageError("unknown --kind '" + kind_s + "' (" + workloads::ray_kind_names() +
+                         ", or a family: watertight, offsets, axis-aligned, "
                          "surface-start, grazing, needles, degenerate, random, direction-scale)");
     const auto count = std::size_t(o.get_int("count", 0, 1, 1LL << 31));
     if (!o.has("count")) throw UsageError("'gen-rays': missing --count");
@@ -100,10 +100,12 @@ int cmd_gen_rays(const std::vector<std::string>& args) {
     check_outputs({{"--out", out}}, {.scenes = {{"--scene", scene_name}}});
     // Rays and their encoded bytes; diffuse rays also hold the primary rays and hits.
     const std::string count_opt = "--count " + std::to_string(count);
-    const std::uint64_t per_ray = *kind == workloads::RayKind::diffuse ? 32 + 32 + 16 + 32 : 32 + 32;
+    const bool from_hits = workloads::needs_primary_hits(*kind);
+    const std::uint64_t per_ray = from_hits ? 32 + 32 + 16 + 32 : 32 + 32;
     check_memory(count_opt, std::uint64_t(count) * per_ray);
-    if (is_scene_desc(scene_name) && *kind == workloads::RayKind::diffuse)
-        throw UsageError("--kind diffuse needs a mesh scene (scenes: primary or incoherent, aimed at their bounds)");
+    if (is_scene_desc(scene_name) && from_hits)
+        throw UsageError("--kind " + kind_s +
+                         " needs a mesh scene (scenes: primary, incoherent or lidar, aimed at their bounds)");
     const Mesh mesh = is_scene_desc(scene_name) ? scene_bounds_proxy(scene_name) : load_scene_with_progress(scene_name);
     progress("generating " + std::to_string(count) + " " + kind_s + " rays ...");
     try {
@@ -112,8 +114,8 @@ int cmd_gen_rays(const std::vector<std::string>& args) {
         // `count` rays, so an empty (or short) file is an error, not a success.
         if (rays.size() < count)
             throw Error(scene_name + ": cannot generate " + std::to_string(count) + " " + kind_s + " rays: got " +
-                        std::to_string(rays.size()) + " (the mesh has " + std::to_string(mesh.size()) +
-                        " triangles; diffuse rays need primary rays from the default camera to hit it)");
+                        std::to_string(rays.size()) + " (the mesh has " + std::to_string(mesh.size()) + " triangles; " +
+                        kind_s + " rays need primary rays from the default camera to hit it)");
         // A ray file is for tracing: a zero or non-finite direction (or origin) would miss everything.
         for (std::size_t i = 0; i < rays.size(); ++i) {
             const Vec3 d = rays[i].dir;

@@ -20,7 +20,7 @@ constexpr CommandText kCommands[] = {
            [--expected-rays N] (default 1000000): what --method auto would choose for N rays, and why
 )"},
     {"gen-rays", R"(gen-rays --scene S --kind K --count N [--seed K] --out RAYS.bin
-           K: primary | incoherent | diffuse, or a ray family with its own mesh (--mesh-out MESH.ply
+           K: primary | incoherent | diffuse | diffuse-shuffled | shadow | area-shadow | ao | lidar, or a ray family with its own mesh (--mesh-out MESH.ply
               [--case C] [--quick]; --scene only for random): watertight | offsets | axis-aligned |
               surface-start | grazing | needles | degenerate | random |
               direction-scale

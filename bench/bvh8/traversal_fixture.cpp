@@ -31,8 +31,7 @@ const TraversalScene& traversal_scene() {
         t.bvh16q = Bvh16::build(t.bvh2, q);
         const char* n = std::getenv("SIMDBVH_BENCH_RAYS");
         const std::size_t count = n && *n ? std::strtoull(n, nullptr, 10) : 100000;
-        for (workloads::RayKind k :
-             {workloads::RayKind::primary, workloads::RayKind::incoherent, workloads::RayKind::diffuse})
+        for (workloads::RayKind k : workloads::kRayKinds)
             t.rays[static_cast<int>(k)] = workloads::generate_rays(t.mesh, k, count, /*seed=*/1);
         const char* hd = std::getenv("SIMDBVH_BENCH_HD_SIDE");
         const int side = hd && *hd ? std::atoi(hd) : 1000;

@@ -7,6 +7,7 @@
 // Rays per kind: $SIMDBVH_BENCH_RAYS (default 100000); primary_hd: the
 // primary rays' camera at $SIMDBVH_BENCH_HD_SIDE squared pixels (default
 // 1000 x 1000), in image order (the coherent input packets are for).
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -26,7 +27,7 @@ struct TraversalScene {
     simdbvh::Bvh16 bvh16;
     simdbvh::Bvh8 bvh8q;  // bvh8 and bvh16 with quantized nodes (WideOptions::quantized_nodes)
     simdbvh::Bvh16 bvh16q;
-    std::vector<simdbvh::Ray> rays[3];  // indexed by RayKind
+    std::vector<simdbvh::Ray> rays[std::size(simdbvh::workloads::kRayKinds)];  // indexed by RayKind
     std::vector<simdbvh::Ray> primary_hd;
 };
 

@@ -232,6 +232,26 @@ void BM_Bvh8Auto(benchmark::State& st, RayKind kind, bool any) {
 SIMDBVH_AUTO_BENCH(primary);
 SIMDBVH_AUTO_BENCH(incoherent);
 SIMDBVH_AUTO_BENCH(diffuse);
+// The distributions the defaults were not tuned on (workloads/rays.h), with every ISA forced beside the
+// automatic choice; BM_Embree has the same rows (bench/reference/embree_trace_bench.cpp).
+SIMDBVH_AUTO_BENCH(diffuse_shuffled);
+SIMDBVH_AUTO_BENCH(shadow);
+SIMDBVH_AUTO_BENCH(area_shadow);
+SIMDBVH_AUTO_BENCH(ao);
+SIMDBVH_AUTO_BENCH(lidar);
+#define SIMDBVH_FORCED_BENCH(isa, kind)                                                                   \
+    BENCHMARK_CAPTURE(BM_Bvh8, isa##_sah_##kind##_closest, Isa::isa, Collapse::sah, RayKind::kind, false) \
+        ->Unit(benchmark::kMillisecond);                                                                  \
+    BENCHMARK_CAPTURE(BM_Bvh8, isa##_sah_##kind##_any, Isa::isa, Collapse::sah, RayKind::kind, true)      \
+        ->Unit(benchmark::kMillisecond)
+#define SIMDBVH_FORCED_KINDS(isa)                \
+    SIMDBVH_FORCED_BENCH(isa, diffuse_shuffled); \
+    SIMDBVH_FORCED_BENCH(isa, shadow);           \
+    SIMDBVH_FORCED_BENCH(isa, area_shadow);      \
+    SIMDBVH_FORCED_BENCH(isa, ao);               \
+    SIMDBVH_FORCED_BENCH(isa, lidar)
+SIMDBVH_FORCED_KINDS(avx2);
+SIMDBVH_FORCED_KINDS(avx512);
 
 // A 256 x 256 camera's 65,536 primary rays in image order, BVH8 built from
 // the mesh (Bvh8::build(mesh), the tree a user builds), threads 1 and 2:

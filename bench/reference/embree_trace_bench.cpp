@@ -78,5 +78,10 @@ BENCHMARK_CAPTURE(BM_EmbreeHd, packets8_any, true, 3)->Unit(benchmark::kMillisec
 SIMDBVH_EMBREE_BENCH(primary);
 SIMDBVH_EMBREE_BENCH(incoherent);
 SIMDBVH_EMBREE_BENCH(diffuse);
+SIMDBVH_EMBREE_BENCH(diffuse_shuffled);
+SIMDBVH_EMBREE_BENCH(shadow);
+SIMDBVH_EMBREE_BENCH(area_shadow);
+SIMDBVH_EMBREE_BENCH(ao);
+SIMDBVH_EMBREE_BENCH(lidar);
 
 }  // namespace

@@ -126,6 +126,14 @@ INSTANTIATE_TEST_SUITE_P(Scenes, WidthsVsBrute,
                                           testing::Values(RayKind::primary, RayKind::incoherent, RayKind::diffuse),
                                           testing::Values(4, 8, 16), testing::ValuesIn(kAllIsas)),
                          param_name);
+// The distributions renderers and simulators send beyond the bench's three (workloads/rays.h): shuffled
+// bounces, shadow rays with a finite tmax, short AO rays, a LiDAR spin from inside the bounds.
+INSTANTIATE_TEST_SUITE_P(Distributions, WidthsVsBrute,
+                         testing::Combine(testing::Values("soup-3000", "dragon-res4"),
+                                          testing::Values(RayKind::diffuse_shuffled, RayKind::shadow,
+                                                          RayKind::area_shadow, RayKind::ao, RayKind::lidar),
+                                          testing::Values(4, 8, 16), testing::ValuesIn(kAllIsas)),
+                         param_name);
 
 // The SIMD node tests (4 lanes in xmm, 8 in ymm, 16 in zmm or two ymm halves)
 // are bit for bit the scalar box test: every ISA visits exactly the same nodes

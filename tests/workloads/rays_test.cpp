@@ -6,6 +6,8 @@
 
 #include <csignal>
 
+#include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -45,9 +47,11 @@ std::string error_of(auto&& f) {
 }  // namespace
 
 TEST(RayKind, Names) {
-    for (auto k : {wl::RayKind::primary, wl::RayKind::incoherent, wl::RayKind::diffuse})
-        EXPECT_EQ(wl::parse_ray_kind(wl::name(k)), k);
+    for (auto k : wl::kRayKinds) EXPECT_EQ(wl::parse_ray_kind(wl::name(k)), k);
+    EXPECT_EQ(wl::name(wl::RayKind::area_shadow), "area-shadow");
+    EXPECT_EQ(wl::name(wl::RayKind::diffuse_shuffled), "diffuse-shuffled");
     EXPECT_FALSE(wl::parse_ray_kind("coherent").has_value());
+    EXPECT_NE(wl::ray_kind_names().find("lidar"), std::string::npos);
 }
 
 TEST(Camera, ThreeQuarterViewCoversBounds) {
@@ -173,7 +177,7 @@ TEST(Rays, DiffuseOffsetScalesWithScene) {
 
 TEST(Rays, GenerateDeterministicAllKinds) {
     const Mesh m = wl::icosphere(3);
-    for (auto kind : {wl::RayKind::primary, wl::RayKind::incoherent, wl::RayKind::diffuse}) {
+    for (auto kind : wl::kRayKinds) {
         SCOPED_TRACE(std::string(wl::name(kind)));
         const auto a = test::rays(m, kind, 5000, 11), b = test::rays(m, kind, 5000, 11);
         ASSERT_EQ(a.size(), 5000u);
@@ -188,6 +192,91 @@ TEST(Rays, GenerateDeterministicAllKinds) {
         EXPECT_NEAR(simdbvh::length(r.org), 1.0f, 1e-2f);
         EXPECT_FALSE(simdbvh::intersect(bvh, r).hit()) << "diffuse ray from a convex surface hit it";
     }
+}
+
+// The distributions beyond the bench's three: each has the documented shape (rays.h).
+TEST(Rays, ShuffledDiffuseIsAPermutationOfDiffuse) {
+    const Mesh m = wl::icosphere(3);
+    const auto d = test::rays(m, wl::RayKind::diffuse, 3000, 5);
+    const auto s = test::rays(m, wl::RayKind::diffuse_shuffled, 3000, 5);
+    ASSERT_EQ(s.size(), d.size());
+    EXPECT_FALSE(same_bytes(s, d)) << "not shuffled";
+    auto key = [](const Ray& r) {
+        std::array<std::uint32_t, 8> k;
+        std::memcpy(k.data(), &r, sizeof(Ray));
+        return k;
+    };
+    std::vector<std::array<std::uint32_t, 8>> a, b;
+    for (const Ray& r : d) a.push_back(key(r));
+    for (const Ray& r : s) b.push_back(key(r));
+    std::sort(a.begin(), a.end());
+    std::sort(b.begin(), b.end());
+    EXPECT_EQ(a, b) << "the shuffled rays are not the same rays";
+}
+
+TEST(Rays, ShadowRaysEndShortOfTheLight) {
+    const Mesh m = wl::icosphere(3);
+    const Vec3 light = wl::light_position(m.bounds());
+    EXPECT_GT(light.y, m.bounds().hi.y);
+    const float side = 0.5f * simdbvh::length(m.bounds().extent());
+    for (bool area : {false, true}) {
+        SCOPED_TRACE(area ? "area" : "point");
+        const auto r = test::rays(m, area ? wl::RayKind::area_shadow : wl::RayKind::shadow, 2000, 9);
+        ASSERT_EQ(r.size(), 2000u);
+        for (const Ray& x : r) {
+            ASSERT_TRUE(std::isfinite(x.tmax));
+            EXPECT_NEAR(simdbvh::length(x.org), 1.0f, 1e-2f);  // on the unit icosphere
+            const Vec3 end = x.org + x.dir * (x.tmax / 0.9999f);
+            EXPECT_NEAR(end.y, light.y, 1e-3f);
+            if (!area) {
+                EXPECT_NEAR(end.x, light.x, 1e-3f);
+                EXPECT_NEAR(end.z, light.z, 1e-3f);
+            } else {
+                EXPECT_LE(std::fabs(end.x - light.x), 0.5f * side + 1e-3f);
+                EXPECT_LE(std::fabs(end.z - light.z), 0.5f * side + 1e-3f);
+            }
+        }
+    }
+    // The area light's targets differ from ray to ray; the point light's do not.
+    const auto a = test::rays(m, wl::RayKind::area_shadow, 64, 9);
+    std::size_t distinct = 0;
+    for (std::size_t i = 1; i < a.size(); ++i) distinct += !(a[i].dir == a[0].dir);
+    EXPECT_GT(distinct, 50u);
+}
+
+TEST(Rays, AoRaysAreShortBouncesOutOfTheSurface) {
+    const Mesh m = wl::icosphere(3);
+    const auto r = test::rays(m, wl::RayKind::ao, 2000, 4);
+    ASSERT_EQ(r.size(), 2000u);
+    const float want = 0.1f * 0.5f * simdbvh::length(m.bounds().extent());
+    const auto bvh = simdbvh::Bvh2::build(m);
+    for (const Ray& x : r) {
+        EXPECT_FLOAT_EQ(x.tmax, want);
+        EXPECT_NEAR(simdbvh::length(x.org), 1.0f, 1e-2f);
+        // Out of the facet it starts on, into its outer hemisphere: a convex surface is never hit again.
+        Ray far = x;
+        far.tmax = std::numeric_limits<float>::infinity();
+        EXPECT_FALSE(simdbvh::intersect(bvh, far).hit()) << "an AO ray from a convex surface hit it";
+    }
+}
+
+TEST(Rays, LidarSpinsFromTheCentreInFiringOrder) {
+    const Aabb b{{-2, 0, -1}, {2, 4, 3}};
+    const auto r = wl::lidar_rays(b, 64 * 100 + 10);
+    ASSERT_EQ(r.size(), 64u * 100 + 10);
+    for (const Ray& x : r) {
+        EXPECT_EQ(x.org, b.center());
+        EXPECT_NEAR(simdbvh::length(x.dir), 1.0f, 1e-6f);
+        const float el = std::asin(x.dir.y) * 57.2957795f;
+        EXPECT_GE(el, -25.001f);
+        EXPECT_LE(el, 15.001f);
+    }
+    // One azimuth step holds all 64 beams, lowest first; the next step turns.
+    for (int k = 1; k < 64; ++k) {
+        EXPECT_NEAR(std::atan2(r[k].dir.z, r[k].dir.x), std::atan2(r[0].dir.z, r[0].dir.x), 1e-5f);
+        EXPECT_GT(r[k].dir.y, r[k - 1].dir.y);
+    }
+    EXPECT_GT(std::fabs(std::atan2(r[64].dir.z, r[64].dir.x) - std::atan2(r[0].dir.z, r[0].dir.x)), 1e-3f);
 }
 
 TEST(Rays, SelfIntersectionFreeOnDragon) {

@@ -22,20 +22,25 @@ void image_size(std::size_t count, int& w, int& h) {
 std::vector<Ray> generate_rays(const Mesh& mesh, RayKind kind, std::size_t count, std::uint64_t seed) {
     switch (kind) {
     case RayKind::incoherent: return incoherent_rays(mesh.bounds(), count, seed);
-    case RayKind::primary:
-    case RayKind::diffuse: {
-        int w = 1, h = 1;
-        image_size(count, w, h);
-        std::vector<Ray> rays = primary_rays(default_camera(mesh.bounds(), w, h));
-        rays.resize(count);
-        if (kind == RayKind::primary) return rays;
-        const Bvh2 bvh = Bvh2::build(mesh);
-        std::vector<Hit> hits(rays.size());
-        intersect(bvh, rays, hits);
-        return diffuse_rays(mesh, rays, hits, count, seed);
+    case RayKind::lidar: return lidar_rays(mesh.bounds(), count);
+    default: break;
     }
+    int w = 1, h = 1;
+    image_size(count, w, h);
+    std::vector<Ray> rays = primary_rays(default_camera(mesh.bounds(), w, h));
+    rays.resize(count);
+    if (kind == RayKind::primary) return rays;
+    const Bvh2 bvh = Bvh2::build(mesh);
+    std::vector<Hit> hits(rays.size());
+    intersect(bvh, rays, hits);
+    switch (kind) {
+    case RayKind::diffuse: return diffuse_rays(mesh, rays, hits, count, seed);
+    case RayKind::diffuse_shuffled: return shuffled(diffuse_rays(mesh, rays, hits, count, seed), seed);
+    case RayKind::shadow: return shadow_rays(mesh, rays, hits, count, seed, false);
+    case RayKind::area_shadow: return shadow_rays(mesh, rays, hits, count, seed, true);
+    case RayKind::ao: return ao_rays(mesh, rays, hits, count, seed);
+    default: return rays;
     }
-    return {};
 }
 
 }  // namespace simdbvh::workloads

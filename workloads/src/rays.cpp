@@ -7,6 +7,8 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <string>
+#include <utility>
 
 #include "rng.h"
 #include "simdbvh/kernels/error.h"
@@ -92,14 +94,33 @@ std::string_view name(RayKind k) {
     case RayKind::primary: return "primary";
     case RayKind::incoherent: return "incoherent";
     case RayKind::diffuse: return "diffuse";
+    case RayKind::diffuse_shuffled: return "diffuse-shuffled";
+    case RayKind::shadow: return "shadow";
+    case RayKind::area_shadow: return "area-shadow";
+    case RayKind::ao: return "ao";
+    case RayKind::lidar: return "lidar";
     }
     return "?";
 }
 
 std::optional<RayKind> parse_ray_kind(std::string_view s) {
-    for (RayKind k : {RayKind::primary, RayKind::incoherent, RayKind::diffuse})
+    for (RayKind k : kRayKinds)
         if (s == name(k)) return k;
     return std::nullopt;
+}
+
+std::string ray_kind_names() {
+    std::string s;
+    for (RayKind k : kRayKinds) {
+        if (!s.empty()) s += ", ";
+        s += name(k);
+    }
+    return s;
+}
+
+bool needs_primary_hits(RayKind k) {
+    return k == RayKind::diffuse || k == RayKind::diffuse_shuffled || k == RayKind::shadow ||
+           k == RayKind::area_shadow || k == RayKind::ao;
 }
 
 Camera default_camera(const Aabb& bounds_in, int width, int height) {
@@ -184,47 +205,151 @@ std::vector<Ray> incoherent_rays(const Aabb& bounds_in, std::size_t count, std::
     return rays;
 }
 
-std::vector<Ray> diffuse_rays(const Mesh& mesh, std::span<const Ray> primary, std::span<const Hit> hits,
-                              std::size_t count, std::uint64_t seed) {
+namespace {
+
+// The primary hits rays start from: the hit rays' ids, checked, and the scale of the origin offset.
+struct SurfaceStarts {
+    std::vector<std::size_t> ids;
+    float scale = 1.0f;  // the largest |coordinate| of the bounds (the offset near the origin)
+};
+
+SurfaceStarts surface_starts(const char* what, const Mesh& mesh, std::span<const Ray> primary,
+                             std::span<const Hit> hits) {
     if (primary.size() != hits.size())
-        throw Error("diffuse_rays: " + std::to_string(primary.size()) + " rays but " + std::to_string(hits.size()) +
-                    " hits");
-    std::vector<std::size_t> hit_ids;
+        throw Error(std::string(what) + ": " + std::to_string(primary.size()) + " rays but " +
+                    std::to_string(hits.size()) + " hits");
+    SurfaceStarts s;
     for (std::size_t i = 0; i < hits.size(); ++i) {
         if (!hits[i].hit()) continue;
         if (hits[i].prim >= mesh.triangles.size())
-            throw Error("diffuse_rays: hit " + std::to_string(i) + " names triangle " + std::to_string(hits[i].prim) +
-                        " of " + std::to_string(mesh.triangles.size()));
-        hit_ids.push_back(i);
+            throw Error(std::string(what) + ": hit " + std::to_string(i) + " names triangle " +
+                        std::to_string(hits[i].prim) + " of " + std::to_string(mesh.triangles.size()));
+        s.ids.push_back(i);
     }
-    std::vector<Ray> rays;
-    if (hit_ids.empty()) return rays;  // nothing was hit: no bounces
-    // Scene scale for the offset near the origin: the largest |coordinate| of the bounds.
     const Aabb b = usable(mesh.bounds());
     float scale = 0.0f;
     for (int k = 0; k < 3; ++k) scale = std::fmax(scale, std::fmax(std::fabs(b.lo[k]), std::fabs(b.hi[k])));
-    if (!(scale > 0.0f)) scale = 1.0f;
+    s.scale = scale > 0.0f ? scale : 1.0f;
+    return s;
+}
+
+// The hit point of primary ray i, its geometric normal facing the incoming ray, and the offset origin.
+struct SurfacePoint {
+    Vec3 p, ng, org;
+};
+
+SurfacePoint surface_point(const Mesh& mesh, const Ray& primary, const Hit& h, float scale) {
+    const Vec3 v0 = mesh.vertex(h.prim, 0), v1 = mesh.vertex(h.prim, 1), v2 = mesh.vertex(h.prim, 2);
+    SurfacePoint s;
+    s.p = v0 * (1.0f - h.u - h.v) + v1 * h.u + v2 * h.v;
+    Vec3 ng = cross(v1 - v0, v2 - v0);
+    const float len = length(ng);
+    ng = len > 0.0f && std::isfinite(len) ? ng * (1.0f / len) : normalize(primary.dir * -1.0f);
+    if (dot(ng, primary.dir) > 0.0f) ng = ng * -1.0f;  // face the incoming ray
+    s.ng = ng;
+    s.org = offset_ray_origin(s.p, ng, scale);  // Wachter and Binder, RT Gems ch. 6
+    return s;
+}
+
+// Cosine-weighted hemisphere about n (Malley's method).
+Vec3 cosine_direction(Vec3 n, detail::Rng& rng) {
+    Vec3 t, bt;
+    onb(n, t, bt);
+    const float u1 = rng.uniform(), u2 = rng.uniform();
+    const float r = std::sqrt(u1), phi = kTwoPi * u2;
+    const float lz = std::sqrt(std::fmax(0.0f, 1.0f - u1));
+    return normalize(t * (r * std::cos(phi)) + bt * (r * std::sin(phi)) + n * lz);
+}
+
+std::vector<Ray> bounces(const char* what, const Mesh& mesh, std::span<const Ray> primary, std::span<const Hit> hits,
+                         std::size_t count, std::uint64_t seed, float tmax) {
+    const SurfaceStarts starts = surface_starts(what, mesh, primary, hits);
+    std::vector<Ray> rays;
+    if (starts.ids.empty()) return rays;  // nothing was hit: no bounces
     detail::Rng rng(seed);
     rays.reserve(count);
     for (std::size_t n = 0; n < count; ++n) {
-        const std::size_t i = hit_ids[n % hit_ids.size()];
-        const Hit& h = hits[i];
-        const Vec3 v0 = mesh.vertex(h.prim, 0), v1 = mesh.vertex(h.prim, 1), v2 = mesh.vertex(h.prim, 2);
-        const Vec3 p = v0 * (1.0f - h.u - h.v) + v1 * h.u + v2 * h.v;
-        Vec3 ng = cross(v1 - v0, v2 - v0);
-        const float len = length(ng);
-        ng = len > 0.0f && std::isfinite(len) ? ng * (1.0f / len) : normalize(primary[i].dir * -1.0f);
-        if (dot(ng, primary[i].dir) > 0.0f) ng = ng * -1.0f;  // face the incoming ray
-        Vec3 t, bt;
-        onb(ng, t, bt);
-        // Cosine-weighted hemisphere (Malley's method).
-        const float u1 = rng.uniform(), u2 = rng.uniform();
-        const float r = std::sqrt(u1), phi = kTwoPi * u2;
-        const float lz = std::sqrt(std::fmax(0.0f, 1.0f - u1));
+        const std::size_t i = starts.ids[n % starts.ids.size()];
+        const SurfacePoint s = surface_point(mesh, primary[i], hits[i], starts.scale);
         Ray ray;
-        ray.org = offset_ray_origin(p, ng, scale);  // Wachter and Binder, RT Gems ch. 6
-        ray.dir = normalize(t * (r * std::cos(phi)) + bt * (r * std::sin(phi)) + ng * lz);
+        ray.org = s.org;
+        ray.dir = cosine_direction(s.ng, rng);
+        ray.tmax = tmax;
         rays.push_back(ray);
+    }
+    return rays;
+}
+
+}  // namespace
+
+std::vector<Ray> diffuse_rays(const Mesh& mesh, std::span<const Ray> primary, std::span<const Hit> hits,
+                              std::size_t count, std::uint64_t seed) {
+    return bounces("diffuse_rays", mesh, primary, hits, count, seed, std::numeric_limits<float>::infinity());
+}
+
+std::vector<Ray> ao_rays(const Mesh& mesh, std::span<const Ray> primary, std::span<const Hit> hits, std::size_t count,
+                         std::uint64_t seed) {
+    return bounces("ao_rays", mesh, primary, hits, count, seed, 0.1f * half_diagonal(usable(mesh.bounds())));
+}
+
+std::vector<Ray> shuffled(std::vector<Ray> rays, std::uint64_t seed) {
+    detail::Rng rng(seed ^ 0x5bd1e995u);
+    for (std::size_t i = rays.size(); i > 1; --i) std::swap(rays[i - 1], rays[rng.below(std::uint32_t(i))]);
+    return rays;
+}
+
+Vec3 light_position(const Aabb& bounds) {
+    const Aabb b = usable(bounds);
+    const float r = half_diagonal(b);
+    // Above the bounds and off to one side, as a sun-like key light: the shadow rays cross the scene at a slant.
+    return b.center() + Vec3{0.4f * r, 1.5f * r, 0.3f * r};
+}
+
+std::vector<Ray> shadow_rays(const Mesh& mesh, std::span<const Ray> primary, std::span<const Hit> hits,
+                             std::size_t count, std::uint64_t seed, bool area) {
+    const SurfaceStarts starts = surface_starts("shadow_rays", mesh, primary, hits);
+    std::vector<Ray> rays;
+    if (starts.ids.empty()) return rays;
+    const Vec3 light = light_position(mesh.bounds());
+    const float side = half_diagonal(usable(mesh.bounds()));
+    detail::Rng rng(seed);
+    rays.reserve(count);
+    for (std::size_t n = 0; n < count; ++n) {
+        const std::size_t i = starts.ids[n % starts.ids.size()];
+        const SurfacePoint s = surface_point(mesh, primary[i], hits[i], starts.scale);
+        Vec3 target = light;
+        if (area) target = light + Vec3{side * (rng.uniform() - 0.5f), 0.0f, side * (rng.uniform() - 0.5f)};
+        const Vec3 d = target - s.org;
+        const float dist = length(d);
+        if (!(dist > 0.0f) || !std::isfinite(dist)) continue;
+        Ray ray;
+        ray.org = s.org;
+        ray.dir = d * (1.0f / dist);
+        ray.tmax = dist * 0.9999f;  // stop short of the light's own position
+        rays.push_back(ray);
+    }
+    return rays;
+}
+
+std::vector<Ray> lidar_rays(const Aabb& bounds, std::size_t count) {
+    constexpr int kBeams = 64;
+    constexpr float kDeg = 0.0174532925f;
+    const Aabb b = usable(bounds);
+    const Vec3 o = b.center();
+    const std::size_t steps = (count + kBeams - 1) / kBeams;
+    std::vector<Ray> rays;
+    rays.reserve(count);
+    for (std::size_t a = 0; a < steps && rays.size() < count; ++a) {
+        const float az = kTwoPi * (float(a) / float(steps));
+        const float ca = std::cos(az), sa = std::sin(az);
+        for (int k = 0; k < kBeams && rays.size() < count; ++k) {
+            const float el = (-25.0f + 40.0f * float(k) / float(kBeams - 1)) * kDeg;
+            const float ce = std::cos(el);
+            Ray ray;
+            ray.org = o;
+            ray.dir = normalize(Vec3{ce * ca, std::sin(el), ce * sa});
+            rays.push_back(ray);
+        }
     }
     return rays;
 }
