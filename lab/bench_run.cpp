@@ -7,9 +7,11 @@
 #include "bench_run.h"
 
 #include <algorithm>
+#include <chrono>
 
 #include "common.h"
 #include "methods.h"
+#include "report.h"
 #include "simdbvh/workloads/rays.h"
 
 namespace simdbvh::cli {
@@ -143,13 +145,26 @@ public:
         if (many)
             for (const MethodSpec& m : methods)
                 all.push_back(build_method(mesh_, m, c_.threads_all, m.method == "brute" ? 0 : c_.build_reps));
+        // What remains, from the groups timed so far (each group's share of the rows is the same).
+        const int groups = (many ? 2 : 1) * 3 * 2;
+        int done = 0;
+        const auto t0 = std::chrono::steady_clock::now();
         for (int threads : {1, c_.threads_all}) {
             if (threads != 1 && !many) break;
             progress("timing " + std::to_string(methods.size()) + " methods on " + scene_ + ", " +
                          std::to_string(threads) + " thread" + (threads > 1 ? "s" : ""),
                      true);
             for (int k = 0; k < 3; ++k)
-                for (bool any : {false, true}) group(methods, one, all, threads, k, any, out);
+                for (bool any : {false, true}) {
+                    group(methods, one, all, threads, k, any, out);
+                    ++done;
+                    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+                    if (done < groups)
+                        progress("  row group " + std::to_string(done) + "/" + std::to_string(groups) + " in " +
+                                     fmt("%.0f", s) + " s; about " + fmt("%.0f", s / done * (groups - done)) +
+                                     " s left for " + scene_ + "'s rows",
+                                 true);
+                }
         }
     }
 

@@ -9,6 +9,7 @@
 // Config (here) -> run (bench_run.cpp, scene_desc_bench_run.cpp) -> report
 // (bench_report.cpp, scene_desc_bench_report.cpp).
 #include <algorithm>
+#include <chrono>
 #include <iostream>
 #include <sstream>
 
@@ -82,9 +83,15 @@ BenchConfig parse_bench(const std::vector<std::string>& args) {
     return c;
 }
 
-// On a terminal, which step of the main job runs.
+// On a terminal, which step of the main job runs and how long it has run (the trace step, the longest,
+// estimates what it has left as it goes: SceneBench::run).
 void bench_step(int i, int n, const std::string& what) {
-    if (::isatty(2)) std::cerr << "[" << i << "/" << n << "] " << what << "\n" << std::flush;
+    static const auto t0 = std::chrono::steady_clock::now();
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (::isatty(2))
+        std::cerr << "[" << i << "/" << n << "] " << what << " (" << int(s) / 60 << " min " << int(s) % 60
+                  << " s so far)\n"
+                  << std::flush;
 }
 
 }  // namespace

@@ -110,6 +110,23 @@ void BM_Bvh16Order(benchmark::State& st, Isa isa, simdbvh::Reorder r, RayKind ki
         ->Unit(benchmark::kMillisecond);                                                                               \
     BENCHMARK_CAPTURE(fn, isa##_##order##_diffuse_any, Isa::isa, simdbvh::Reorder::order, RayKind::diffuse, true)      \
         ->Unit(benchmark::kMillisecond)
+// The distributions whose order the automatic rule decides beyond the three above: shadow rays in pixel order
+// (kept by the rule before shadow rays were sorted, sorted since), LiDAR (kept: one origin).
+#define SIMDBVH_ORDER_KIND(isa, order, kind)                                                                        \
+    BENCHMARK_CAPTURE(BM_Bvh8Order, isa##_##order##_##kind##_closest, Isa::isa, simdbvh::Reorder::order,            \
+                      RayKind::kind, false)                                                                         \
+        ->Unit(benchmark::kMillisecond);                                                                            \
+    BENCHMARK_CAPTURE(BM_Bvh8Order, isa##_##order##_##kind##_any, Isa::isa, simdbvh::Reorder::order, RayKind::kind, \
+                      true)                                                                                         \
+        ->Unit(benchmark::kMillisecond)
+SIMDBVH_ORDER_KIND(avx512, off, shadow);
+SIMDBVH_ORDER_KIND(avx512, on, shadow);
+SIMDBVH_ORDER_KIND(avx512, off, area_shadow);
+SIMDBVH_ORDER_KIND(avx512, on, area_shadow);
+SIMDBVH_ORDER_KIND(avx512, off, lidar);
+SIMDBVH_ORDER_KIND(avx512, on, lidar);
+SIMDBVH_ORDER_KIND(avx2, off, shadow);
+SIMDBVH_ORDER_KIND(avx2, on, shadow);
 SIMDBVH_ORDER_BENCH(BM_Bvh8Order, avx512, off);
 SIMDBVH_ORDER_BENCH(BM_Bvh8Order, avx512, on);
 SIMDBVH_ORDER_BENCH(BM_Bvh16Order, avx512, off);

@@ -194,6 +194,26 @@ TEST(RayOrder, AutomaticSortsSurfaceBouncesOnly) {
     EXPECT_FALSE(bvh8::detail::scattered(workloads::interior_rays(b, 40000, 1), b));    // filling the bounds
 }
 
+// Rays in an order that keeps neighbours together are sorted all the same when their origins spread over many
+// cells (shadow rays from the primary hits in pixel order), and kept when they share an origin (a LiDAR inside
+// the bounds).
+TEST(RayOrder, AutomaticSortsShadowRaysAndKeepsASharedOrigin) {
+    const Mesh mesh = spheres();
+    const Aabb b = mesh.bounds();
+    for (auto kind : {workloads::RayKind::shadow, workloads::RayKind::area_shadow}) {
+        const std::vector<Ray> shadow = workloads::generate_rays(mesh, kind, 150000, 1);
+        // In pixel order, most neighbours share cell and octant: the first test alone would keep them.
+        std::size_t same = 0;
+        for (std::size_t i = 0; i + 1 < shadow.size(); i += 97)
+            same += (bvh8::detail::ray_key(shadow[i], b) >> bvh8::detail::kFineBits) ==
+                    (bvh8::detail::ray_key(shadow[i + 1], b) >> bvh8::detail::kFineBits);
+        if (kind == workloads::RayKind::shadow)  // (toward an area light the octant changes more often)
+            EXPECT_GT(4 * same, 3 * ((shadow.size() - 1 + 96) / 97));
+        EXPECT_TRUE(bvh8::detail::scattered(shadow, b)) << workloads::name(kind);
+    }
+    EXPECT_FALSE(bvh8::detail::scattered(workloads::lidar_rays(b, 150000), b));
+}
+
 // The public question (batch_order.h), on Ray records and on a function of
 // the position, answers as the traversal decides: the rule for automatic,
 // yes for on (more than one ray), no for off.

@@ -37,6 +37,8 @@ namespace simdbvh::bvh8::detail {
 // bounces, the more of each stream of 32 stays together.
 inline constexpr std::size_t kReorderMinRays = 16384;
 inline constexpr std::size_t kReorderRaysPerCell = 300;
+// At most this many 8^3 cells hold the sampled origins of rays that share an origin (scattered()).
+inline constexpr std::size_t kReorderSharedOriginCells = 8;
 // Rays sorted together at most (their positions fit in the key's low bits).
 inline constexpr int kReorderIndexBits = 20;
 inline constexpr std::size_t kReorderSegment = std::size_t(1) << kReorderIndexBits;
@@ -50,7 +52,9 @@ std::uint32_t ray_key(const Ray& ray, const Aabb& bounds);
 // order that keeps neighbours together: more than a quarter of 1,024 evenly
 // spaced pairs of consecutive rays change 8^3 cell or octant (a camera's rays
 // in image order share their origin and mostly their octant: kept; diffuse
-// bounces in pixel order change octant in 7 pairs of 8), (2) the origins lie
+// bounces in pixel order change octant in 7 pairs of 8), or it is in such an
+// order but its origins spread over more than kReorderSharedOriginCells cells
+// (shadow rays from the primary hits toward one light), (2) the origins lie
 // on surfaces within the tree's bounds: at least half of 4,096 evenly spaced
 // rays start inside the bounds, and those in fewer than 3/4 of the 512 cells
 // (rays from outside, as the benches' incoherent rays, or from random points
