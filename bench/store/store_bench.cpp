@@ -5,11 +5,13 @@
 // two threads; and the first trace of 65,536 incoherent rays right after a
 // mapped load and right after a build (the trees' pages are touched by the
 // load's copy or by the build either way). Warm page cache: the file is
-// written once and read back by every repetition. Read the _median rows.
+// written once and read back by every repetition; the _cold rows evict the
+// file's pages first (evict()). Read the _median rows.
 // Scenes: $SIMDBVH_BENCH_STORE_SCENES, comma separated (default
 // "dragon,soup-1000000"); the files go to $TMPDIR (default /tmp).
 #include <benchmark/benchmark.h>
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -70,9 +72,25 @@ void BM_Save(benchmark::State& st, std::string scene) {
     for (auto _ : st) save(f.bvh, f.mesh, f.file);
     set_counters(st, f);
 }
-void BM_Load(benchmark::State& st, std::string scene, bool map, bool verify) {
+// Evicts the file's pages from this machine's page cache (POSIX_FADV_DONTNEED on a clean file: only its own
+// pages, not the whole cache as drop_caches would; a virtual disk may still serve them from the host's cache).
+void evict(const std::filesystem::path& file) {
+    const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return;
+    ::fdatasync(fd);
+    ::posix_fadvise(fd, 0, 0, POSIX_FADV_DONTNEED);
+    ::close(fd);
+}
+void BM_Load(benchmark::State& st, std::string scene, bool map, bool verify, bool cold = false) {
     Fixture& f = fixture(scene);
-    for (auto _ : st) benchmark::DoNotOptimize(load<Bvh8>(f.file, {.map = map, .verify = verify}));
+    for (auto _ : st) {
+        if (cold) {
+            st.PauseTiming();
+            evict(f.file);
+            st.ResumeTiming();
+        }
+        benchmark::DoNotOptimize(load<Bvh8>(f.file, {.map = map, .verify = verify}));
+    }
     set_counters(st, f);
 }
 void BM_Checksum(benchmark::State& st, std::string scene) {
@@ -129,6 +147,8 @@ int main(int argc, char** argv) {
         reg("save", [s](benchmark::State& st) { BM_Save(st, s); });
         reg("load_read", [s](benchmark::State& st) { BM_Load(st, s, false, true); });
         reg("load_mapped", [s](benchmark::State& st) { BM_Load(st, s, true, true); });
+        reg("load_mapped_cold", [s](benchmark::State& st) { BM_Load(st, s, true, true, true); });
+        reg("load_read_cold", [s](benchmark::State& st) { BM_Load(st, s, false, true, true); });
         reg("load_mapped_noverify", [s](benchmark::State& st) { BM_Load(st, s, true, false); });
         reg("checksum", [s](benchmark::State& st) { BM_Checksum(st, s); });
         reg("build_t1", [s](benchmark::State& st) { BM_Build(st, s, 1); });
