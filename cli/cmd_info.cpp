@@ -5,6 +5,7 @@
 #include "common.h"
 #include "methods.h"
 #include "printable.h"
+#include "saved.h"
 #include "scene_cmds.h"
 #include "simdbvh/bvh8/cost_model.h"
 
@@ -28,6 +29,7 @@ int cmd_info(const std::vector<std::string>& args) {
     const Options o("info", args, valued, flags);
     const std::string scene_name = o.require("scene");
     const MethodSpec spec = parse_method(o);
+    if (is_saved_scene(scene_name)) return info_saved(scene_name);
     if (is_scene_desc(scene_name)) {
         refuse_mesh_options(o, scene_name);
         return info_scene(scene_name, spec, parse_instance_bounds(o));

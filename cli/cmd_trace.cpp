@@ -6,6 +6,7 @@
 #include "common.h"
 #include "methods.h"
 #include "outputs.h"
+#include "saved.h"
 #include "scene_cmds.h"
 #include "trace_crossings.h"
 #include "simdbvh/kernels/error.h"
@@ -161,7 +162,10 @@ int cmd_trace(const std::vector<std::string>& args) {
     check_outputs({{"--out", out}}, {.files = {{"--rays", rays_file}}, .scenes = {{"--scene", scene_name}}});
     // Read the rays first: a bad ray file fails before any expensive work.
     const auto rays = io::read_rays(rays_file);
-    const Mesh mesh = load_for_trace(scene_name, o.has("drop-invalid"));
+    const bool saved = is_saved_scene(scene_name);  // a tree saved by `simdbvh build`: loaded, not built
+    if (saved && (crossings || o.has("drop-invalid")))
+        throw UsageError("--scene " + scene_name + " is a saved tree: it takes --query closest or any");
+    const Mesh mesh = saved ? Mesh{} : load_for_trace(scene_name, o.has("drop-invalid"));
     if (crossings) {
         CrossingQuery q;
         q.all = query == "all";
@@ -171,8 +175,8 @@ int cmd_trace(const std::vector<std::string>& args) {
         return 0;
     }
     spec.expected_rays = rays.size();
-    progress("building " + spec.label() + " ...");
-    auto tracer = make_tracer(mesh, spec);
+    progress(saved ? "loading " + scene_name + " ..." : "building " + spec.label() + " ...");
+    auto tracer = saved ? load_saved_tracer(scene_name, spec, o.has("method")) : make_tracer(mesh, spec);
     std::vector<Hit> hits(rays.size());
     const bool any = query == "any";
     TraceStats stats;

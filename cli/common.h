@@ -18,6 +18,7 @@ Mesh load_scene_with_progress(const std::string& name_or_path);
 // The default scene: the dragon when cached, else the large procedural terrain.
 std::string default_scene(std::string* why = nullptr);
 
+int cmd_build(const std::vector<std::string>& args);
 int cmd_info(const std::vector<std::string>& args);
 int cmd_gen_rays(const std::vector<std::string>& args);
 int cmd_trace(const std::vector<std::string>& args);

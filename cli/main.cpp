@@ -40,6 +40,7 @@ int main(int argc, char** argv) {
         }
     install_cleanup_handlers();
     try {
+        if (cmd == "build") return cmd_build(args);
         if (cmd == "info") return cmd_info(args);
         if (cmd == "gen-rays") return cmd_gen_rays(args);
         if (cmd == "trace") return cmd_trace(args);

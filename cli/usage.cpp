@@ -19,6 +19,10 @@ constexpr CommandText kCommands[] = {
            and every width's (bvh4, bvh8, bvh16: nodes, depth, bytes/triangle, fill), all from the same BVH2;
            [--expected-rays N] (default 1000000): what --method auto would choose for N rays, and why
 )"},
+    {"build", R"(build    --scene S --out FILE.simdbvh [--method bvh2|bvh4|bvh8|bvh16] [--nodes quantized] [--threads N]
+           [--builder B] [--bins N] [--collapse C]   builds the tree once (default bvh8) and saves it with the
+           mesh (docs/saved_format.md); trace and info take FILE.simdbvh as --scene and load it instead
+)"},
     {"gen-rays", R"(gen-rays --scene S --kind K --count N [--seed K] --out RAYS.bin
            K: primary | incoherent | diffuse | diffuse-shuffled | shadow | area-shadow | ao | lidar, or a ray family with its own mesh (--mesh-out MESH.ply
               [--case C] [--quick]; --scene only for random): watertight | offsets | axis-aligned |

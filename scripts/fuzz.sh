@@ -3,6 +3,8 @@
 # (docs/accuracy.md). Configures a Clang build in build/fuzz (fuzz/ as the top
 # level), builds fuzz_load_mesh and fuzz_read_rays, and runs each for SECONDS
 # (default 60) over a working copy of fuzz/corpus/<target>, JOBS (default 2) at a time.
+# fuzz_load_store (the saved-structure loader, store/) links the trees and is
+# run when named: scripts/fuzz.sh 60 fuzz_load_store.
 # The targets link simdbvh_io (the loaders and the ray/hit file readers)
 # and simdbvh_kernels only, so the instrumented build compiles those 22 files
 # and not the BVH libraries or the rest of the scene code, which the fuzzed
@@ -43,6 +45,7 @@ run_one() {
   case "$t" in
     fuzz_load_mesh) max_len=65536 ;;
     fuzz_read_rays) max_len=4096 ;;
+    fuzz_load_store) max_len=65536 ;;
     *) max_len=4096 ;;
   esac
   work="$build/corpus/$t"

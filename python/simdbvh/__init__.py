@@ -13,6 +13,6 @@
 Errors raise simdbvh.Error (a ValueError) with the library's message. Array arguments take real numbers
 (faces: integers) of any numpy dtype of that kind; bool, complex, string and object arrays are refused, not cast.
 """
-from ._simdbvh import BVH, Error, Mesh, Scene, isas, load, load_scene
+from ._simdbvh import BVH, Error, Mesh, Scene, isas, load, load_bvh, load_scene
 
-__all__ = ["BVH", "Error", "Mesh", "Scene", "isas", "load", "load_scene"]
+__all__ = ["BVH", "Error", "Mesh", "Scene", "isas", "load", "load_bvh", "load_scene"]

@@ -27,7 +27,9 @@
 #include "simdbvh/bvh8/closest_point.h"
 #include "simdbvh/bvh8/inside.h"
 #include "simdbvh/kernels/isa.h"
+#include "simdbvh/io/output.h"
 #include "simdbvh/kernels/parallel.h"
+#include "simdbvh/store/store.h"
 #include "simdbvh/workloads/scenes.h"
 
 namespace simdbvh::python {
@@ -68,6 +70,56 @@ public:
         // BVH2 built first and kept: docs/open3d.md has the dragon's build through this module both ways.
         if (width_ > 2) with_width(width_, [&](auto n) { wide_ = BvhN<decltype(n)::value>::build(mesh_); });
         else if (width_ == 2) bvh2();
+    }
+
+    // A tree saved by save() (docs/saved_format.md), from a file (mapped) or from pickled bytes: nothing is
+    // built; the mesh comes from the file.
+    static std::unique_ptr<Bvh> load_saved(const std::string& path, const py::bytes* bytes,
+                                           const std::optional<std::string>& isa, bool verify) {
+        std::span<const unsigned char> data;
+        if (bytes) {
+            char* p = nullptr;
+            Py_ssize_t n = 0;
+            if (PyBytes_AsStringAndSize(bytes->ptr(), &p, &n) != 0) throw py::error_already_set();
+            data = {reinterpret_cast<const unsigned char*>(p), std::size_t(n)};
+        }
+        const std::string what = bytes ? std::string("pickled BVH") : path;
+        const LoadOptions opts{.map = true, .verify = verify};
+        std::unique_ptr<Bvh> b;
+        {
+            py::gil_scoped_release nogil;
+            const SavedInfo info = bytes ? inspect_bytes(data, what) : inspect(path);
+            b.reset(new Bvh("bvh" + std::to_string(info.width), isa));
+            auto take = [&](auto saved) {
+                b->mesh_ = std::move(saved.mesh);
+                return std::move(saved.bvh);
+            };
+            if (info.width == 2) {
+                b->bvh2_ = take(bytes ? load_bytes<Bvh2>(data, what, opts) : load_with_mesh<Bvh2>(path, opts));
+                std::call_once(b->bvh2_once_, [] {});
+                b->bvh2_built_ = true;
+            } else {
+                with_width(info.width, [&](auto n) {
+                    using Tree = BvhN<decltype(n)::value>;
+                    b->wide_ = take(bytes ? load_bytes<Tree>(data, what, opts) : load_with_mesh<Tree>(path, opts));
+                });
+            }
+        }
+        return b;
+    }
+
+    // The saved bytes of this BVH's tree and mesh (docs/saved_format.md); 'brute' has no tree.
+    std::vector<unsigned char> saved_bytes() const {
+        if (method_ == "brute") throw Error("a 'brute' BVH has no tree to save (use method 'bvh8', 'bvh2', ...)");
+        py::gil_scoped_release nogil;
+        const std::shared_lock<RwLock> hold(lock_);  // the tree and the vertices of one refit
+        if (width_ <= 2) return save_bytes(bvh2(), mesh_);
+        std::vector<unsigned char> out;
+        visit_wide([&](const auto& tree) { out = save_bytes(tree, mesh_); });
+        return out;
+    }
+    std::optional<std::string> isa_arg_given() const {
+        return isa_auto_ ? std::nullopt : std::optional<std::string>(std::string(name(isa_)));
     }
 
     // The BVH2 of count and all (and of method 'bvh2'): built on first use, once, from the current vertices.
@@ -431,6 +483,15 @@ public:
     }
 
 private:
+    // For load_saved: the method and ISA, nothing built.
+    Bvh(const std::string& method, const std::optional<std::string>& isa) : method_(method) {
+        width_ = tree_width(*parse_accel_method(method_));
+        if (const auto parsed = isa_arg(isa)) isa_ = *parsed;
+        else {
+            isa_ = active_isa();
+            isa_auto_ = true;
+        }
+    }
     Mesh mesh_;
     std::string method_;
     Isa isa_ = Isa::scalar;
@@ -519,6 +580,11 @@ PYBIND11_MODULE(_simdbvh, m) {
              "vertex used by a face, an out-of-range index, or too little memory.")
         .def_property_readonly("vertices", &vertices_of, "The vertices, (n, 3) float32 (a copy).")
         .def_property_readonly("faces", &faces_of, "The faces, (m, 3) int64 (a copy).")
+        .def(py::pickle([](const Mesh& mesh) { return py::make_tuple(vertices_of(mesh), faces_of(mesh)); },
+                        [](const py::tuple& t) {
+                            if (t.size() != 2) throw Error("a pickled Mesh is (vertices, faces)");
+                            return mesh_from_arrays(t[0], t[1]);
+                        }))
         .def("__len__", &Mesh::size, "The number of triangles.")
         .def(
             "closure",
@@ -620,11 +686,45 @@ PYBIND11_MODULE(_simdbvh, m) {
              py::arg("tmax") = kInf, py::arg("max_hits") = 1024, py::arg("threads") = 1,
              "Every hit: flat arrays ray, t, prim, u, v, facing sorted by ray, t, prim; dropped per ray. The rays "
              "are spread over `threads`; the arrays are the same for every count.")
+        .def(
+            "save",
+            [](const Bvh& b, const std::string& path) {
+                path_arg(path, "path");
+                const auto bytes = b.saved_bytes();
+                py::gil_scoped_release nogil;
+                io::write_file_atomic(path, bytes);
+            },
+            py::arg("path"),
+            "Saves the tree and its mesh to `path` (docs/saved_format.md; written to a temporary file renamed over "
+            "it, never a partial file); simdbvh.load_bvh(path) loads it in milliseconds. 'brute' has no tree: an "
+            "Error.")
+        .def(py::pickle(
+            [](const Bvh& b) {
+                const auto bytes = b.saved_bytes();
+                return py::make_tuple(py::bytes(reinterpret_cast<const char*>(bytes.data()), bytes.size()),
+                                      b.isa_arg_given());
+            },
+            [](const py::tuple& t) {
+                if (t.size() != 2) throw Error("a pickled BVH is (bytes, isa)");
+                const py::bytes data = t[0];
+                return Bvh::load_saved({}, &data, t[1].cast<std::optional<std::string>>(), true);
+            }))
         .def("__repr__", [](const Bvh& b) {
             return "<simdbvh.BVH: " + std::to_string(b.mesh().size()) + " triangles, " + b.method() + "/" + b.isa() +
                    ">";
         });
 
+    m.def(
+        "load_bvh",
+        [](const std::string& path, const std::optional<std::string>& isa, bool verify) {
+            path_arg(path, "path");
+            return Bvh::load_saved(path, nullptr, isa, verify);
+        },
+        py::arg("path"), py::arg("isa") = py::none(), py::arg("verify") = true,
+        "Loads a BVH saved by BVH.save (or `simdbvh build`): the tree and its mesh, no build. The method is the "
+        "file's ('bvh2', 'bvh4', 'bvh8', 'bvh16'). verify=False skips the checksum of the arrays (the header, "
+        "bounds and structure are still checked). Raises simdbvh.Error naming the file for a truncated, damaged or "
+        "foreign file.");
     m.def(
         "isas",
         [] {

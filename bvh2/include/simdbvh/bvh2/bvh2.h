@@ -94,6 +94,7 @@ public:
     Aabb bounds() const { return nodes_.empty() ? Aabb{} : nodes_[0].box; }
 
 private:
+    friend struct StoreAccess;  // store/: loads a saved tree
     Nodes2 nodes_;
     std::vector<std::uint32_t> prim_ids_;
     std::vector<TriangleVerts> tris_;
