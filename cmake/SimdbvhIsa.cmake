@@ -1,6 +1,15 @@
 # Per-ISA compile flags, applied per source file: src/scalar/*.cpp get none
 # (baseline x86-64, no AVX), src/avx2/*.cpp AVX2+FMA, src/avx512/*.cpp AVX-512.
 # One binary runs everywhere and picks its path at runtime; never -march=native.
+# The x86 paths (src/avx2, src/avx512, CPUID) are built only for an x86-64
+# target: on any other processor the rooms build src/scalar/ alone
+# (simdbvh_isa_sources) and the scalar path is the only one.
+if(CMAKE_SYSTEM_PROCESSOR MATCHES "^(x86_64|AMD64|amd64|x64)$")
+  set(SIMDBVH_X86_64 ON)
+else()
+  set(SIMDBVH_X86_64 OFF)
+endif()
+message(STATUS "simdbvh: target processor ${CMAKE_SYSTEM_PROCESSOR}, x86 ISAs: ${SIMDBVH_X86_64}")
 set(SIMDBVH_AVX2_FLAGS -mavx2 -mfma -mbmi -mbmi2 -mlzcnt -mpopcnt -mf16c)
 set(SIMDBVH_AVX512_FLAGS ${SIMDBVH_AVX2_FLAGS} -mavx512f -mavx512vl -mavx512dq -mavx512bw -mavx512cd)
 
@@ -47,6 +56,18 @@ endif()
 # checks every one of those loads and stores; the arithmetic checks (overflow,
 # shifts, float-divide-by-zero, float-cast-overflow, bounds) stay on.
 set(SIMDBVH_TRAVERSAL_SANITIZE_FLAGS "" CACHE STRING "Sanitized builds: extra flags for the per-ISA traversal files")
+
+# Drops from the list <var> the per-ISA sources the target processor cannot run.
+function(simdbvh_isa_sources var)
+  set(kept "")
+  foreach(src IN LISTS ${var})
+    if(NOT SIMDBVH_X86_64 AND src MATCHES "/(avx2|avx512)/")
+      continue()
+    endif()
+    list(APPEND kept ${src})
+  endforeach()
+  set(${var} ${kept} PARENT_SCOPE)
+endfunction()
 
 function(simdbvh_isa_flags)
   foreach(src IN LISTS ARGN)

@@ -2,7 +2,7 @@
 // Volume Hierarchies"), with SAH leaf-cost termination and a depth cap.
 // Binning and partitioning stream over contiguous PrimRefs with SSE (the
 // x86-64 baseline, no AVX); min/max operand order matches Aabb::grow exactly.
-#include <emmintrin.h>
+#include "simdbvh/kernels/internal/simd/sse2.h"
 
 #include <algorithm>
 #include <atomic>

@@ -6,7 +6,7 @@
 // in the BVH2's loop.
 #include "simdbvh/bvh8/inside.h"
 
-#include <emmintrin.h>
+#include "simdbvh/kernels/internal/simd/sse2.h"
 
 #include <cstddef>
 

@@ -15,7 +15,7 @@
 // The result is a prune key: prune when key > best distance^2. Which nodes
 // are pruned changes, never the answer (a box is pruned only when every point
 // in it is strictly farther than the best).
-#include <emmintrin.h>
+#include "simdbvh/kernels/internal/simd/sse2.h"
 
 #include <cmath>
 #include <limits>

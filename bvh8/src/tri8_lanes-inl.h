@@ -3,7 +3,7 @@
 // the wide trees' refit (refit.cpp), inside test (inside.cpp) and closest-point
 // bounds (point_bounds-inl.h): which lanes hold a triangle, and the triangle
 // boxes of lanes i..i+3 with SSE (the x86-64 baseline: no dispatch, no AVX).
-#include <emmintrin.h>
+#include "simdbvh/kernels/internal/simd/sse2.h"
 
 #include <cstdint>
 

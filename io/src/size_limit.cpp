@@ -1,11 +1,10 @@
 // Per-format size limits (see size_limit.h): decided from the first bytes.
 #include "simdbvh/io/internal/size_limit.h"
 
-#include <unistd.h>
-
 #include <algorithm>
 
 #include "ply.h"
+#include "simdbvh/kernels/internal/platform.h"
 
 namespace simdbvh::io::detail {
 namespace {
@@ -58,9 +57,8 @@ std::uint64_t sat_mul(std::uint64_t a, std::uint64_t b) {
 }
 
 std::uint64_t text_cap() {
-    const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
-    if (pages <= 0 || page <= 0) return kMaxTextBytes;
-    return std::min(kMaxTextBytes, sat_mul(std::uint64_t(pages), std::uint64_t(page)));
+    const std::uint64_t memory = platform::physical_memory_bytes();
+    return memory == 0 ? kMaxTextBytes : std::min(kMaxTextBytes, memory);
 }
 
 std::size_t bom_size(std::string_view s) { return s.substr(0, 3) == "\xEF\xBB\xBF" ? 3 : 0; }

@@ -1,9 +1,13 @@
 // CPU detection: CPUID for the instruction sets, XGETBV for the register
 // state the OS saves (YMM: XCR0 bits 1-2; AVX-512: also opmask/ZMM bits 5-7).
-// Compiled for baseline x86-64: this code must run on any CPU.
+// Compiled for baseline x86-64: this code must run on any CPU. On any other
+// processor no x86 path is built (cmake/SimdbvhIsa.cmake) and only scalar is
+// supported.
 #include "simdbvh/kernels/isa.h"
 
+#if defined(__x86_64__)
 #include <cpuid.h>
+#endif
 
 #include <atomic>
 #include <cstdint>
@@ -21,6 +25,7 @@ struct CpuInfo {
     std::string brand = "unknown";
 };
 
+#if defined(__x86_64__)
 std::uint64_t xgetbv0() {
     std::uint32_t eax, edx;
     asm volatile(".byte 0x0f, 0x01, 0xd0" : "=a"(eax), "=d"(edx) : "c"(0));  // xgetbv, no -mxsave needed
@@ -67,6 +72,9 @@ CpuInfo detect() {
     info.avx512 = info.avx2 && os_zmm && avx512f && avx512vl && avx512dq && avx512bw && avx512cd;
     return info;
 }
+#else
+CpuInfo detect() { return {}; }  // no x86 path is compiled for this processor
+#endif
 
 const CpuInfo& cpu() {
     static const CpuInfo info = detect();  // once, thread-safe

@@ -1,13 +1,13 @@
 #include "simdbvh/kernels/large_alloc.h"
 
-#include <sys/mman.h>
-
 #include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <mutex>
 #include <new>
 #include <vector>
+
+#include "simdbvh/kernels/internal/platform.h"
 
 namespace simdbvh {
 
@@ -43,19 +43,19 @@ void advise_huge_pages(const void* p, std::size_t bytes) noexcept {
     const auto a = reinterpret_cast<std::uintptr_t>(p);
     const std::uintptr_t lo = (a + kHugePage - 1) / kHugePage * kHugePage;
     const std::uintptr_t hi = (a + bytes) / kHugePage * kHugePage;
-    if (hi > lo) madvise(reinterpret_cast<void*>(lo), hi - lo, MADV_HUGEPAGE);
+    if (hi > lo) platform::advise_huge_pages(reinterpret_cast<void*>(lo), hi - lo);
 }
 
 // A fresh anonymous mapping of `size` bytes (a multiple of 2 MiB), 2 MiB
 // aligned, advised as huge pages; nullptr when the kernel refuses.
 void* map_aligned(std::size_t size) noexcept {
-    void* m = mmap(nullptr, size + kHugePage, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-    if (m == MAP_FAILED) return nullptr;
+    void* m = platform::map_pages(size + kHugePage);
+    if (!m) return nullptr;
     const auto a = reinterpret_cast<std::uintptr_t>(m);
     const std::uintptr_t p = (a + kHugePage - 1) / kHugePage * kHugePage;
-    if (p > a) munmap(m, p - a);                                                          // the unaligned head
-    if (a + kHugePage > p) munmap(reinterpret_cast<void*>(p + size), a + kHugePage - p);  // and tail
-    madvise(reinterpret_cast<void*>(p), size, MADV_HUGEPAGE);  // advice only: no THP support changes nothing
+    if (p > a) platform::unmap_pages(m, p - a);  // the unaligned head
+    if (a + kHugePage > p) platform::unmap_pages(reinterpret_cast<void*>(p + size), a + kHugePage - p);  // and tail
+    platform::advise_huge_pages(reinterpret_cast<void*>(p), size);  // advice only: no THP support changes nothing
     return reinterpret_cast<void*>(p);
 }
 
@@ -81,7 +81,7 @@ thread_local int t_take = 0;  // LargeAllocTake scopes open on this thread
 // [p, p + size) up to the end of the 2 MiB page holding its last resident
 // 4 KiB page (0: nothing resident; size when mincore cannot tell).
 std::size_t resident_prefix(std::uintptr_t p, std::size_t size) noexcept {
-    constexpr std::size_t kPage = 4096;
+    constexpr std::size_t kPage = platform::kPageBytes;
     const std::size_t pages = size / kPage;
     std::vector<unsigned char> in;
     try {
@@ -89,7 +89,7 @@ std::size_t resident_prefix(std::uintptr_t p, std::size_t size) noexcept {
     } catch (...) {
         return size;
     }
-    if (mincore(reinterpret_cast<void*>(p), size, in.data()) != 0) return size;
+    if (!platform::resident_pages(reinterpret_cast<const void*>(p), size, in.data())) return size;
     std::size_t last = pages;
     while (last > 0 && !(in[last - 1] & 1)) --last;
     return round_up(last * kPage);
@@ -116,8 +116,7 @@ void* reuse(std::size_t size) {
     while (dst < end && !g_free.empty()) {
         FreeBlock& b = g_free.back();
         const std::size_t take = std::min(b.size, end - dst);
-        if (mremap(reinterpret_cast<void*>(b.p), take, take, MREMAP_MAYMOVE | MREMAP_FIXED,
-                   reinterpret_cast<void*>(dst)) == MAP_FAILED)
+        if (!platform::move_pages(reinterpret_cast<void*>(b.p), take, reinterpret_cast<void*>(dst)))
             break;  // the rest of the range stays fresh memory
         dst += take;
         if (take == b.size) g_free.pop_back();
@@ -137,7 +136,7 @@ bool keep(void* p, std::size_t size) noexcept {
     } catch (...) {
         return false;
     }
-    if (resident < size) munmap(reinterpret_cast<void*>(a + resident), size - resident);
+    if (resident < size) platform::unmap_pages(reinterpret_cast<void*>(a + resident), size - resident);
     return true;
 }
 
@@ -147,7 +146,7 @@ void release_all() {
         std::lock_guard<std::mutex> lock(g_mutex);
         blocks.swap(g_free);
     }
-    for (const FreeBlock& b : blocks) munmap(reinterpret_cast<void*>(b.p), b.size);
+    for (const FreeBlock& b : blocks) platform::unmap_pages(reinterpret_cast<void*>(b.p), b.size);
 }
 }  // namespace
 
@@ -179,7 +178,7 @@ void large_free(void* p, std::size_t bytes, std::size_t align) noexcept {
     if (!p) return;
     if (bytes < kLargeBytes || align > kHugePage) ::operator delete(p, std::align_val_t(align));
     else if (!kOwnMappings) ::operator delete(p, std::align_val_t(kHugePage));
-    else if (!keep(p, round_up(bytes))) munmap(p, round_up(bytes));
+    else if (!keep(p, round_up(bytes))) platform::unmap_pages(p, round_up(bytes));
 }
 
 }  // namespace simdbvh

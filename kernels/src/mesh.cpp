@@ -23,7 +23,7 @@ void validate(const Mesh& mesh) {
     constexpr float kMax = std::numeric_limits<float>::max();
     bool finite = true;
     for (const Vec3& p : mesh.positions)
-        finite &= (std::fabs(p.x) <= kMax) & (std::fabs(p.y) <= kMax) & (std::fabs(p.z) <= kMax);
+        finite &= int(std::fabs(p.x) <= kMax) & int(std::fabs(p.y) <= kMax) & int(std::fabs(p.z) <= kMax);
     if ((mesh.triangles.empty() || max_index < nv) && finite) return;
     std::size_t bad = 0, first_bad = 0;
     for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {

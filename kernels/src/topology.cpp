@@ -1,11 +1,10 @@
 // Machine topology via hwloc (SIMDBVH_HAVE_HWLOC) or the C++/POSIX fallbacks.
 #include "simdbvh/kernels/topology.h"
 
-#include <unistd.h>
-
 #include <string>
 #include <thread>
 
+#include "simdbvh/kernels/internal/platform.h"
 #include "simdbvh/kernels/isa.h"
 
 #if defined(SIMDBVH_HAVE_HWLOC)
@@ -37,11 +36,6 @@ std::size_t cache_size(hwloc_topology_t t, hwloc_obj_type_t type) {
 }
 #endif
 
-std::size_t sysconf_size(int name) {
-    const long v = sysconf(name);
-    return v > 0 ? static_cast<std::size_t>(v) : 0;
-}
-
 Topology detect() {
     Topology topo;
 #if defined(SIMDBVH_HAVE_HWLOC)
@@ -56,11 +50,9 @@ Topology detect() {
     }
 #endif
     topo.logical_cpus = static_cast<int>(std::thread::hardware_concurrency());
-#if defined(_SC_LEVEL1_DCACHE_SIZE)
-    topo.l1d_bytes = sysconf_size(_SC_LEVEL1_DCACHE_SIZE);
-    topo.l2_bytes = sysconf_size(_SC_LEVEL2_CACHE_SIZE);
-    topo.l3_bytes = sysconf_size(_SC_LEVEL3_CACHE_SIZE);
-#endif
+    topo.l1d_bytes = platform::cache_bytes(1);
+    topo.l2_bytes = platform::cache_bytes(2);
+    topo.l3_bytes = platform::cache_bytes(3);
     return topo;
 }
 

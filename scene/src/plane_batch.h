@@ -22,7 +22,9 @@ struct PlaneBatch {
     [[gnu::flatten]] static void nearest(std::span<const Ray> rays, std::span<const Plane> planes, bool any, int* plane,
                                          float* t);
 };
+#if defined(__x86_64__)
 extern template struct PlaneBatch<avx2::PlaneTag>;
 extern template struct PlaneBatch<avx512::PlaneTag>;
+#endif
 
 }  // namespace simdbvh::scene::detail

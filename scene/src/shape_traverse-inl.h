@@ -7,7 +7,9 @@
 // time through hit_sphere's own arithmetic in vector lanes (sphere_roots), so
 // every ISA gets the brute force's bits. Included only by the per-ISA
 // translation units (src/scalar, src/avx2, src/avx512).
+#if defined(__x86_64__)
 #include <immintrin.h>
+#endif
 
 #include <cstring>
 #include <limits>
@@ -16,6 +18,7 @@
 #include "scene_trace-inl.h"
 #include "shape_traverse.h"
 #include "sphere_uv.h"
+#include "simdbvh/kernels/internal/simd/sse2.h"
 #include "simdbvh/bvh8/internal/traverse-inl.h"  // bvh8/src
 
 namespace simdbvh::scene::detail {

@@ -29,8 +29,10 @@ struct ShapeTraversal {
     extern template struct ShapeTraversal<bvh8::isa::Kernels, 8, Aabb>;    \
     extern template struct ShapeTraversal<bvh8::isa::Kernels, 16, Aabb>;
 SIMDBVH_SHAPE_ISA(scalar)
+#if defined(__x86_64__)
 SIMDBVH_SHAPE_ISA(avx2)
 SIMDBVH_SHAPE_ISA(avx512)
+#endif
 #undef SIMDBVH_SHAPE_ISA
 
 }  // namespace simdbvh::scene::detail

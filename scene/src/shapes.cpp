@@ -216,11 +216,13 @@ void nearest_planes(std::span<const Ray> rays, std::span<const Plane> planes, bo
     if (plane.size() < rays.size() || t.size() < rays.size())
         throw Error("nearest_planes: output spans smaller than the rays");
     namespace sa = scene::detail;
+#if defined(__x86_64__)  // elsewhere require() has refused every ISA but scalar
     switch (isa) {
     case Isa::avx512: return sa::PlaneBatch<sa::avx512::PlaneTag>::nearest(rays, planes, any, plane.data(), t.data());
     case Isa::avx2: return sa::PlaneBatch<sa::avx2::PlaneTag>::nearest(rays, planes, any, plane.data(), t.data());
     case Isa::scalar: break;
     }
+#endif
     for (std::size_t i = 0; i < rays.size(); ++i) {
         const PreparedRay r = prepare_scaled(rays[i]);
         float ti = 0.0f;

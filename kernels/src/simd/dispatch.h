@@ -20,6 +20,7 @@ namespace scalar {  // src/scalar/kernels_scalar.cpp
 #include "simd/entry_points.inc"
 }  // namespace scalar
 
+#if defined(__x86_64__)
 namespace avx2 {  // src/avx2/kernels_avx2.cpp
 #include "simd/entry_points.inc"
 }  // namespace avx2
@@ -27,5 +28,11 @@ namespace avx2 {  // src/avx2/kernels_avx2.cpp
 namespace avx512 {  // src/avx512/kernels_avx512.cpp
 #include "simd/entry_points.inc"
 }  // namespace avx512
+#else
+// Not built for this processor (cmake/SimdbvhIsa.cmake): the names stand for
+// the scalar set so the switches compile; require() refuses the ISA first.
+namespace avx2 = scalar;
+namespace avx512 = scalar;
+#endif
 
 }  // namespace simdbvh::kernels

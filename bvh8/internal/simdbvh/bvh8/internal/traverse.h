@@ -48,12 +48,19 @@ inline bool one_in_flight(std::size_t tree_bytes, int requested) {
 namespace scalar {
 struct Kernels;
 }  // namespace scalar
+#if defined(__x86_64__)
 namespace avx2 {
 struct Kernels;
 }  // namespace avx2
 namespace avx512 {
 struct Kernels;
 }  // namespace avx512
+#else
+// Not built for this processor (cmake/SimdbvhIsa.cmake): the names stand for
+// the scalar kernels so the switches compile; require() refuses the ISA first.
+namespace avx2 = scalar;
+namespace avx512 = scalar;
+#endif
 
 // Flattened (on the declaration: GCC drops it from an out-of-class template
 // member definition), so the whole loop, its kernels and lambdas are one function.
@@ -77,8 +84,10 @@ struct Traversal {
     extern template struct Traversal<isa::Kernels, 8>; \
     extern template struct Traversal<isa::Kernels, 16>;
 SIMDBVH_WIDE_ISA(scalar)
+#if defined(__x86_64__)
 SIMDBVH_WIDE_ISA(avx2)
 SIMDBVH_WIDE_ISA(avx512)
+#endif
 #undef SIMDBVH_WIDE_ISA
 
 }  // namespace simdbvh::bvh8
