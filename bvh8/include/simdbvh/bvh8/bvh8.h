@@ -109,9 +109,9 @@ public:
 
 private:
     friend struct WideAccess;
-    friend struct StoreAccess;  // store/: loads a saved tree
-    void quantize();            // qnodes_ from nodes_ when opts_.quantized_nodes (build.cpp)
-    NodesN<N> nodes_;           // root at 0 (when the mesh is not empty)
+    friend struct StoreAccess;
+    void quantize();   // qnodes_ from nodes_ when opts_.quantized_nodes (build.cpp)
+    NodesN<N> nodes_;  // root at 0 (when the mesh is not empty)
     Tri8Blocks blocks_;
     std::vector<QNode> qnodes_;
     WideStats stats_;
