@@ -119,10 +119,11 @@ def soup(t):  # t big random triangles over the unit cube: a query near its midd
     return simdbvh.Mesh(rng.uniform(0, 1, (3 * t, 3)), np.arange(3 * t).reshape(t, 3))
 
 mesh, mid, small = soup(3000), soup(1000), soup(300)
-o = rng.uniform(0.3, 0.7, (600000, 3))
+o = rng.uniform(0.45, 0.55, (600000, 3))
 o = o[np.argsort((o * 8).astype(int) @ [64, 8, 1], kind="stable")].astype(np.float32)
-# Nearly parallel, and the origins in order of their cell: a batch the wide trees trace in chunks of 16,384 rays,
-# interrupted between them (scattered rays, as diffuse bounces, are sorted and traced in batches of 2^20).
+# Nearly parallel, and the origins in order of their cell, in a few cells of the tree's 8^3 grid (a shared origin,
+# as a camera's): a batch the wide trees trace in chunks of 16,384 rays, interrupted between them (rays from many
+# cells, as diffuse bounces and shadow rays, are sorted and traced in batches of 2^20).
 d = (np.array([1.0, 0.3, 0.2]) + rng.uniform(-0.05, 0.05, (600000, 3))).astype(np.float32)
 bvh8, brute = simdbvh.BVH(mesh, method="bvh8"), simdbvh.BVH(mesh, method="brute")
 bvh2 = simdbvh.BVH(small, method="bvh2")  # chunks of a fraction of a second each: small mesh, and for scene: mid
