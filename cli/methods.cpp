@@ -151,6 +151,15 @@ MethodSpec parse_method(const Options& o, const std::string& fallback) {
     return s;
 }
 
+TraceOptions trace_options(const MethodSpec& s, TraceStats* stats) {
+    return TraceOptions{.test = s.test,
+                        .box = s.box,
+                        .stats = stats,
+                        .threads = stats ? 1 : s.threads,
+                        .packets = s.packets,
+                        .reorder = s.reorder};
+}
+
 namespace {
 
 double ms_since(std::chrono::steady_clock::time_point t0) {
@@ -206,12 +215,7 @@ public:
         nodes = st.nodes;
     }
     void trace(std::span<const Ray> rays, std::span<Hit> hits, bool any, TraceStats* stats) override {
-        TraceOptions o;
-        o.test = spec_.test;
-        o.box = spec_.box;
-        o.stats = stats;
-        o.threads = stats ? 1 : spec_.threads;
-        any ? occluded(bvh_, rays, hits, o) : intersect(bvh_, rays, hits, o);
+        trace_tree(bvh_, spec_, rays, hits, any, stats);
     }
     const Bvh2& bvh() const { return bvh_; }
 
@@ -237,30 +241,13 @@ public:
         nodes = st.nodes;
     }
     void trace(std::span<const Ray> rays, std::span<Hit> hits, bool any, TraceStats* stats) override {
-        TraceOptions o;
-        o.test = spec_.test;
-        o.packets = spec_.packets;
-        o.reorder = spec_.reorder;
-        o.stats = stats;
-        o.threads = stats ? 1 : spec_.threads;
-        if (spec_.isa_auto) any ? occluded(bvh_, rays, hits, o) : intersect(bvh_, rays, hits, o);
-        else any ? occluded(bvh_, rays, hits, o, spec_.isa) : intersect(bvh_, rays, hits, o, spec_.isa);
+        trace_tree(bvh_, spec_, rays, hits, any, stats);
     }
 
 private:
     MethodSpec spec_;
     BvhN<N> bvh_;
 };
-
-// The trace options of a tree method: the spec's tests, the counters (one thread when counting).
-TraceOptions trace_options(const MethodSpec& s, TraceStats* stats) {
-    return TraceOptions{.test = s.test,
-                        .box = s.box,
-                        .stats = stats,
-                        .threads = stats ? 1 : s.threads,
-                        .packets = s.packets,
-                        .reorder = s.reorder};
-}
 
 // auto: Accel (bvh8/accel.h) with the cost model of the ISA, for spec.expected_rays rays.
 class AutoTracer final : public Tracer {
@@ -302,12 +289,7 @@ public:
         nodes = st.nodes;
     }
     void trace(std::span<const Ray> rays, std::span<Hit> hits, bool any, TraceStats* stats) override {
-        TraceOptions o;
-        o.test = spec_.test;
-        o.box = spec_.box;
-        o.stats = stats;
-        o.threads = stats ? 1 : spec_.threads;
-        any ? occluded(bvh_, rays, hits, o) : intersect(bvh_, rays, hits, o);
+        trace_tree(bvh_, spec_, rays, hits, any, stats);
     }
 
 private:

@@ -5,6 +5,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "options.h"
@@ -51,6 +52,20 @@ public:
     std::size_t nodes = 0;
     std::string chosen;  // auto: what it chose and why (the predicted time of every candidate)
 };
+
+// The trace options of a tree method: the spec's tests, the counters (one thread when counting).
+TraceOptions trace_options(const MethodSpec& s, TraceStats* stats);
+
+// One trace of a tree built or loaded for `spec` (the tracers of methods.cpp and saved.cpp): the wide trees
+// with --isa's ISA, or by speed without it.
+template <class Tree>
+void trace_tree(const Tree& tree, const MethodSpec& spec, std::span<const Ray> rays, std::span<Hit> hits, bool any,
+                TraceStats* stats) {
+    const TraceOptions o = trace_options(spec, stats);
+    if constexpr (std::is_same_v<Tree, Bvh2>) any ? occluded(tree, rays, hits, o) : intersect(tree, rays, hits, o);
+    else if (spec.isa_auto) any ? occluded(tree, rays, hits, o) : intersect(tree, rays, hits, o);
+    else any ? occluded(tree, rays, hits, o, spec.isa) : intersect(tree, rays, hits, o, spec.isa);
+}
 
 // The wide methods, narrowest first.
 std::vector<std::string> wide_methods();  // the registry's wide trees, narrowest first

@@ -26,20 +26,7 @@ public:
         nodes = st.nodes;
     }
     void trace(std::span<const Ray> rays, std::span<Hit> hits, bool any, TraceStats* stats) override {
-        TraceOptions o;
-        o.test = spec_.test;
-        o.box = spec_.box;
-        o.packets = spec_.packets;
-        o.reorder = spec_.reorder;
-        o.stats = stats;
-        o.threads = stats ? 1 : spec_.threads;
-        if constexpr (std::is_same_v<T, Bvh2>) {
-            any ? occluded(bvh_, rays, hits, o) : intersect(bvh_, rays, hits, o);
-        } else if (spec_.isa_auto) {
-            any ? occluded(bvh_, rays, hits, o) : intersect(bvh_, rays, hits, o);
-        } else {
-            any ? occluded(bvh_, rays, hits, o, spec_.isa) : intersect(bvh_, rays, hits, o, spec_.isa);
-        }
+        trace_tree(bvh_, spec_, rays, hits, any, stats);
     }
 
 private:
@@ -59,24 +46,18 @@ std::unique_ptr<Tracer> load_saved_tracer(const std::string& file, MethodSpec& s
                     " asked for (omit --method to trace what it holds)");
     spec.method = method;
     spec.bvh8.quantized_nodes = in.quantized;
-    switch (in.width) {
-    case 2: return std::make_unique<SavedTracer<Bvh2>>(file, spec);
-    case 4: return std::make_unique<SavedTracer<Bvh4>>(file, spec);
-    case 8: return std::make_unique<SavedTracer<Bvh8>>(file, spec);
-    default: return std::make_unique<SavedTracer<Bvh16>>(file, spec);
-    }
+    if (in.width == 2) return std::make_unique<SavedTracer<Bvh2>>(file, spec);
+    return with_width(in.width, [&](auto n) -> std::unique_ptr<Tracer> {
+        return std::make_unique<SavedTracer<BvhN<decltype(n)::value>>>(file, spec);
+    });
 }
 
 int info_saved(const std::string& file) {
     const SavedInfo in = inspect(file);
     // A full load checks the checksum and the structure: info says the file is sound, not only its header.
     const auto t0 = std::chrono::steady_clock::now();
-    switch (in.width) {
-    case 2: (void)load<Bvh2>(file); break;
-    case 4: (void)load<Bvh4>(file); break;
-    case 8: (void)load<Bvh8>(file); break;
-    default: (void)load<Bvh16>(file); break;
-    }
+    if (in.width == 2) (void)load<Bvh2>(file);
+    else with_width(in.width, [&](auto n) { (void)load<BvhN<decltype(n)::value>>(file); });
     const double load_ms = seconds_since(t0) * 1e3;
     const Aabb& b = in.bounds;
     std::printf("saved file   %s\n", printable(file).c_str());
