@@ -57,12 +57,13 @@ public:
 TraceOptions trace_options(const MethodSpec& s, TraceStats* stats);
 
 // One trace of a tree built or loaded for `spec` (the tracers of methods.cpp and saved.cpp): the wide trees
-// with --isa's ISA, or by speed without it.
+// with --isa's ISA, or by speed without it; the binary trees (BVH2, the sphere hierarchy) on their one path.
 template <class Tree>
 void trace_tree(const Tree& tree, const MethodSpec& spec, std::span<const Ray> rays, std::span<Hit> hits, bool any,
                 TraceStats* stats) {
     const TraceOptions o = trace_options(spec, stats);
-    if constexpr (std::is_same_v<Tree, Bvh2>) any ? occluded(tree, rays, hits, o) : intersect(tree, rays, hits, o);
+    constexpr bool per_isa = requires { intersect(tree, rays, hits, o, spec.isa); };  // the wide trees
+    if constexpr (!per_isa) any ? occluded(tree, rays, hits, o) : intersect(tree, rays, hits, o);
     else if (spec.isa_auto) any ? occluded(tree, rays, hits, o) : intersect(tree, rays, hits, o);
     else any ? occluded(tree, rays, hits, o, spec.isa) : intersect(tree, rays, hits, o, spec.isa);
 }
