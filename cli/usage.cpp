@@ -62,14 +62,15 @@ constexpr CommandText kCommands[] = {
            against the double-precision reference: agree, tie, leak, false_hit, wrong_triangle, t_error
            (docs/accuracy.md); O(rays x triangles), for ray families and samples
 )"},
-    {"bench", R"(bench    [--scene S] [--quick] [--threads N] [--json FILE] [--report DIR] [--no-report]
+    {"bench", R"(bench    [--scene S] [--quick|--full] [--threads N] [--json FILE] [--report DIR] [--no-report]
            [--reps N] [--build-reps N] [--rays N] [--sample N] [--stats-rays N]
            [--width-scenes S1,S2|none] [--refit-frames N] [--readme FILE] [--publish DIR]
            every method (bvh4, bvh8, bvh16 at every ISA the CPU has): builds cold and warm, Mrays/s (1 thread,
            all cores; median of --reps after a warm-up), accuracy; wide vs binary (width 2/4/8/16 per ISA:
            Mrays/s, nodes and box tests per ray, bytes/triangle, collapse time) on S and the width scenes
-           (default: terrain; none with --quick); the refit sequence (S twisted 0.1 rad more per frame, N
-           frames, default 20, 3 with --quick: BVH8 refit vs rebuild vs Embree's refit and rebuild);
+           (default: none; terrain with --full); the refit sequence (S twisted 0.1 rad more per frame, N
+           frames, default 5, 20 with --full, 3 with --quick: BVH8 refit vs rebuild vs Embree's);
+           --rays default 131,072 (262,144 with --full, 65,536 with --quick; --reps 5, 3 with --quick);
            report with charts and pictures, written only under DIR (default out) and all at once at the end.
            The maintainers' acts: --readme FILE rewrites FILE's results block (pictures in FILE's
            folder/docs/results/), --publish DIR the block of DIR/results.md (pictures in DIR/results/; a missing

@@ -30,12 +30,12 @@ namespace simdbvh::cli {
 
 namespace {
 
-// --width-scenes A,B (none: only the bench scene); default: the terrain, unless it is the bench scene
-// or --quick.
+// --width-scenes A,B (none: only the bench scene); default: the terrain with --full (unless it is the
+// bench scene), else none.
 std::vector<std::string> width_scenes(const Options& o, const BenchConfig& c) {
     std::vector<std::string> out;
     if (!o.has("width-scenes")) {
-        if (!c.quick && c.scene != "terrain" && !is_scene_desc(c.scene)) out.push_back("terrain");
+        if (c.full && c.scene != "terrain" && !is_scene_desc(c.scene)) out.push_back("terrain");
         return out;
     }
     std::stringstream ss(o.get("width-scenes"));
@@ -49,7 +49,7 @@ BenchConfig parse_bench(const std::vector<std::string>& args) {
     const Options o("bench", args,
                     {"scene", "threads", "json", "report", "reps", "build-reps", "rays", "sample", "stats-rays",
                      "readme", "publish", "width-scenes", "refit-frames"},
-                    {"quick", "no-report"});
+                    {"quick", "full", "no-report"});
     BenchConfig c;
     c.scene = o.has("scene") ? o.get("scene") : default_scene(&c.scene_why);
     if (is_scene_desc(c.scene))  // the scene bench runs one thread, on that scene, without the refit sequence
@@ -57,13 +57,17 @@ BenchConfig parse_bench(const std::vector<std::string>& args) {
             if (o.has(opt))
                 throw UsageError(std::string("--") + opt + " does not apply to a scene description (" + c.scene +
                                  "): the scene bench runs one thread on that scene");
+    // Three sizes: --quick (a smoke run), the default (the main job, minutes on two cores), --full (the
+    // published results: twice the rays, the long refit sequence, the terrain's width rows).
     c.quick = o.has("quick");
+    c.full = o.has("full");
+    if (c.quick && c.full) throw UsageError("--quick and --full are two sizes of the run: give one");
     c.width_scenes = width_scenes(o, c);
     c.threads_all = int(o.get_int("threads", std::max(1, topology().physical_cores), 1, 1024));
     c.reps = int(o.get_int("reps", c.quick ? 3 : 5, 1, 100));
     c.build_reps = int(o.get_int("build-reps", 3, 0, 100));
-    c.refit_frames = int(o.get_int("refit-frames", c.quick ? 3 : 20, 0, 1000));
-    c.rays = std::size_t(o.get_int("rays", c.quick ? 65536 : 262144, 1024, 1 << 26));
+    c.refit_frames = int(o.get_int("refit-frames", c.quick ? 3 : (c.full ? 20 : 5), 0, 1000));
+    c.rays = std::size_t(o.get_int("rays", c.quick ? 65536 : (c.full ? 262144 : 131072), 1024, 1 << 26));
     c.sample = std::size_t(o.get_int("sample", c.quick ? 300 : 1000, 16, 1 << 20));
     c.stats_rays = std::size_t(o.get_int("stats-rays", c.quick ? 4096 : 16384, 16, 1 << 24));
     const std::string dir = o.get("report", "out");

@@ -37,7 +37,7 @@ Hit brute_force_occluded(const Mesh& mesh, const Ray& ray, TriangleTest test) {
                                             : brute<TriangleTest::moller, true>(mesh, ray);
 }
 void brute_force_intersect(const Mesh& mesh, std::span<const Ray> rays, std::span<Hit> hits, TriangleTest test) {
-    if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
+    simdbvh::detail::check_size(hits.size(), rays.size(), "hits");
     for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = brute_force_intersect(mesh, rays[i], test);
 }
 

@@ -1,5 +1,6 @@
 // All hits and crossing counts along rays (see simdbvh/bvh2/crossings.h).
 #include "simdbvh/bvh2/crossings.h"
+#include "simdbvh/kernels/error.h"
 
 #include <algorithm>
 
@@ -150,7 +151,7 @@ AllHits intersect_all(const Bvh2& bvh, const Ray& ray, std::size_t cap) { return
 CrossingCount count_crossings(const Bvh2& bvh, const Ray& ray) { return counts(bvh, ray, kTree); }
 
 void count_crossings(const Bvh2& bvh, std::span<const Ray> rays, std::span<CrossingCount> out, int threads) {
-    if (out.size() < rays.size()) throw Error("output span is smaller than rays span");
+    simdbvh::detail::check_size(out.size(), rays.size(), "out");
     parallel_for(rays.size(), threads, [&](std::size_t b, std::size_t e) {
         for (std::size_t i = b; i < e; ++i) out[i] = count_crossings(bvh, rays[i]);
     });

@@ -1,6 +1,7 @@
 // Exact inside/outside by crossing counting along an axis (see simdbvh/bvh2/inside.h
 // and docs/exact_crossings.md).
 #include "simdbvh/bvh2/inside.h"
+#include "simdbvh/kernels/error.h"
 
 #include <cmath>
 #include <string>
@@ -62,7 +63,7 @@ PointSide classify_point(const Bvh2& bvh, const Vec3& p, const InsideOptions& op
 
 void classify_points(const Bvh2& bvh, std::span<const Vec3> points, std::span<PointSide> out,
                      const InsideOptions& opts) {
-    if (out.size() < points.size()) throw Error("output span is smaller than points span");
+    simdbvh::detail::check_size(out.size(), points.size(), "out");
     // Morton order (point_query-inl.h): neighbouring points walk the same
     // nodes while they are in cache. The order changes the speed only.
     const std::vector<std::uint32_t> order = detail::morton_order(points, opts.threads);

@@ -1,5 +1,6 @@
 // Signed distance: closest point plus the exact inside test (see signed_distance.h).
 #include "simdbvh/bvh2/signed_distance.h"
+#include "simdbvh/kernels/error.h"
 
 #include <vector>
 
@@ -7,7 +8,7 @@ namespace simdbvh {
 
 void signed_distance(const Bvh2& bvh, std::span<const Vec3> points, std::span<SignedDistance> out,
                      const PointQueryOptions& opts, const InsideOptions& inside) {
-    if (out.size() < points.size()) throw Error("output span is smaller than points span");
+    simdbvh::detail::check_size(out.size(), points.size(), "out");
     std::vector<ClosestPoint> nearest(points.size());
     closest_point(bvh, points, nearest, opts);
     std::vector<PointSide> sides(points.size());

@@ -187,7 +187,7 @@ Hit dispatch(const SphereBvh& bvh, const Ray& ray, const TraceOptions& o) {
 
 template <bool kAnyHit>
 void dispatch_span(const SphereBvh& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o) {
-    if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
+    simdbvh::detail::check_size(hits.size(), rays.size(), "hits");
     if (o.stats) {
         for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = dispatch<kAnyHit>(bvh, rays[i], o);
         return;

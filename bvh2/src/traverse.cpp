@@ -71,7 +71,7 @@ void traverse_span(const Bvh2& bvh, std::span<const Ray> rays, std::span<Hit> hi
 
 template <bool kAnyHit>
 void dispatch_span(const Bvh2& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o) {
-    if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
+    simdbvh::detail::check_size(hits.size(), rays.size(), "hits");
     if (o.stats) {
         with_variant<true>(o, [&](auto v) {
             traverse_span<decltype(v)::test, decltype(v)::box, kAnyHit, true>(bvh, rays, hits, o.stats);

@@ -58,7 +58,7 @@ template <bool Any>
 void trace(const Accel& a, const auto& impl, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o) {
     using T = std::decay_t<decltype(impl)>;
     if constexpr (requires { impl.mesh; }) {
-        if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
+        simdbvh::detail::check_size(hits.size(), rays.size(), "hits");
         parallel_for(
             rays.size(), o.threads,
             [&](std::size_t b, std::size_t e) {

@@ -31,7 +31,7 @@ BruteForce8 BruteForce8::build(const Mesh& mesh) {
 
 void intersect(const BruteForce8& brute, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o,
                Isa isa) {
-    if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
+    simdbvh::detail::check_size(hits.size(), rays.size(), "hits");
     require(isa);
     parallel_for(
         rays.size(), o.threads,
@@ -43,7 +43,7 @@ void intersect(const BruteForce8& brute, std::span<const Ray> rays, std::span<Hi
 
 void occluded(const BruteForce8& brute, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o,
               Isa isa) {
-    if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
+    simdbvh::detail::check_size(hits.size(), rays.size(), "hits");
     require(isa);
     parallel_for(
         rays.size(), o.threads,

@@ -5,6 +5,7 @@
 // RayFrame::reaches() and column_misses() (on the mapped coordinates) decide
 // in the BVH2's loop.
 #include "simdbvh/bvh8/inside.h"
+#include "simdbvh/kernels/error.h"
 
 #include "simdbvh/kernels/internal/simd/sse2.h"
 
@@ -213,7 +214,7 @@ PointSide classify_point(const BvhN<N>& bvh, const Vec3& p, const InsideOptions&
 template <int N>
 void classify_points(const BvhN<N>& bvh, std::span<const Vec3> points, std::span<PointSide> out,
                      const InsideOptions& opts) {
-    if (out.size() < points.size()) throw Error("output span is smaller than points span");
+    simdbvh::detail::check_size(out.size(), points.size(), "out");
     // Morton order: neighbouring points walk the same nodes while they are in
     // cache. The order changes the speed only.
     const std::vector<std::uint32_t> order = detail::morton_order(points, opts.threads);

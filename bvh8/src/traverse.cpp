@@ -51,13 +51,7 @@ bool reordered(std::span<const Ray> rays, const Aabb& bounds, Reorder r) {
 
 template <int N, bool kAnyHit>
 TraceFn<N> fn_of(Isa isa) {
-    require(isa);
-    switch (isa) {
-    case Isa::avx512: return entry<bvh8::avx512::Kernels, N, kAnyHit>();
-    case Isa::avx2: return entry<bvh8::avx2::Kernels, N, kAnyHit>();
-    case Isa::scalar: return entry<bvh8::scalar::Kernels, N, kAnyHit>();
-    }
-    throw Error("unknown ISA");
+    return bvh8::with_kernels(isa, [&]<class K>() { return entry<K, N, kAnyHit>(); });
 }
 
 // [0, n) without the calibration's groups (none: all of it), in pieces of at
@@ -134,7 +128,7 @@ void trace_sorted(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> 
 }
 
 void check(std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o) {
-    if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
+    simdbvh::detail::check_size(hits.size(), rays.size(), "hits");
     if (o.in_flight != 0 && o.in_flight != 1 && o.in_flight != bvh8::detail::kInFlight)
         throw Error("TraceOptions::in_flight must be 0 (by tree size), 1 or " +
                     std::to_string(bvh8::detail::kInFlight) + ", got " + std::to_string(o.in_flight));

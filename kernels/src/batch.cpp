@@ -1,5 +1,5 @@
-// The public batched entry points: validate the spans, then the one switch on
-// the ISA; the per-ISA translation units do the work (simd/dispatch.h).
+// The public batched entry points: validate the spans, then pick the ISA's
+// kernel set (with_kernels, simd/dispatch.h); its translation unit does the work.
 #include "simdbvh/kernels/batch.h"
 #include "simdbvh/kernels/testing.h"
 
@@ -14,11 +14,7 @@ namespace simdbvh::kernels {
 
 namespace {
 thread_local int t_last_isa = -1;
-
-void check_size(std::size_t got, std::size_t want, const char* what) {
-    if (got < want)
-        throw Error(std::string(what) + " holds " + std::to_string(got) + " elements, needs " + std::to_string(want));
-}
+using simdbvh::detail::check_size;
 }  // namespace
 
 namespace detail {
@@ -31,13 +27,7 @@ std::optional<Isa> last_isa_used() {
 }
 
 Isa compiled_isa(Isa isa) {
-    require(isa);
-    switch (isa) {
-    case Isa::avx512: return avx512::compiled_isa();
-    case Isa::avx2: return avx2::compiled_isa();
-    case Isa::scalar: break;
-    }
-    return scalar::compiled_isa();
+    return with_kernels(isa, [&]<class K>() { return K::compiled_isa(); });
 }
 
 void intersect_box8(std::span<const Ray> rays, const Box8& boxes, std::span<std::uint8_t> masks,
@@ -45,12 +35,7 @@ void intersect_box8(std::span<const Ray> rays, const Box8& boxes, std::span<std:
     require(isa);
     check_size(masks.size(), rays.size(), "masks");
     check_size(entries.size(), 8 * rays.size(), "entries");
-    switch (isa) {
-    case Isa::avx512: return avx512::intersect_box8(rays, boxes, masks.data(), entries.data());
-    case Isa::avx2: return avx2::intersect_box8(rays, boxes, masks.data(), entries.data());
-    case Isa::scalar: break;
-    }
-    return scalar::intersect_box8(rays, boxes, masks.data(), entries.data());
+    return with_kernels(isa, [&]<class K>() { return K::intersect_box8(rays, boxes, masks.data(), entries.data()); });
 }
 
 void intersect_box8_groups(std::span<const Ray> rays, std::span<const Box8> groups, std::span<std::uint8_t> masks,
@@ -58,12 +43,7 @@ void intersect_box8_groups(std::span<const Ray> rays, std::span<const Box8> grou
     require(isa);
     check_size(masks.size(), groups.size() * rays.size(), "masks");
     check_size(entries.size(), 8 * groups.size() * rays.size(), "entries");
-    switch (isa) {
-    case Isa::avx512: return avx512::intersect_box8_groups(rays, {}, groups, masks.data(), entries.data());
-    case Isa::avx2: return avx2::intersect_box8_groups(rays, {}, groups, masks.data(), entries.data());
-    case Isa::scalar: break;
-    }
-    return scalar::intersect_box8_groups(rays, {}, groups, masks.data(), entries.data());
+    return with_kernels(isa, [&]<class K>() { return K::intersect_box8_groups(rays, {}, groups, masks.data(), entries.data()); });
 }
 
 void intersect_box8_nested(std::span<const Ray> rays, std::span<const Box8> supers, std::span<const Box8> groups,
@@ -75,12 +55,7 @@ void intersect_box8_nested(std::span<const Ray> rays, std::span<const Box8> supe
     check_size(masks.size(), groups.size() * rays.size(), "masks");
     check_size(entries.size(), 8 * groups.size() * rays.size(), "entries");
     if (supers.empty()) return;  // no groups
-    switch (isa) {
-    case Isa::avx512: return avx512::intersect_box8_groups(rays, supers, groups, masks.data(), entries.data());
-    case Isa::avx2: return avx2::intersect_box8_groups(rays, supers, groups, masks.data(), entries.data());
-    case Isa::scalar: break;
-    }
-    return scalar::intersect_box8_groups(rays, supers, groups, masks.data(), entries.data());
+    return with_kernels(isa, [&]<class K>() { return K::intersect_box8_groups(rays, supers, groups, masks.data(), entries.data()); });
 }
 
 void collect_box8_tree(std::span<const Ray> rays, std::span<const std::uint8_t> live, std::span<const Box8> nodes,
@@ -105,9 +80,7 @@ void collect_box8_tree(std::span<const Ray> rays, std::span<const std::uint8_t> 
     std::size_t leaf_lanes = 0;
     for (const std::uint32_t c : children) leaf_lanes += c != kBoxTreeEmpty && (c & kBoxTreeLeaf) != 0;
     std::vector<std::uint32_t> stack(std::max<std::size_t>(nodes.size(), 1));
-    const auto walk = isa == Isa::avx512 ? avx512::collect_box8_tree
-                      : isa == Isa::avx2 ? avx2::collect_box8_tree
-                                         : scalar::collect_box8_tree;
+    const auto walk = with_kernels(isa, [&]<class K>() { return &K::collect_box8_tree; });
     std::size_t used = out.size(), done = 0;
     constexpr std::size_t kMaxOut = 0xFFFFFFFFu;  // first[] holds 32-bit offsets
     for (;;) {
@@ -137,9 +110,7 @@ void collect_boxes(std::span<const Ray> rays, std::span<const std::uint8_t> live
     std::vector<Box8> groups((boxes.size() + 7) / 8);
     for (Box8& g : groups) g.clear();
     for (std::size_t b = 0; b < boxes.size(); ++b) groups[b / 8].set(int(b % 8), boxes[b]);
-    const auto walk = isa == Isa::avx512 ? avx512::collect_boxes
-                      : isa == Isa::avx2 ? avx2::collect_boxes
-                                         : scalar::collect_boxes;
+    const auto walk = with_kernels(isa, [&]<class K>() { return &K::collect_boxes; });
     // As collect_box8_tree: the output grows (by half) until every ray fits;
     // a call needs room for 8 rays' worst case to make progress.
     std::size_t used = out.size(), done = 0;
@@ -165,32 +136,19 @@ void prepare_rays(std::span<const Ray> rays, const Aabb* bounds, std::span<Prepa
     require(isa);
     check_size(out.size(), rays.size(), "out");
     check_size(ok.size(), rays.size(), "ok");
-    const auto run = isa == Isa::avx512 ? avx512::prepare_rays
-                     : isa == Isa::avx2 ? avx2::prepare_rays
-                                        : scalar::prepare_rays;
+    const auto run = with_kernels(isa, [&]<class K>() { return &K::prepare_rays; });
     run(rays, bounds, out.data(), ok.data());
 }
 
 std::uint64_t count_box8_hits(std::span<const Ray> rays, std::span<const Box8> blocks, Isa isa) {
-    require(isa);
-    switch (isa) {
-    case Isa::avx512: return avx512::count_box8_hits(rays, blocks);
-    case Isa::avx2: return avx2::count_box8_hits(rays, blocks);
-    case Isa::scalar: break;
-    }
-    return scalar::count_box8_hits(rays, blocks);
+    return with_kernels(isa, [&]<class K>() { return K::count_box8_hits(rays, blocks); });
 }
 
 void intersect_tri8(std::span<const Ray> rays, std::span<const Tri8> blocks, TriangleTest test, std::span<Hit> hits,
                     Isa isa) {
     require(isa);
     check_size(hits.size(), rays.size(), "hits");
-    switch (isa) {
-    case Isa::avx512: return avx512::intersect_tri8(rays, blocks, test, hits.data());
-    case Isa::avx2: return avx2::intersect_tri8(rays, blocks, test, hits.data());
-    case Isa::scalar: break;
-    }
-    return scalar::intersect_tri8(rays, blocks, test, hits.data());
+    return with_kernels(isa, [&]<class K>() { return K::intersect_tri8(rays, blocks, test, hits.data()); });
 }
 
 void occluded_tri8(std::span<const Ray> rays, std::span<const Tri8> blocks, TriangleTest test,
@@ -199,12 +157,7 @@ void occluded_tri8(std::span<const Ray> rays, std::span<const Tri8> blocks, Tria
     check_size(occluded.size(), rays.size(), "occluded");
     if (!first_hits.empty()) check_size(first_hits.size(), rays.size(), "first_hits");
     Hit* fh = first_hits.empty() ? nullptr : first_hits.data();
-    switch (isa) {
-    case Isa::avx512: return avx512::occluded_tri8(rays, blocks, test, occluded.data(), fh);
-    case Isa::avx2: return avx2::occluded_tri8(rays, blocks, test, occluded.data(), fh);
-    case Isa::scalar: break;
-    }
-    return scalar::occluded_tri8(rays, blocks, test, occluded.data(), fh);
+    return with_kernels(isa, [&]<class K>() { return K::occluded_tri8(rays, blocks, test, occluded.data(), fh); });
 }
 
 }  // namespace simdbvh::kernels

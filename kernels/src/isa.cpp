@@ -95,12 +95,9 @@ Isa env_isa() {
 }  // namespace
 
 std::string_view name(Isa isa) {
-    switch (isa) {
-    case Isa::scalar: return "scalar";
-    case Isa::avx2: return "avx2";
-    case Isa::avx512: return "avx512";
-    }
-    return "unknown";
+    constexpr std::string_view kNames[] = {"scalar", "avx2", "avx512"};  // in the order of enum Isa
+    const auto i = std::size_t(isa);
+    return i < std::size(kNames) ? kNames[i] : "unknown";
 }
 
 std::optional<Isa> parse_isa(std::string_view s) {
@@ -110,12 +107,9 @@ std::optional<Isa> parse_isa(std::string_view s) {
 }
 
 bool supported(Isa isa) {
-    switch (isa) {
-    case Isa::scalar: return true;
-    case Isa::avx2: return cpu().avx2;
-    case Isa::avx512: return cpu().avx512;
-    }
-    return false;
+    const bool has[] = {true, cpu().avx2, cpu().avx512};  // in the order of enum Isa
+    const auto i = std::size_t(isa);
+    return i < std::size(has) && has[i];
 }
 
 Isa detected_isa() { return supported(Isa::avx512) ? Isa::avx512 : (supported(Isa::avx2) ? Isa::avx2 : Isa::scalar); }

@@ -199,7 +199,7 @@ namespace {
 // (the others stay misses).
 template <class Fn>
 void for_each_chunk(std::span<const Ray> rays, std::span<SceneHit> hits, PlaneScratch& w, Fn&& fn) {
-    if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
+    simdbvh::detail::check_size(hits.size(), rays.size(), "hits");
     for (std::size_t b = 0; b < rays.size(); b += kPlaneChunk) {
         const std::size_t n = std::min(kPlaneChunk, rays.size() - b);
         w.ok.resize(n);

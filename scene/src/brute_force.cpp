@@ -51,7 +51,7 @@ SceneHit brute(const SceneDesc& scene, const std::vector<Affine3>& inv, const Ra
 
 template <bool kAnyHit>
 void brute_span(const SceneDesc& scene, std::span<const Ray> rays, std::span<SceneHit> hits) {
-    if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
+    simdbvh::detail::check_size(hits.size(), rays.size(), "hits");
     validate(scene);
     std::vector<Affine3> inv;
     for (const Instance& in : scene.instances) inv.push_back(invert(in.transform).inv);

@@ -102,18 +102,9 @@ using WideFn = void (*)(const BvhN<N>&, std::span<const Ray>, std::span<Hit>, co
 
 template <int N, bool kAnyHit>
 WideFn<N> wide_fn(Isa isa) {
-    require(isa);
-    switch (isa) {
-    case Isa::avx512:
-        return kAnyHit ? &bvh8::Traversal<bvh8::avx512::Kernels, N>::occluded
-                       : &bvh8::Traversal<bvh8::avx512::Kernels, N>::intersect;
-    case Isa::avx2:
-        return kAnyHit ? &bvh8::Traversal<bvh8::avx2::Kernels, N>::occluded
-                       : &bvh8::Traversal<bvh8::avx2::Kernels, N>::intersect;
-    case Isa::scalar: break;
-    }
-    return kAnyHit ? &bvh8::Traversal<bvh8::scalar::Kernels, N>::occluded
-                   : &bvh8::Traversal<bvh8::scalar::Kernels, N>::intersect;
+    return bvh8::with_kernels(isa, [&]<class K>() -> WideFn<N> {
+        return kAnyHit ? &bvh8::Traversal<K, N>::occluded : &bvh8::Traversal<K, N>::intersect;
+    });
 }
 
 // The per-ISA wide traversal of a sphere or box set, chosen once per batch.
@@ -122,18 +113,9 @@ using ShapeFn = void (*)(const ShapeTree<N>&, const Prim*, const Aabb&, std::spa
 
 template <int N, class Prim, bool kAnyHit>
 ShapeFn<N, Prim> shape_fn(Isa isa) {
-    require(isa);
-    switch (isa) {
-    case Isa::avx512:
-        return kAnyHit ? &ShapeTraversal<bvh8::avx512::Kernels, N, Prim>::occluded
-                       : &ShapeTraversal<bvh8::avx512::Kernels, N, Prim>::intersect;
-    case Isa::avx2:
-        return kAnyHit ? &ShapeTraversal<bvh8::avx2::Kernels, N, Prim>::occluded
-                       : &ShapeTraversal<bvh8::avx2::Kernels, N, Prim>::intersect;
-    case Isa::scalar: break;
-    }
-    return kAnyHit ? &ShapeTraversal<bvh8::scalar::Kernels, N, Prim>::occluded
-                   : &ShapeTraversal<bvh8::scalar::Kernels, N, Prim>::intersect;
+    return bvh8::with_kernels(isa, [&]<class K>() -> ShapeFn<N, Prim> {
+        return kAnyHit ? &ShapeTraversal<K, N, Prim>::occluded : &ShapeTraversal<K, N, Prim>::intersect;
+    });
 }
 
 #undef SIMDBVH_SCENE_INLINE

@@ -4,6 +4,7 @@
 #include "sphere_uv.h"
 #include "plane_batch.h"
 #include "simdbvh/kernels/error.h"
+#include "simdbvh/kernels/internal/by_isa.h"
 
 #include <algorithm>
 #include <bit>
@@ -11,6 +12,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <type_traits>
 
 namespace simdbvh {
 
@@ -213,22 +215,29 @@ int nearest_plane(const PreparedRay& r, std::span<const Plane> planes, float tma
 void nearest_planes(std::span<const Ray> rays, std::span<const Plane> planes, bool any, std::span<int> plane,
                     std::span<float> t, Isa isa) {
     require(isa);
-    if (plane.size() < rays.size() || t.size() < rays.size())
-        throw Error("nearest_planes: output spans smaller than the rays");
+    simdbvh::detail::check_size(plane.size(), rays.size(), "nearest_planes: plane");
+    simdbvh::detail::check_size(t.size(), rays.size(), "nearest_planes: t");
     namespace sa = scene::detail;
-#if defined(__x86_64__)  // elsewhere require() has refused every ISA but scalar
-    switch (isa) {
-    case Isa::avx512: return sa::PlaneBatch<sa::avx512::PlaneTag>::nearest(rays, planes, any, plane.data(), t.data());
-    case Isa::avx2: return sa::PlaneBatch<sa::avx2::PlaneTag>::nearest(rays, planes, any, plane.data(), t.data());
-    case Isa::scalar: break;
-    }
+#if defined(__x86_64__)
+    using Avx2 = sa::avx2::PlaneTag;
+    using Avx512 = sa::avx512::PlaneTag;
+#else  // not built here (require() has refused every ISA but scalar)
+    using Avx2 = void;
+    using Avx512 = void;
 #endif
-    for (std::size_t i = 0; i < rays.size(); ++i) {
-        const PreparedRay r = prepare_scaled(rays[i]);
-        float ti = 0.0f;
-        plane[i] = r.valid ? nearest_plane(r, planes, r.tmax, any, &ti) : -1;
-        t[i] = plane[i] < 0 ? 0.0f : to_caller_t(r, ti);
-    }
+    // The scalar set is void: nearest_plane per ray.
+    kernels::detail::by_isa<void, Avx2, Avx512>(isa, [&]<class Tag>() {
+        if constexpr (!std::is_void_v<Tag>) {
+            sa::PlaneBatch<Tag>::nearest(rays, planes, any, plane.data(), t.data());
+        } else {
+            for (std::size_t i = 0; i < rays.size(); ++i) {
+                const PreparedRay r = prepare_scaled(rays[i]);
+                float ti = 0.0f;
+                plane[i] = r.valid ? nearest_plane(r, planes, r.tmax, any, &ti) : -1;
+                t[i] = plane[i] < 0 ? 0.0f : to_caller_t(r, ti);
+            }
+        }
+    });
 }
 
 Aabb sphere_bounds(const Sphere& s) {

@@ -421,7 +421,7 @@ void trace_chunk(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Sce
 
 template <class Query, int N>
 void trace_span(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<SceneHit> hits, Isa isa, int threads) {
-    if (hits.size() < rays.size()) throw Error("hits span is smaller than rays span");
+    simdbvh::detail::check_size(hits.size(), rays.size(), "hits");
     const auto bottom = Bottom<Query, N>::of(isa);  // the one ISA switch per batch
     const std::vector<std::uint32_t> rank = geometry_rank(s.instances());
     // Chunks as large as the threads allow, up to kChunkMax rays (scene.h): a round

@@ -60,6 +60,16 @@ TEST_F(BenchOutputs, ReadmeWithoutTheBlockFailsBeforeAnyWork) {
     EXPECT_EQ(test::read_bytes(dir_ / "README.md"), "# no markers\n");
 }
 
+// --quick and --full are two sizes of one run: both at once is a usage error
+// before any work, naming both options, and nothing is written.
+TEST_F(BenchOutputs, QuickWithFullIsAUsageError) {
+    const CliRun r = run_cli("bench" + kQuick + " --full --report " + p("out"));
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_NE(r.output.find("--quick"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("--full"), std::string::npos) << r.output;
+    EXPECT_TRUE(listing(dir_.path()).empty());
+}
+
 TEST_F(BenchOutputs, SweepChecksEveryBlockBeforeTheSweep) {
     const std::string model =
         "// sweep:avx2:begin\n// sweep:avx2:end\n// sweep:avx512:begin\n// sweep:avx512:end\n"

@@ -110,9 +110,9 @@ void any(std::span<const Ray> rays, std::span<const Tri8> blocks, std::uint8_t* 
 
 }  // namespace
 
-Isa compiled_isa() { return Isa::scalar; }
+Isa Kernels::compiled_isa() { return Isa::scalar; }
 
-void prepare_rays(std::span<const Ray> rays, const Aabb* bounds, PreparedRay* out, std::uint8_t* ok) {
+void Kernels::prepare_rays(std::span<const Ray> rays, const Aabb* bounds, PreparedRay* out, std::uint8_t* ok) {
     detail::note_isa_used(Isa::scalar);
     for (std::size_t i = 0; i < rays.size(); ++i) {
         out[i] = prepare(rays[i]);
@@ -121,7 +121,7 @@ void prepare_rays(std::span<const Ray> rays, const Aabb* bounds, PreparedRay* ou
     }
 }
 
-void intersect_box8(std::span<const Ray> rays, const Box8& boxes, std::uint8_t* masks, float* entries) {
+void Kernels::intersect_box8(std::span<const Ray> rays, const Box8& boxes, std::uint8_t* masks, float* entries) {
     detail::note_isa_used(Isa::scalar);
     for (std::size_t i = 0; i < rays.size(); ++i) {
         const PreparedRay r = prepare(rays[i]);
@@ -135,7 +135,7 @@ void intersect_box8(std::span<const Ray> rays, const Box8& boxes, std::uint8_t* 
     }
 }
 
-void intersect_box8_groups(std::span<const Ray> rays, std::span<const Box8> supers, std::span<const Box8> groups,
+void Kernels::intersect_box8_groups(std::span<const Ray> rays, std::span<const Box8> supers, std::span<const Box8> groups,
                            std::uint8_t* masks, float* entries) {
     detail::note_isa_used(Isa::scalar);
     const std::size_t ng = groups.size();
@@ -175,7 +175,7 @@ struct ScalarTreeTest {
 };
 }  // namespace
 
-detail::TreeWalk collect_box8_tree(std::span<const Ray> rays, std::span<const std::uint8_t> live,
+detail::TreeWalk Kernels::collect_box8_tree(std::span<const Ray> rays, std::span<const std::uint8_t> live,
                                    std::span<const Box8> nodes, std::span<const std::uint32_t> children,
                                    std::size_t leaf_lanes, std::uint32_t* stack, std::pair<float, std::uint32_t>* out,
                                    std::size_t used, std::size_t cap, std::uint32_t* first) {
@@ -184,7 +184,7 @@ detail::TreeWalk collect_box8_tree(std::span<const Ray> rays, std::span<const st
                                           first, ScalarTreeTest{nodes.data()});
 }
 
-detail::TreeWalk collect_boxes(std::span<const Ray> rays, std::span<const std::uint8_t> live,
+detail::TreeWalk Kernels::collect_boxes(std::span<const Ray> rays, std::span<const std::uint8_t> live,
                                std::span<const Box8> groups, std::size_t count, std::pair<float, std::uint32_t>* out,
                                std::size_t used, std::size_t cap, std::uint32_t* first) {
     detail::note_isa_used(Isa::scalar);
@@ -204,7 +204,7 @@ detail::TreeWalk collect_boxes(std::span<const Ray> rays, std::span<const std::u
     return {i, used};
 }
 
-std::uint64_t count_box8_hits(std::span<const Ray> rays, std::span<const Box8> blocks) {
+std::uint64_t Kernels::count_box8_hits(std::span<const Ray> rays, std::span<const Box8> blocks) {
     detail::note_isa_used(Isa::scalar);
     std::uint64_t n = 0;
     for (const Ray& ray : rays) {
@@ -219,13 +219,13 @@ std::uint64_t count_box8_hits(std::span<const Ray> rays, std::span<const Box8> b
     return n;
 }
 
-void intersect_tri8(std::span<const Ray> rays, std::span<const Tri8> blocks, TriangleTest test, Hit* hits) {
+void Kernels::intersect_tri8(std::span<const Ray> rays, std::span<const Tri8> blocks, TriangleTest test, Hit* hits) {
     detail::note_isa_used(Isa::scalar);
     if (test == TriangleTest::watertight) closest<TriangleTest::watertight>(rays, blocks, hits);
     else closest<TriangleTest::moller>(rays, blocks, hits);
 }
 
-void occluded_tri8(std::span<const Ray> rays, std::span<const Tri8> blocks, TriangleTest test, std::uint8_t* occluded,
+void Kernels::occluded_tri8(std::span<const Ray> rays, std::span<const Tri8> blocks, TriangleTest test, std::uint8_t* occluded,
                    Hit* first_hits) {
     detail::note_isa_used(Isa::scalar);
     if (test == TriangleTest::watertight) any<TriangleTest::watertight>(rays, blocks, occluded, first_hits);

@@ -1,13 +1,15 @@
 #pragma once
 // Internal: the per-ISA implementations behind kernels/batch.h. Each lives in
-// its own translation unit (src/scalar, src/avx2, src/avx512) and namespace;
-// batch.cpp holds the one switch. No intrinsics here.
+// its own translation unit (src/scalar, src/avx2, src/avx512), the static
+// members of that ISA's Kernels; with_kernels picks one. No intrinsics here.
 #include <cstdint>
 #include <span>
+#include <utility>
 
 #include "simdbvh/kernels/batch.h"
 #include "simdbvh/kernels/testing.h"
 #include "box_tree_walk-inl.h"
+#include "simdbvh/kernels/internal/by_isa.h"
 
 namespace simdbvh::kernels {
 
@@ -17,22 +19,35 @@ void note_isa_used(Isa isa);
 }  // namespace detail
 
 namespace scalar {  // src/scalar/kernels_scalar.cpp
+struct Kernels {
 #include "simd/entry_points.inc"
+};
 }  // namespace scalar
 
 #if defined(__x86_64__)
 namespace avx2 {  // src/avx2/kernels_avx2.cpp
+struct Kernels {
 #include "simd/entry_points.inc"
+};
 }  // namespace avx2
 
 namespace avx512 {  // src/avx512/kernels_avx512.cpp
+struct Kernels {
 #include "simd/entry_points.inc"
+};
 }  // namespace avx512
 #else
 // Not built for this processor (cmake/SimdbvhIsa.cmake): the names stand for
-// the scalar set so the switches compile; require() refuses the ISA first.
+// the scalar set so the switch compiles; require() refuses the ISA first.
 namespace avx2 = scalar;
 namespace avx512 = scalar;
 #endif
+
+// The kernel set of an ISA: f.template operator()<Set>() with Set one of the
+// Kernels structs above, after require(isa) (by_isa.h holds the one switch).
+template <class F>
+decltype(auto) with_kernels(Isa isa, F&& f) {
+    return detail::by_isa<scalar::Kernels, avx2::Kernels, avx512::Kernels>(isa, std::forward<F>(f));
+}
 
 }  // namespace simdbvh::kernels

@@ -3,6 +3,7 @@
 // and the wide trees (bvh8/src/closest_point.cpp): conservative box
 // distances, the (distance2, prim) winner, the Morton visiting order.
 #include <algorithm>
+#include "simdbvh/kernels/error.h"
 #include <array>
 #include <functional>
 #include <utility>
@@ -162,7 +163,7 @@ inline std::vector<std::uint32_t> morton_order(std::span<const Vec3> points, int
 template <class Query>
 void closest_points(std::span<const Vec3> points, std::span<ClosestPoint> out, const PointQueryOptions& opts,
                     const Query& query) {
-    if (out.size() < points.size()) throw Error("output span is smaller than points span");
+    simdbvh::detail::check_size(out.size(), points.size(), "out");
     const double max_d2 = max_distance2(opts);
     const std::vector<std::uint32_t> order = morton_order(points, opts.threads);
     if (opts.stats) {

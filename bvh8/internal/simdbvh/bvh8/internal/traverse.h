@@ -4,6 +4,9 @@
 // unit (src/scalar, src/avx2, src/avx512), each with the kernels of its ISA
 // (K = <isa>::Kernels, a distinct type per ISA); traverse.cpp holds the one
 // switch on the ISA.
+#include <utility>
+
+#include "simdbvh/kernels/internal/by_isa.h"
 #include <cstddef>
 #include <span>
 
@@ -57,10 +60,17 @@ struct Kernels;
 }  // namespace avx512
 #else
 // Not built for this processor (cmake/SimdbvhIsa.cmake): the names stand for
-// the scalar kernels so the switches compile; require() refuses the ISA first.
+// the scalar kernels so the switch compiles; require() refuses the ISA first.
 namespace avx2 = scalar;
 namespace avx512 = scalar;
 #endif
+
+// The wide kernel set of an ISA: f.template operator()<K>() with K one of the
+// Kernels above, after require(isa) (the one switch is kernels' by_isa.h).
+template <class F>
+decltype(auto) with_kernels(Isa isa, F&& f) {
+    return kernels::detail::by_isa<scalar::Kernels, avx2::Kernels, avx512::Kernels>(isa, std::forward<F>(f));
+}
 
 // Flattened (on the declaration: GCC drops it from an out-of-class template
 // member definition), so the whole loop, its kernels and lambdas are one function.
