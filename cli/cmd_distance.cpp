@@ -9,10 +9,10 @@
 #include "point_queries.h"
 #include "options.h"
 #include "outputs.h"
-#include "simdbvh/bvh2/closest_point.h"
-#include "simdbvh/bvh2/inside.h"
-#include "simdbvh/bvh8/closest_point.h"
-#include "simdbvh/bvh8/inside.h"
+#include "simdbvh/query/closest_point.h"
+#include "simdbvh/query/inside.h"
+#include "simdbvh/query/closest_point_wide.h"
+#include "simdbvh/query/inside_wide.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/io/output.h"
 #include "simdbvh/workloads/points.h"
@@ -54,7 +54,7 @@ int cmd_distance(const std::vector<std::string>& args) {
     const Options o("distance", args, {"scene", "points", "out", "threads", "max-distance", "rule", "ray", "tree"},
                     {"stats", "unsigned"});
     // The tree of the closest point and the sign: the BVH4 by default (the
-    // fastest closest point on the dragon in bench/bvh8/closest_point_bench.cpp,
+    // fastest closest point on the dragon in bench/query/closest_point_wide_bench.cpp,
     // within 15% of the fastest inside test); every tree gives the same records.
     const std::string tree = parse_tree(o, "bvh4");
     const std::string scene_name = o.require("scene");

@@ -7,7 +7,7 @@
 #include "printable.h"
 #include "saved.h"
 #include "scene_cmds.h"
-#include "simdbvh/bvh8/cost_model.h"
+#include "simdbvh/accel/cost_model.h"
 
 namespace simdbvh::cli {
 

@@ -6,8 +6,8 @@
 #include "point_queries.h"
 #include "options.h"
 #include "outputs.h"
-#include "simdbvh/bvh2/inside.h"
-#include "simdbvh/bvh8/inside.h"
+#include "simdbvh/query/inside.h"
+#include "simdbvh/query/inside_wide.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/io/output.h"
 #include "simdbvh/io/point_files.h"
@@ -20,7 +20,7 @@ int cmd_inside(const std::vector<std::string>& args) {
     const std::string points_file = o.require("points");
     const std::string out = o.require("out");
     // The BVH8 by default (with the BVH16 the fastest in
-    // bench/bvh8/inside_bench.cpp); every tree gives the same bytes.
+    // bench/query/inside_wide_bench.cpp); every tree gives the same bytes.
     const std::string tree = parse_tree(o, "bvh8");
     InsideOptions io;
     io.threads = int(o.get_int("threads", 1, 1, 1024));

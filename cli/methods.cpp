@@ -3,8 +3,8 @@
 #include <chrono>
 
 #include "simdbvh/bvh2/spheres.h"
-#include "simdbvh/bvh8/accel.h"
-#include "simdbvh/bvh8/brute_force8.h"
+#include "simdbvh/accel/accel.h"
+#include "simdbvh/accel/brute_force8.h"
 #include "simdbvh/reference/embree.h"
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/kernels/parallel.h"

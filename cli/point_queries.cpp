@@ -3,8 +3,8 @@
 
 #include <iostream>
 
-#include "simdbvh/bvh2/inside.h"
-#include "simdbvh/bvh8/cost_model.h"
+#include "simdbvh/query/inside.h"
+#include "simdbvh/accel/cost_model.h"
 
 namespace simdbvh::cli {
 

@@ -6,7 +6,7 @@
 #include <variant>
 
 #include "options.h"
-#include "simdbvh/bvh2/inside.h"
+#include "simdbvh/query/inside.h"
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/kernels/mesh.h"
 

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "common.h"
-#include "simdbvh/bvh2/crossings.h"
+#include "simdbvh/query/crossings.h"
 #include "simdbvh/kernels/parallel.h"
 #include "simdbvh/io/crossing_files.h"
 #include "simdbvh/io/output.h"

@@ -76,7 +76,7 @@ constexpr CommandText kCommands[] = {
            folder/docs/results/), --publish DIR the block of DIR/results.md (pictures in DIR/results/; a missing
            doc is created, one without the block gets it); blocks are checked before the run
 bench --sweep [--quick] [--threads N] [--reps N] [--build-reps N] [--budget-ms MS] [--report DIR] [--json FILE]
-           [--model-out bvh8/src/cost_model_fit.cpp] [--readme FILE] [--publish DIR] [--no-report]
+           [--model-out accel/src/cost_model_fit.cpp] [--readme FILE] [--publish DIR] [--no-report]
            time to answer (build + trace) of brute, brute8, bvh2, bvh4/8/16, embree over soup-N and icosphere-N
            (1..1M triangles) x 1..1M rays; the cost model of --method auto fitted to it (written into
            --model-out for the active ISA) and checked at held-out points (dragon, bunny, teapot)

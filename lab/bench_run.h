@@ -18,8 +18,8 @@ namespace simdbvh::cli {
 struct BenchConfig {
     std::string scene, scene_why;
     std::vector<std::string> width_scenes;  // further scenes for the wide-vs-binary chart (tree methods only)
-    bool quick = false;     // --quick: 65,536 rays, 3 repetitions
-    bool full = false;      // --full: 262,144 rays, 20 refit frames, the terrain's width rows
+    bool quick = false;                     // --quick: 65,536 rays, 3 repetitions
+    bool full = false;                      // --full: 262,144 rays, 20 refit frames, the terrain's width rows
     int threads_all = 1;
     int reps = 5;           // timed traces per row (median), after one untimed warm-up; methods interleaved
     int build_reps = 3;     // warm builds per method (median), after the cold (first) one

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "simdbvh/bvh2/inside.h"
+#include "simdbvh/query/inside.h"
 #include "simdbvh/kernels/mesh.h"
 
 namespace simdbvh::cli {

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "results_doc.h"
-#include "simdbvh/bvh8/cost_model.h"
+#include "simdbvh/accel/cost_model.h"
 
 namespace simdbvh::cli {
 

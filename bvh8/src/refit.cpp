@@ -10,7 +10,7 @@
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/kernels/parallel.h"
 #include "simdbvh/bvh8/internal/quantize.h"
-#include "tri8_lanes-inl.h"
+#include "simdbvh/bvh8/internal/tri8_lanes-inl.h"
 
 namespace simdbvh {
 

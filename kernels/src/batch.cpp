@@ -43,7 +43,8 @@ void intersect_box8_groups(std::span<const Ray> rays, std::span<const Box8> grou
     require(isa);
     check_size(masks.size(), groups.size() * rays.size(), "masks");
     check_size(entries.size(), 8 * groups.size() * rays.size(), "entries");
-    return with_kernels(isa, [&]<class K>() { return K::intersect_box8_groups(rays, {}, groups, masks.data(), entries.data()); });
+    return with_kernels(
+        isa, [&]<class K>() { return K::intersect_box8_groups(rays, {}, groups, masks.data(), entries.data()); });
 }
 
 void intersect_box8_nested(std::span<const Ray> rays, std::span<const Box8> supers, std::span<const Box8> groups,
@@ -55,7 +56,8 @@ void intersect_box8_nested(std::span<const Ray> rays, std::span<const Box8> supe
     check_size(masks.size(), groups.size() * rays.size(), "masks");
     check_size(entries.size(), 8 * groups.size() * rays.size(), "entries");
     if (supers.empty()) return;  // no groups
-    return with_kernels(isa, [&]<class K>() { return K::intersect_box8_groups(rays, supers, groups, masks.data(), entries.data()); });
+    return with_kernels(
+        isa, [&]<class K>() { return K::intersect_box8_groups(rays, supers, groups, masks.data(), entries.data()); });
 }
 
 void collect_box8_tree(std::span<const Ray> rays, std::span<const std::uint8_t> live, std::span<const Box8> nodes,

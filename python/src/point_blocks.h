@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "interrupt.h"
-#include "simdbvh/bvh2/internal/point_query-inl.h"
+#include "simdbvh/query/internal/point_query-inl.h"
 #include "simdbvh/kernels/vec.h"
 
 namespace simdbvh::python {

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "arrays.h"
-#include "simdbvh/bvh8/cost_model.h"
+#include "simdbvh/accel/cost_model.h"
 #include "simdbvh/workloads/scene_desc.h"
 #include "simdbvh/scene/scene.h"
 

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "simdbvh/bvh2/bvh2.h"
-#include "simdbvh/bvh8/brute_force8.h"
+#include "simdbvh/accel/brute_force8.h"
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/kernels/isa.h"
 

@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "simdbvh/bvh2/bvh2.h"
-#include "simdbvh/bvh2/crossings.h"
+#include "simdbvh/query/crossings.h"
 #include "simdbvh/bvh2/spheres.h"
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/kernels/isa.h"

@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "simdbvh/bvh2/closest_point.h"
-#include "simdbvh/bvh2/inside.h"
+#include "simdbvh/query/closest_point.h"
+#include "simdbvh/query/inside.h"
 #include "simdbvh/io/output.h"
 #include "simdbvh/io/point_files.h"
 #include "simdbvh/workloads/scenes.h"

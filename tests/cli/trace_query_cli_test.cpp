@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <string>
 
-#include "simdbvh/bvh2/crossings.h"
+#include "simdbvh/query/crossings.h"
 #include "simdbvh/io/crossing_files.h"
 #include "simdbvh/io/load.h"
 #include "simdbvh/io/ray_files.h"

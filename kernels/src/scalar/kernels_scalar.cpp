@@ -135,8 +135,8 @@ void Kernels::intersect_box8(std::span<const Ray> rays, const Box8& boxes, std::
     }
 }
 
-void Kernels::intersect_box8_groups(std::span<const Ray> rays, std::span<const Box8> supers, std::span<const Box8> groups,
-                           std::uint8_t* masks, float* entries) {
+void Kernels::intersect_box8_groups(std::span<const Ray> rays, std::span<const Box8> supers,
+                                    std::span<const Box8> groups, std::uint8_t* masks, float* entries) {
     detail::note_isa_used(Isa::scalar);
     const std::size_t ng = groups.size();
     for (std::size_t i = 0; i < rays.size(); ++i) {
@@ -176,17 +176,19 @@ struct ScalarTreeTest {
 }  // namespace
 
 detail::TreeWalk Kernels::collect_box8_tree(std::span<const Ray> rays, std::span<const std::uint8_t> live,
-                                   std::span<const Box8> nodes, std::span<const std::uint32_t> children,
-                                   std::size_t leaf_lanes, std::uint32_t* stack, std::pair<float, std::uint32_t>* out,
-                                   std::size_t used, std::size_t cap, std::uint32_t* first) {
+                                            std::span<const Box8> nodes, std::span<const std::uint32_t> children,
+                                            std::size_t leaf_lanes, std::uint32_t* stack,
+                                            std::pair<float, std::uint32_t>* out, std::size_t used, std::size_t cap,
+                                            std::uint32_t* first) {
     detail::note_isa_used(Isa::scalar);
     return kernels::detail::walk_box_tree(rays, live, !nodes.empty(), children, leaf_lanes, stack, out, used, cap,
                                           first, ScalarTreeTest{nodes.data()});
 }
 
 detail::TreeWalk Kernels::collect_boxes(std::span<const Ray> rays, std::span<const std::uint8_t> live,
-                               std::span<const Box8> groups, std::size_t count, std::pair<float, std::uint32_t>* out,
-                               std::size_t used, std::size_t cap, std::uint32_t* first) {
+                                        std::span<const Box8> groups, std::size_t count,
+                                        std::pair<float, std::uint32_t>* out, std::size_t used, std::size_t cap,
+                                        std::uint32_t* first) {
     detail::note_isa_used(Isa::scalar);
     std::size_t i = 0;
     for (; i < rays.size(); ++i) {
@@ -225,8 +227,8 @@ void Kernels::intersect_tri8(std::span<const Ray> rays, std::span<const Tri8> bl
     else closest<TriangleTest::moller>(rays, blocks, hits);
 }
 
-void Kernels::occluded_tri8(std::span<const Ray> rays, std::span<const Tri8> blocks, TriangleTest test, std::uint8_t* occluded,
-                   Hit* first_hits) {
+void Kernels::occluded_tri8(std::span<const Ray> rays, std::span<const Tri8> blocks, TriangleTest test,
+                            std::uint8_t* occluded, Hit* first_hits) {
     detail::note_isa_used(Isa::scalar);
     if (test == TriangleTest::watertight) any<TriangleTest::watertight>(rays, blocks, occluded, first_hits);
     else any<TriangleTest::moller>(rays, blocks, occluded, first_hits);

@@ -9,7 +9,7 @@
 #include <span>
 #include <vector>
 
-#include "simdbvh/bvh2/crossings.h"
+#include "simdbvh/query/crossings.h"
 
 namespace simdbvh::io {
 

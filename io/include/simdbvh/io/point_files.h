@@ -14,8 +14,8 @@
 #include <span>
 #include <vector>
 
-#include "simdbvh/bvh2/closest_point.h"
-#include "simdbvh/bvh2/inside.h"
+#include "simdbvh/query/closest_point.h"
+#include "simdbvh/query/inside.h"
 #include "simdbvh/kernels/aabb.h"
 
 namespace simdbvh::io {

@@ -9,7 +9,7 @@
 #include <span>
 #include <vector>
 
-#include "simdbvh/bvh2/inside.h"
+#include "simdbvh/query/inside.h"
 #include "simdbvh/kernels/mesh.h"
 
 namespace simdbvh::reference {
