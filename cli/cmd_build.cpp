@@ -73,9 +73,7 @@ Built run(const BuildConfig& c) {
     progress("building " + c.spec.label() + " ...");
     const std::string& m = c.spec.method;
     if (m == "bvh2") return build_and_save<Bvh2>(mesh, c);
-    if (m == "bvh4") return build_and_save<Bvh4>(mesh, c);
-    if (m == "bvh8") return build_and_save<Bvh8>(mesh, c);
-    return build_and_save<Bvh16>(mesh, c);
+    return with_width(c.spec.width(), [&](auto n) { return build_and_save<BvhN<decltype(n)::value>>(mesh, c); });
 }
 
 void report(const BuildConfig& c, const Built& r) {

@@ -157,7 +157,8 @@ TraceOptions trace_options(const MethodSpec& s, TraceStats* stats) {
                         .stats = stats,
                         .threads = stats ? 1 : s.threads,
                         .packets = s.packets,
-                        .reorder = s.reorder};
+                        .reorder = s.reorder,
+                        .isa = s.isa_auto ? std::nullopt : std::optional<Isa>(s.isa)};
 }
 
 namespace {
@@ -196,7 +197,8 @@ public:
         TraceOptions o;
         o.test = spec_.test;
         o.threads = spec_.threads;
-        any ? occluded(brute_, rays, hits, o, spec_.isa) : intersect(brute_, rays, hits, o, spec_.isa);
+        any ? occluded(brute_, rays, hits, with_isa(o, spec_.isa))
+            : intersect(brute_, rays, hits, with_isa(o, spec_.isa));
     }
 
 private:

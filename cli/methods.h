@@ -53,7 +53,8 @@ public:
     std::string chosen;  // auto: what it chose and why (the predicted time of every candidate)
 };
 
-// The trace options of a tree method: the spec's tests, the counters (one thread when counting).
+// The trace options of a tree method: the spec's tests, the counters (one thread when counting), --isa's ISA
+// (unset without it: by speed).
 TraceOptions trace_options(const MethodSpec& s, TraceStats* stats);
 
 // One trace of a tree built or loaded for `spec` (the tracers of methods.cpp and saved.cpp): the wide trees
@@ -62,10 +63,7 @@ template <class Tree>
 void trace_tree(const Tree& tree, const MethodSpec& spec, std::span<const Ray> rays, std::span<Hit> hits, bool any,
                 TraceStats* stats) {
     const TraceOptions o = trace_options(spec, stats);
-    constexpr bool per_isa = requires { intersect(tree, rays, hits, o, spec.isa); };  // the wide trees
-    if constexpr (!per_isa) any ? occluded(tree, rays, hits, o) : intersect(tree, rays, hits, o);
-    else if (spec.isa_auto) any ? occluded(tree, rays, hits, o) : intersect(tree, rays, hits, o);
-    else any ? occluded(tree, rays, hits, o, spec.isa) : intersect(tree, rays, hits, o, spec.isa);
+    any ? occluded(tree, rays, hits, o) : intersect(tree, rays, hits, o);
 }
 
 // The wide methods, narrowest first.

@@ -61,7 +61,8 @@ void trace_with(const SceneDesc& desc, const MethodSpec& spec, InstanceBounds bo
     const SceneBvhN<N> s = SceneBvhN<N>::build(desc, scene_options(spec, bounds));
     *build_ms = s.stats().build_ms;
     progress("tracing ...");
-    any ? occluded(s, rays, hits, spec.isa, spec.threads) : intersect(s, rays, hits, spec.isa, spec.threads);
+    any ? occluded(s, rays, hits, {.isa = spec.isa, .threads = spec.threads})
+        : intersect(s, rays, hits, {.isa = spec.isa, .threads = spec.threads});
 }
 
 // A light colour per instance (a hash of its id); planes light grey.
@@ -104,9 +105,7 @@ int info_scene(const std::string& name, const MethodSpec& spec, InstanceBounds b
     const SceneDesc desc = workloads::load_scene_desc(name);
     std::printf("scene        %s\n", printable(name).c_str());
     std::printf("isa          %s\n", std::string(simdbvh::name(spec.isa)).c_str());
-    if (width == 4) print_info<4>(desc, spec, bounds);
-    if (width == 8) print_info<8>(desc, spec, bounds);
-    if (width == 16) print_info<16>(desc, spec, bounds);
+    with_width(width, [&](auto n) { print_info<decltype(n)::value>(desc, spec, bounds); });
     return 0;
 }
 
@@ -123,12 +122,9 @@ int trace_scene(const Options& o, const std::string& name, const std::string& ra
     const auto t0 = std::chrono::steady_clock::now();
     if (spec.method == "brute") {
         any ? brute_force_occluded(desc, rays, hits) : brute_force_intersect(desc, rays, hits);
-    } else if (width == 4) {
-        trace_with<4>(desc, spec, bounds, rays, hits, any, &build_ms);
-    } else if (width == 8) {
-        trace_with<8>(desc, spec, bounds, rays, hits, any, &build_ms);
     } else {
-        trace_with<16>(desc, spec, bounds, rays, hits, any, &build_ms);
+        with_width(width,
+                   [&](auto n) { trace_with<decltype(n)::value>(desc, spec, bounds, rays, hits, any, &build_ms); });
     }
     const double secs = seconds_since(t0) - build_ms / 1e3;
     io::write_scene_hits(out, hits);
@@ -160,9 +156,9 @@ Image render_scene_image(const std::string& name, const MethodSpec& spec, Instan
     std::vector<SceneHit> hits(rays.size());
     double build_ms = 0;
     if (spec.method == "brute") brute_force_intersect(desc, rays, hits);
-    else if (width == 4) trace_with<4>(desc, spec, bounds, rays, hits, false, &build_ms);
-    else if (width == 8) trace_with<8>(desc, spec, bounds, rays, hits, false, &build_ms);
-    else trace_with<16>(desc, spec, bounds, rays, hits, false, &build_ms);
+    else
+        with_width(width,
+                   [&](auto n) { trace_with<decltype(n)::value>(desc, spec, bounds, rays, hits, false, &build_ms); });
     Image img{w, h, std::vector<std::uint8_t>(std::size_t(w) * std::size_t(h) * 3, 0)};
     for (std::size_t i = 0; i < hits.size(); ++i) {
         if (!hits[i].hit()) continue;

@@ -160,7 +160,7 @@ void builder_row(const PanelConfig& c, const Mesh& mesh, const BuildOptions& bo,
     const TraceFn tr8 = [&](std::span<const Ray> r, std::span<Hit> h, TraceStats* s) {
         TraceOptions to;
         to.stats = s;
-        intersect(b8, r, h, to, c.isa);
+        intersect(b8, r, h, with_isa(to, c.isa));
     };
     progress("tracing " + row.name + " (bvh2, bvh8/" + std::string(name(c.isa)) + ")", true);
     rt.stats(tr2, row.nodes_per_ray2, &row.tris_per_ray2);

@@ -94,8 +94,8 @@ Method scene_method(std::string name, const SceneBvhN<8>& s, std::vector<SceneHi
     return Method{std::move(name),
                   [&s, &buf](std::span<const Ray> rays, bool any) {
                       buf.resize(rays.size());
-                      any ? occluded(s, rays, std::span<SceneHit>(buf), active_isa())
-                          : intersect(s, rays, std::span<SceneHit>(buf), active_isa());
+                      any ? occluded(s, rays, std::span<SceneHit>(buf), {.isa = active_isa()})
+                          : intersect(s, rays, std::span<SceneHit>(buf), {.isa = active_isa()});
                   },
                   [&buf](std::size_t i) { return buf[i]; }};
 }
@@ -336,14 +336,14 @@ SceneDescBenchResults run_scene_desc_bench(const BenchConfig& c, const SceneDesc
             res.builds.push_back({"BVH8 flattened", ms_flat, wide_bytes(flat)});
             const auto& es = embree_flat->stats();
             res.builds.push_back({"Embree flattened", ms_eflat, std::size_t(es.buffer_bytes + es.bvh_bytes)});
-            methods.push_back(
-                Method{"BVH8 flattened",
-                       [&](std::span<const Ray> rays, bool any) {
-                           flat_hits.resize(rays.size());
-                           any ? occluded(flat, rays, std::span<Hit>(flat_hits), TraceOptions{}, active_isa())
-                               : intersect(flat, rays, std::span<Hit>(flat_hits), TraceOptions{}, active_isa());
-                       },
-                       [&](std::size_t i) { return scene_hit_of(flat_hits[i], desc, first); }});
+            methods.push_back(Method{
+                "BVH8 flattened",
+                [&](std::span<const Ray> rays, bool any) {
+                    flat_hits.resize(rays.size());
+                    any ? occluded(flat, rays, std::span<Hit>(flat_hits), with_isa(TraceOptions{}, active_isa()))
+                        : intersect(flat, rays, std::span<Hit>(flat_hits), with_isa(TraceOptions{}, active_isa()));
+                },
+                [&](std::size_t i) { return scene_hit_of(flat_hits[i], desc, first); }});
             methods.push_back(Method{"Embree flattened",
                                      [&](std::span<const Ray> rays, bool any) {
                                          if (any) {

@@ -69,8 +69,10 @@ void trace(const Accel& a, const auto& impl, std::span<const Ray> rays, std::spa
             options_for_cost(impl.mesh.size()));
     } else if constexpr (std::is_same_v<T, Bvh2>) {
         Any ? occluded(impl, rays, hits, o) : intersect(impl, rays, hits, o);
-    } else {
-        Any ? occluded(impl, rays, hits, o, a.isa()) : intersect(impl, rays, hits, o, a.isa());
+    } else {  // the brute force and the wide trees: the caller's ISA, else the Accel's
+        TraceOptions with = o;
+        with.isa = o.isa.value_or(a.isa());
+        Any ? occluded(impl, rays, hits, with) : intersect(impl, rays, hits, with);
     }
 }
 

@@ -29,9 +29,9 @@ BruteForce8 BruteForce8::build(const Mesh& mesh) {
     return b;
 }
 
-void intersect(const BruteForce8& brute, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o,
-               Isa isa) {
+void intersect(const BruteForce8& brute, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o) {
     simdbvh::detail::check_size(hits.size(), rays.size(), "hits");
+    const Isa isa = o.isa.value_or(active_isa());
     require(isa);
     parallel_for(
         rays.size(), o.threads,
@@ -41,9 +41,9 @@ void intersect(const BruteForce8& brute, std::span<const Ray> rays, std::span<Hi
         options_for_cost(brute.triangles(), kernels::kBruteRayTile));
 }
 
-void occluded(const BruteForce8& brute, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o,
-              Isa isa) {
+void occluded(const BruteForce8& brute, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o) {
     simdbvh::detail::check_size(hits.size(), rays.size(), "hits");
+    const Isa isa = o.isa.value_or(active_isa());
     require(isa);
     parallel_for(
         rays.size(), o.threads,

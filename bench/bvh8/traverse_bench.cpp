@@ -34,11 +34,11 @@ void run_wide(benchmark::State& st, const simdbvh::BvhN<N>& bvh, Isa isa, Collap
     simdbvh::TraceOptions counted;
     counted.stats = &ts;
     counted.test = timed.test;
-    if (any) simdbvh::occluded(bvh, rays, hits, counted, isa);
-    else simdbvh::intersect(bvh, rays, hits, counted, isa);
+    if (any) simdbvh::occluded(bvh, rays, hits, with_isa(counted, isa));
+    else simdbvh::intersect(bvh, rays, hits, with_isa(counted, isa));
     for (auto _ : st) {
-        if (any) simdbvh::occluded(bvh, rays, hits, timed, isa);
-        else simdbvh::intersect(bvh, rays, hits, timed, isa);
+        if (any) simdbvh::occluded(bvh, rays, hits, with_isa(timed, isa));
+        else simdbvh::intersect(bvh, rays, hits, with_isa(timed, isa));
         benchmark::DoNotOptimize(hits.data());
     }
     const double n = double(rays.size());
@@ -172,8 +172,8 @@ void run_hd(benchmark::State& st, const simdbvh::BvhN<N>& bvh, Isa isa, bool any
     simdbvh::TraceOptions o;
     o.packets = packets;
     auto pass = [&] {
-        if (any) simdbvh::occluded(bvh, rays, hits, o, isa);
-        else simdbvh::intersect(bvh, rays, hits, o, isa);
+        if (any) simdbvh::occluded(bvh, rays, hits, with_isa(o, isa));
+        else simdbvh::intersect(bvh, rays, hits, with_isa(o, isa));
     };
     pass();  // warm-up
     for (auto _ : st) {
@@ -297,7 +297,7 @@ void run_camera64k(benchmark::State& st, Camera64kIsa mode, Isa isa) {
     simdbvh::TraceOptions o;
     o.threads = int(st.range(0));
     auto pass = [&] {
-        if (mode == Camera64kIsa::given) simdbvh::intersect(c.bvh, c.rays, hits, o, isa);
+        if (mode == Camera64kIsa::given) simdbvh::intersect(c.bvh, c.rays, hits, with_isa(o, isa));
         else simdbvh::intersect(c.bvh, c.rays, hits, o);
     };
     pass();  // warm-up (and, without an ISA, the choice)

@@ -85,7 +85,7 @@ void BM_Flattened(benchmark::State& st, Isa isa, int kind) {
     if (!supported(isa)) return st.SkipWithError("CPU lacks ISA");
     const Fixture& f = fixture();
     std::vector<Hit> hits(f.rays[kind].size());
-    for (auto _ : st) intersect(f.flat, f.rays[kind], hits, TraceOptions{}, isa);
+    for (auto _ : st) intersect(f.flat, f.rays[kind], hits, with_isa(TraceOptions{}, isa));
     rate(st, hits.size());
 }
 
@@ -94,7 +94,7 @@ void BM_Instanced(benchmark::State& st, Isa isa, int kind, InstanceBounds bounds
     const Fixture& f = fixture();
     const SceneBvhN<8>& s = bounds == InstanceBounds::corners ? f.corners : f.child_corners;
     std::vector<SceneHit> hits(f.rays[kind].size());
-    for (auto _ : st) intersect(s, std::span<const Ray>(f.rays[kind]), std::span<SceneHit>(hits), isa);
+    for (auto _ : st) intersect(s, std::span<const Ray>(f.rays[kind]), std::span<SceneHit>(hits), {.isa = isa});
     rate(st, hits.size());
 }
 

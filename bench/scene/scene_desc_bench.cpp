@@ -72,8 +72,8 @@ void trace_rows(benchmark::State& st, Isa isa, int kind, bool any) {
     std::vector<SceneHit> hits(f.rays[kind].size());
     const std::span<const Ray> rays(f.rays[kind]);
     for (auto _ : st) {
-        if (any) occluded(scene, rays, std::span<SceneHit>(hits), isa);
-        else intersect(scene, rays, std::span<SceneHit>(hits), isa);
+        if (any) occluded(scene, rays, std::span<SceneHit>(hits), {.isa = isa});
+        else intersect(scene, rays, std::span<SceneHit>(hits), {.isa = isa});
     }
     rate(st, hits.size());
 }

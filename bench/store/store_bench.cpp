@@ -115,7 +115,7 @@ void BM_FirstTrace(benchmark::State& st, std::string scene, bool loaded) {
     for (auto _ : st) {
         const Bvh8 b = loaded ? load<Bvh8>(f.file) : Bvh8::build(f.mesh);
         const auto t0 = Clock::now();
-        intersect(b, std::span<const Ray>(f.rays), std::span<Hit>(hits), {}, isa);
+        intersect(b, std::span<const Ray>(f.rays), std::span<Hit>(hits), with_isa({}, isa));
         st.SetIterationTime(std::chrono::duration<double>(Clock::now() - t0).count());
     }
     st.counters["Mrays/s"] =

@@ -190,39 +190,27 @@ void run_auto(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits
 
 template <int N>
 void intersect(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o) {
+    if (o.isa) return run<N, false>(bvh, rays, hits, o, *o.isa);
     run_auto<N, false>(bvh, rays, hits, o);
 }
 template <int N>
 void occluded(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o) {
+    if (o.isa) return run<N, true>(bvh, rays, hits, o, *o.isa);
     run_auto<N, true>(bvh, rays, hits, o);
 }
+// One ray: the given ISA, else the current choice (a single ray never calibrates).
 template <int N>
 Hit intersect(const BvhN<N>& bvh, const Ray& ray, const TraceOptions& o) {
-    return intersect<N>(bvh, ray, o, bvh8::detail::current_isa(N, false));
-}
-template <int N>
-Hit occluded(const BvhN<N>& bvh, const Ray& ray, const TraceOptions& o) {
-    return occluded<N>(bvh, ray, o, bvh8::detail::current_isa(N, true));
-}
-
-template <int N>
-void intersect(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o, Isa isa) {
-    run<N, false>(bvh, rays, hits, o, isa);
-}
-template <int N>
-void occluded(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& o, Isa isa) {
-    run<N, true>(bvh, rays, hits, o, isa);
-}
-template <int N>
-Hit intersect(const BvhN<N>& bvh, const Ray& ray, const TraceOptions& o, Isa isa) {
     Hit h;
-    run<N, false>(bvh, std::span<const Ray>(&ray, 1), std::span<Hit>(&h, 1), o, isa);
+    run<N, false>(bvh, std::span<const Ray>(&ray, 1), std::span<Hit>(&h, 1), o,
+                  o.isa.value_or(bvh8::detail::current_isa(N, false)));
     return h;
 }
 template <int N>
-Hit occluded(const BvhN<N>& bvh, const Ray& ray, const TraceOptions& o, Isa isa) {
+Hit occluded(const BvhN<N>& bvh, const Ray& ray, const TraceOptions& o) {
     Hit h;
-    run<N, true>(bvh, std::span<const Ray>(&ray, 1), std::span<Hit>(&h, 1), o, isa);
+    run<N, true>(bvh, std::span<const Ray>(&ray, 1), std::span<Hit>(&h, 1), o,
+                 o.isa.value_or(bvh8::detail::current_isa(N, true)));
     return h;
 }
 
@@ -236,17 +224,13 @@ bool traces_sorted(const BvhN<N>& bvh, std::size_t n, const std::function<Ray(st
     return reordered(n, o.reorder, [&] { return bvh8::detail::scattered(n, ray_at, bvh.bounds()); });
 }
 
-#define SIMDBVH_WIDTH(N)                                                                                        \
-    template bool traces_sorted<N>(const BvhN<N>&, std::span<const Ray>, const TraceOptions&);                  \
-    template bool traces_sorted<N>(const BvhN<N>&, std::size_t, const std::function<Ray(std::size_t)>&,         \
-                                   const TraceOptions&);                                                        \
-    template void intersect<N>(const BvhN<N>&, std::span<const Ray>, std::span<Hit>, const TraceOptions&, Isa); \
-    template void occluded<N>(const BvhN<N>&, std::span<const Ray>, std::span<Hit>, const TraceOptions&, Isa);  \
-    template Hit intersect<N>(const BvhN<N>&, const Ray&, const TraceOptions&, Isa);                            \
-    template Hit occluded<N>(const BvhN<N>&, const Ray&, const TraceOptions&, Isa);                             \
-    template void intersect<N>(const BvhN<N>&, std::span<const Ray>, std::span<Hit>, const TraceOptions&);      \
-    template void occluded<N>(const BvhN<N>&, std::span<const Ray>, std::span<Hit>, const TraceOptions&);       \
-    template Hit intersect<N>(const BvhN<N>&, const Ray&, const TraceOptions&);                                 \
+#define SIMDBVH_WIDTH(N)                                                                                   \
+    template bool traces_sorted<N>(const BvhN<N>&, std::span<const Ray>, const TraceOptions&);             \
+    template bool traces_sorted<N>(const BvhN<N>&, std::size_t, const std::function<Ray(std::size_t)>&,    \
+                                   const TraceOptions&);                                                   \
+    template void intersect<N>(const BvhN<N>&, std::span<const Ray>, std::span<Hit>, const TraceOptions&); \
+    template void occluded<N>(const BvhN<N>&, std::span<const Ray>, std::span<Hit>, const TraceOptions&);  \
+    template Hit intersect<N>(const BvhN<N>&, const Ray&, const TraceOptions&);                            \
     template Hit occluded<N>(const BvhN<N>&, const Ray&, const TraceOptions&);
 SIMDBVH_WIDTH(4)
 SIMDBVH_WIDTH(8)

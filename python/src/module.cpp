@@ -166,9 +166,9 @@ public:
                             if (any) occluded(bvh, r, h, opts);
                             else simdbvh::intersect(bvh, r, h, opts);
                         } else if (any) {
-                            occluded(bvh, r, h, opts, isa_);
+                            occluded(bvh, r, h, with_isa(opts, isa_));
                         } else {
-                            simdbvh::intersect(bvh, r, h, opts, isa_);
+                            simdbvh::intersect(bvh, r, h, with_isa(opts, isa_));
                         }
                     };
                     TraceOptions opts;  // automatic order: the library's rule, asked once here

@@ -302,8 +302,8 @@ private:
                 if constexpr (std::is_same_v<std::decay_t<decltype(b)>, std::monostate>) {
                     any ? brute_force_occluded(desc_, rays, hits) : brute_force_intersect(desc_, rays, hits);
                 } else {
-                    if (any) simdbvh::occluded(b, rays, hits, isa_, 1);
-                    else simdbvh::intersect(b, rays, hits, isa_, 1);
+                    if (any) simdbvh::occluded(b, rays, hits, {.isa = isa_, .threads = 1});
+                    else simdbvh::intersect(b, rays, hits, {.isa = isa_, .threads = 1});
                 }
             },
             bvh_);

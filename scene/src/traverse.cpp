@@ -466,27 +466,28 @@ void trace_span(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<Scen
 }  // namespace
 
 template <int N>
-SceneHit intersect(const SceneBvhN<N>& s, const Ray& ray, Isa isa) {
-    return trace<query::ClosestHit>(s, ray, isa);
+SceneHit intersect(const SceneBvhN<N>& s, const Ray& ray, const SceneTraceOptions& o) {
+    return trace<query::ClosestHit>(s, ray, o.isa.value_or(active_isa()));
 }
 template <int N>
-SceneHit occluded(const SceneBvhN<N>& s, const Ray& ray, Isa isa) {
-    return trace<query::AnyHit>(s, ray, isa);
+SceneHit occluded(const SceneBvhN<N>& s, const Ray& ray, const SceneTraceOptions& o) {
+    return trace<query::AnyHit>(s, ray, o.isa.value_or(active_isa()));
 }
 template <int N>
-void intersect(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<SceneHit> hits, Isa isa, int threads) {
-    trace_span<query::ClosestHit>(s, rays, hits, isa, threads);
+void intersect(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<SceneHit> hits, const SceneTraceOptions& o) {
+    trace_span<query::ClosestHit>(s, rays, hits, o.isa.value_or(active_isa()), o.threads);
 }
 template <int N>
-void occluded(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<SceneHit> hits, Isa isa, int threads) {
-    trace_span<query::AnyHit>(s, rays, hits, isa, threads);
+void occluded(const SceneBvhN<N>& s, std::span<const Ray> rays, std::span<SceneHit> hits, const SceneTraceOptions& o) {
+    trace_span<query::AnyHit>(s, rays, hits, o.isa.value_or(active_isa()), o.threads);
 }
 
-#define SIMDBVH_SCENE_WIDTH(N)                                                                            \
-    template SceneHit intersect<N>(const SceneBvhN<N>&, const Ray&, Isa);                                 \
-    template SceneHit occluded<N>(const SceneBvhN<N>&, const Ray&, Isa);                                  \
-    template void intersect<N>(const SceneBvhN<N>&, std::span<const Ray>, std::span<SceneHit>, Isa, int); \
-    template void occluded<N>(const SceneBvhN<N>&, std::span<const Ray>, std::span<SceneHit>, Isa, int);
+#define SIMDBVH_SCENE_WIDTH(N)                                                                 \
+    template SceneHit intersect<N>(const SceneBvhN<N>&, const Ray&, const SceneTraceOptions&); \
+    template SceneHit occluded<N>(const SceneBvhN<N>&, const Ray&, const SceneTraceOptions&);  \
+    template void intersect<N>(const SceneBvhN<N>&, std::span<const Ray>, std::span<SceneHit>, \
+                               const SceneTraceOptions&);                                      \
+    template void occluded<N>(const SceneBvhN<N>&, std::span<const Ray>, std::span<SceneHit>, const SceneTraceOptions&);
 SIMDBVH_SCENE_WIDTH(4)
 SIMDBVH_SCENE_WIDTH(8)
 SIMDBVH_SCENE_WIDTH(16)

@@ -170,7 +170,9 @@ bool same_bits(const Hit& a, const Hit& b) {
 std::vector<Hit> direct(AccelMethod m, const Mesh& mesh, std::span<const Ray> rays, bool any, Isa isa) {
     std::vector<Hit> hits(rays.size());
     TraceOptions o;
-    auto wide = [&](auto tree) { any ? occluded(tree, rays, hits, o, isa) : intersect(tree, rays, hits, o, isa); };
+    auto wide = [&](auto tree) {
+        any ? occluded(tree, rays, hits, with_isa(o, isa)) : intersect(tree, rays, hits, with_isa(o, isa));
+    };
     switch (m) {
     case AccelMethod::brute:
         for (std::size_t i = 0; i < rays.size(); ++i)
@@ -178,7 +180,7 @@ std::vector<Hit> direct(AccelMethod m, const Mesh& mesh, std::span<const Ray> ra
         break;
     case AccelMethod::brute8: {
         const BruteForce8 b = BruteForce8::build(mesh);
-        any ? occluded(b, rays, hits, o, isa) : intersect(b, rays, hits, o, isa);
+        any ? occluded(b, rays, hits, with_isa(o, isa)) : intersect(b, rays, hits, with_isa(o, isa));
         break;
     }
     case AccelMethod::bvh2: {

@@ -57,8 +57,8 @@ void check_mesh(const Mesh& mesh, const char* what) {
                 o.test = test;
                 o.threads = threads;
                 std::vector<Hit> got(rays.size()), any(rays.size());
-                intersect(brute, rays, got, o, isa);
-                occluded(brute, rays, any, o, isa);
+                intersect(brute, rays, got, with_isa(o, isa));
+                occluded(brute, rays, any, with_isa(o, isa));
                 for (std::size_t i = 0; i < rays.size(); ++i) {
                     ASSERT_TRUE(same_bits(got[i], want[i])) << what << " ray " << i << " isa " << name(isa) << " prim "
                                                             << got[i].prim << " vs " << want[i].prim;

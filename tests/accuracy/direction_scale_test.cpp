@@ -70,9 +70,9 @@ std::vector<Hit> expect_paths_agree(const std::vector<Ray>& rays, const std::str
     }
     for (Isa isa : kAllIsas) {
         if (!supported(isa)) continue;
-        intersect(f.bvh8, rays, b8, {}, isa);
+        intersect(f.bvh8, rays, b8, with_isa({}, isa));
         std::vector<Hit> any8(rays.size());
-        occluded(f.bvh8, rays, any8, {}, isa);
+        occluded(f.bvh8, rays, any8, with_isa({}, isa));
         for (std::size_t i = 0; i < rays.size(); ++i) {
             if (!(b8[i] == brute[i]) && bad8++ < 3)
                 ADD_FAILURE() << what << " ray " << i << ": BVH8 " << name(isa) << " " << describe(b8[i]) << ", brute "
@@ -177,7 +177,7 @@ TEST(DirectionScale, PowerOfTwoScalingScalesTExactly) {
         std::vector<Hit> b8(kRays);
         for (Isa isa : kAllIsas) {
             if (!supported(isa)) continue;
-            intersect(f.bvh8, rays, b8, {}, isa);
+            intersect(f.bvh8, rays, b8, with_isa({}, isa));
             std::size_t bad = 0;
             for (std::size_t i = 0; i < kRays; ++i) {
                 if (!exact[i]) continue;
@@ -217,8 +217,8 @@ TEST(DirectionScale, HitsBeyondFloatRangeKeepTheirTriangleWithInfiniteT) {
         EXPECT_TRUE(occluded(b2, r).hit()) << "2^" << e;
         for (Isa isa : kAllIsas) {
             if (!supported(isa)) continue;
-            EXPECT_EQ(intersect(b8, r, {}, isa), want) << "2^" << e << " " << name(isa);
-            EXPECT_TRUE(occluded(b8, r, {}, isa).hit()) << "2^" << e << " " << name(isa);
+            EXPECT_EQ(intersect(b8, r, with_isa({}, isa)), want) << "2^" << e << " " << name(isa);
+            EXPECT_TRUE(occluded(b8, r, with_isa({}, isa)).hit()) << "2^" << e << " " << name(isa);
         }
         // A finite tmax in the caller's units still limits the hits.
         r.tmax = 1e38f;
@@ -226,7 +226,7 @@ TEST(DirectionScale, HitsBeyondFloatRangeKeepTheirTriangleWithInfiniteT) {
         EXPECT_FALSE(intersect(b2, r).hit()) << "2^" << e;
         for (Isa isa : kAllIsas)
             if (supported(isa)) {
-                EXPECT_FALSE(intersect(b8, r, {}, isa).hit()) << "2^" << e << " " << name(isa);
+                EXPECT_FALSE(intersect(b8, r, with_isa({}, isa)).hit()) << "2^" << e << " " << name(isa);
             }
     }
     // A huge direction: t = 8 / 2^127, rounded once (ldexp), same triangle.
@@ -237,7 +237,7 @@ TEST(DirectionScale, HitsBeyondFloatRangeKeepTheirTriangleWithInfiniteT) {
     EXPECT_EQ(intersect(b2, big), want) << describe(intersect(b2, big));
     for (Isa isa : kAllIsas)
         if (supported(isa)) {
-            EXPECT_EQ(intersect(b8, big, {}, isa), want) << name(isa);
+            EXPECT_EQ(intersect(b8, big, with_isa({}, isa)), want) << name(isa);
         }
 }
 

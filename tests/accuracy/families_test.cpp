@@ -84,7 +84,7 @@ TEST_P(Families, DefaultPathAgreesWithReferenceAndPathsAreBitIdentical) {
             const Bvh8 b8 = Bvh8::build(bvh);
             EXPECT_LE(b8.stats().depth, BuildOptions{}.max_depth);
             std::vector<Hit> h8(c.rays.size());
-            intersect(b8, c.rays, h8, {}, isa);
+            intersect(b8, c.rays, h8, with_isa({}, isa));
             for (std::size_t i = 0; i < c.rays.size(); ++i)
                 ASSERT_EQ(h8[i], hits[i]) << "bvh8/" << name(isa) << " ray " << i << " differs from bvh2";
         }

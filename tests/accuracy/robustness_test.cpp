@@ -77,10 +77,10 @@ TEST(InvalidRays, MissWithoutTraversalOnEveryPath) {
             TraceStats st;
             TraceOptions o;
             o.stats = &st;
-            expect_miss(intersect(b8, r, o, isa), id + " bvh8/" + std::string(name(isa)));
-            expect_miss(occluded(b8, r, o, isa), id + " bvh8 any/" + std::string(name(isa)));
+            expect_miss(intersect(b8, r, with_isa(o, isa)), id + " bvh8/" + std::string(name(isa)));
+            expect_miss(occluded(b8, r, with_isa(o, isa)), id + " bvh8 any/" + std::string(name(isa)));
             std::vector<Hit> h(1);
-            intersect(b8, std::span(&r, 1), h, o, isa);
+            intersect(b8, std::span(&r, 1), h, with_isa(o, isa));
             expect_miss(h[0], id + " bvh8 batch/" + std::string(name(isa)));
             if (!valid) EXPECT_EQ(st.nodes_visited, 0u) << id << " bvh8/" << name(isa);
         }

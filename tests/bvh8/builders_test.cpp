@@ -29,8 +29,8 @@ TEST_P(Bvh8Builders, CollapsedTreeMatchesBruteForceOnEveryIsa) {
         for (Isa isa : kAllIsas) {
             if (!supported(isa)) continue;  // every supported ISA; the others are covered where they run
             std::vector<Hit> got(rays.size()), any(rays.size());
-            intersect(bvh8, rays, got, {}, isa);
-            occluded(bvh8, rays, any, {}, isa);
+            intersect(bvh8, rays, got, with_isa({}, isa));
+            occluded(bvh8, rays, any, with_isa({}, isa));
             for (std::size_t i = 0; i < rays.size(); ++i) {
                 ASSERT_EQ(got[i], want[i]) << name(GetParam()) << " " << name(c) << " " << name(isa) << " ray " << i;
                 ASSERT_EQ(any[i].hit(), want[i].hit()) << name(GetParam()) << " " << name(isa) << " ray " << i;

@@ -79,8 +79,8 @@ TEST_P(Bvh8VsBvh2, ClosestBitIdenticalAnyHitAgrees) {
     for (TriangleTest test : {TriangleTest::watertight, TriangleTest::moller}) {
         const auto& want = test == TriangleTest::watertight ? f.want_watertight : f.want_moller;
         std::vector<Hit> got(f.rays.size()), any(f.rays.size());
-        intersect(bvh8, f.rays, got, {test}, isa);
-        occluded(bvh8, f.rays, any, {test}, isa);
+        intersect(bvh8, f.rays, got, with_isa({test}, isa));
+        occluded(bvh8, f.rays, any, with_isa({test}, isa));
         std::size_t hits = 0;
         for (std::size_t i = 0; i < f.rays.size(); ++i) {
             ASSERT_EQ(got[i], want[i]) << "ray " << i << " ("
@@ -139,8 +139,8 @@ void expect_same(const Mesh& mesh, const BuildOptions& bo, const Bvh8Options& o,
     const auto rays = rays_around(mesh, 3000, 5);
     std::vector<Hit> want(rays.size()), got(rays.size()), any(rays.size());
     intersect(bvh2, rays, want);
-    intersect(bvh8, rays, got, {}, isa);
-    occluded(bvh8, rays, any, {}, isa);
+    intersect(bvh8, rays, got, with_isa({}, isa));
+    occluded(bvh8, rays, any, with_isa({}, isa));
     for (std::size_t i = 0; i < rays.size(); ++i) {
         ASSERT_EQ(got[i], want[i]) << what << ": ray " << i;
         ASSERT_EQ(got[i], brute_force_intersect(mesh, rays[i])) << what << ": ray " << i;
@@ -210,20 +210,20 @@ TEST_P(Bvh8Small, InvalidRaysAndStats) {
         TraceStats st;
         TraceOptions o;
         o.stats = &st;
-        const Hit h = intersect(bvh8, r, o, isa);
+        const Hit h = intersect(bvh8, r, with_isa(o, isa));
         EXPECT_FALSE(h.hit());
         EXPECT_TRUE(std::isinf(h.t));
-        EXPECT_FALSE(occluded(bvh8, r, o, isa).hit());
+        EXPECT_FALSE(occluded(bvh8, r, with_isa(o, isa)).hit());
         EXPECT_EQ(st.nodes_visited, 0u);
         EXPECT_EQ(st.rays, 2u);
     }
     const auto rays = rays_around(mesh, 2000, 3);
     std::vector<Hit> plain(rays.size()), counted(rays.size());
     TraceStats st;
-    intersect(bvh8, rays, plain, {}, isa);
+    intersect(bvh8, rays, plain, with_isa({}, isa));
     TraceOptions counting;
     counting.stats = &st;
-    intersect(bvh8, rays, counted, counting, isa);
+    intersect(bvh8, rays, counted, with_isa(counting, isa));
     for (std::size_t i = 0; i < rays.size(); ++i) ASSERT_EQ(plain[i], counted[i]) << "ray " << i;
     EXPECT_EQ(st.rays, rays.size());
     // Every ray is valid and aimed into the bounds: one test of the tree's
@@ -241,7 +241,7 @@ TEST_P(Bvh8Small, InvalidRaysAndStats) {
     for (Ray& r : away) r.dir = r.dir * -1.0f;
     TraceStats st_away;
     counting.stats = &st_away;
-    intersect(bvh8, away, counted, counting, isa);
+    intersect(bvh8, away, counted, with_isa(counting, isa));
     for (std::size_t i = 0; i < away.size(); ++i) ASSERT_FALSE(counted[i].hit()) << "ray " << i;
     EXPECT_EQ(st_away.nodes_visited, 0u);
     EXPECT_EQ(st_away.box_tests, away.size());
@@ -259,10 +259,10 @@ TEST_P(Bvh8Small, ThreadsGiveSameHits) {
     const Bvh8 bvh8 = Bvh8::build(mesh);
     const auto rays = rays_around(mesh, 10000, 4);
     std::vector<Hit> one(rays.size()), many(rays.size());
-    intersect(bvh8, rays, one, {}, isa);
+    intersect(bvh8, rays, one, with_isa({}, isa));
     TraceOptions o;
     o.threads = 2;
-    intersect(bvh8, rays, many, o, isa);
+    intersect(bvh8, rays, many, with_isa(o, isa));
     for (std::size_t i = 0; i < rays.size(); ++i) ASSERT_EQ(one[i], many[i]) << "ray " << i;
 }
 
@@ -270,10 +270,10 @@ TEST(Bvh8Api, UnsupportedIsaThrowsAndSpanSizeIsChecked) {
     const Bvh8 bvh8 = Bvh8::build(workloads::icosphere(1));
     const std::vector<Ray> rays(4, Ray{{0, 0, -5}, 0, {0, 0, 1}});
     std::vector<Hit> hits(3);
-    EXPECT_THROW(intersect(bvh8, rays, hits, {}, Isa::scalar), Error);
+    EXPECT_THROW(intersect(bvh8, rays, hits, with_isa({}, Isa::scalar)), Error);
     for (Isa isa : kAllIsas)
         if (!supported(isa)) {
-            EXPECT_THROW(intersect(bvh8, rays[0], {}, isa), Error) << name(isa);
+            EXPECT_THROW(intersect(bvh8, rays[0], with_isa({}, isa)), Error) << name(isa);
         }
     EXPECT_EQ(parse_collapse("sah"), Collapse::sah);
     EXPECT_EQ(parse_collapse("greedy"), Collapse::greedy);

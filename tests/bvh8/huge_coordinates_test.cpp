@@ -47,8 +47,8 @@ TEST_P(Bvh8HugeCoordinates, EveryCollapseMatchesBruteForceOnEveryIsa) {
             for (Isa isa : kAllIsas) {
                 if (!supported(isa)) continue;
                 std::vector<Hit> got(rays.size()), any(rays.size());
-                intersect(bvh8, rays, got, {}, isa);
-                occluded(bvh8, rays, any, {}, isa);
+                intersect(bvh8, rays, got, with_isa({}, isa));
+                occluded(bvh8, rays, any, with_isa({}, isa));
                 for (std::size_t i = 0; i < rays.size(); ++i) {
                     ASSERT_EQ(got[i], want[i]) << what << " " << name(isa) << " ray " << i;
                     ASSERT_EQ(any[i].hit(), want[i].hit()) << what << " " << name(isa) << " ray " << i;

@@ -35,8 +35,8 @@ void check_width(const Bvh2& bvh2, const std::vector<Ray>& rays, const std::vect
         TraceOptions o;
         o.in_flight = flight;
         std::vector<Hit> got(rays.size()), any(rays.size());
-        intersect(bvh, rays, got, o, isa);
-        occluded(bvh, rays, any, o, isa);
+        intersect(bvh, rays, got, with_isa(o, isa));
+        occluded(bvh, rays, any, with_isa(o, isa));
         for (std::size_t i = 0; i < rays.size(); ++i) {
             ASSERT_EQ(got[i], want[i]) << what << " bvh" << N << " " << name(isa) << " in_flight " << flight << " ray "
                                        << i;
@@ -47,7 +47,7 @@ void check_width(const Bvh2& bvh2, const std::vector<Ray>& rays, const std::vect
         TraceOptions o;
         o.in_flight = bad;
         std::vector<Hit> got(rays.size());
-        EXPECT_THROW(intersect(bvh, rays, got, o, isa), Error) << bad;
+        EXPECT_THROW(intersect(bvh, rays, got, with_isa(o, isa)), Error) << bad;
     }
 }
 

@@ -48,7 +48,7 @@ struct Sphere5 {
 void expect_same_as_every_isa(const Sphere5& s, const std::vector<Hit>& got) {
     for (Isa isa : supported_isas()) {
         std::vector<Hit> want(s.rays.size());
-        intersect(s.bvh, s.rays, want, {}, isa);
+        intersect(s.bvh, s.rays, want, with_isa({}, isa));
         std::size_t hits = 0;
         for (std::size_t i = 0; i < want.size(); ++i) {
             ASSERT_TRUE(same_bits(got[i], want[i])) << "ray " << i << " vs " << name(isa);
@@ -225,7 +225,8 @@ TEST(IsaChoice, CalibratingBatchIsOneParallelCall) {
         two.reorder = order;
         const std::vector<Ray> rays = workloads::generate_rays(mesh, workloads::RayKind::primary, 65536, 1);
         std::vector<Hit> want(rays.size());
-        any ? occluded(bvh, rays, want, two, detected_isa()) : intersect(bvh, rays, want, two, detected_isa());
+        any ? occluded(bvh, rays, want, with_isa(two, detected_isa()))
+            : intersect(bvh, rays, want, with_isa(two, detected_isa()));
         const int given = calls.exchange(0);
         std::vector<Hit> got(rays.size(), Hit{.t = -1.0f, .u = -1.0f, .v = -1.0f, .prim = 7});  // not a result
         any ? occluded(bvh, rays, got, two) : intersect(bvh, rays, got, two);
@@ -256,7 +257,7 @@ TEST(IsaChoice, ForcedIsaIsObeyedAndNeverCalibrated) {
     EXPECT_FALSE(c.calibrated);
     EXPECT_EQ(c.isa, Isa::scalar);
     std::vector<Hit> want(s.rays.size());
-    occluded(s.bvh, s.rays, want, {}, Isa::scalar);
+    occluded(s.bvh, s.rays, want, with_isa({}, Isa::scalar));
     for (std::size_t i = 0; i < want.size(); ++i) ASSERT_TRUE(same_bits(hits[i], want[i])) << "ray " << i;
 }
 

@@ -119,20 +119,20 @@ void expect_all_paths_agree(const Mesh& mesh, const std::vector<Ray>& rays, cons
     for (Isa isa : {Isa::scalar, Isa::avx2, Isa::avx512}) {
         if (!supported(isa)) continue;
         const std::string at = " " + std::string(name(isa));
-        intersect(brute, rays, got, {}, isa);
-        occluded(brute, rays, any, {}, isa);
+        intersect(brute, rays, got, with_isa({}, isa));
+        occluded(brute, rays, any, with_isa({}, isa));
         check(got, any, "SIMD brute force" + at);
-        intersect(b4, rays, got, {}, isa);
-        occluded(b4, rays, any, {}, isa);
+        intersect(b4, rays, got, with_isa({}, isa));
+        occluded(b4, rays, any, with_isa({}, isa));
         check(got, any, "BVH4" + at);
-        intersect(b8, rays, got, {}, isa);
-        occluded(b8, rays, any, {}, isa);
+        intersect(b8, rays, got, with_isa({}, isa));
+        occluded(b8, rays, any, with_isa({}, isa));
         check(got, any, "BVH8" + at);
         for (std::size_t i = 0; i < rays.size(); ++i)
-            got[i] = intersect(b8, rays[i], {}, isa), any[i] = occluded(b8, rays[i], {}, isa);
+            got[i] = intersect(b8, rays[i], with_isa({}, isa)), any[i] = occluded(b8, rays[i], with_isa({}, isa));
         check(got, any, "BVH8 single rays" + at);
-        intersect(b16, rays, got, {}, isa);
-        occluded(b16, rays, any, {}, isa);
+        intersect(b16, rays, got, with_isa({}, isa));
+        occluded(b16, rays, any, with_isa({}, isa));
         check(got, any, "BVH16" + at);
     }
 }

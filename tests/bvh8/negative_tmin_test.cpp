@@ -130,14 +130,14 @@ TEST_P(NegativeTmin, VertexTiesGoToTheLowerIdOnEveryPath) {
 
     for (Isa isa : {Isa::scalar, Isa::avx2, Isa::avx512}) {
         if (!supported(isa)) continue;
-        intersect(Bvh4::build(bvh2), c.rays, got, {}, isa);
+        intersect(Bvh4::build(bvh2), c.rays, got, with_isa({}, isa));
         expect_same(c, got, "BVH4");
-        intersect(Bvh8::build(bvh2), c.rays, got, {}, isa);
+        intersect(Bvh8::build(bvh2), c.rays, got, with_isa({}, isa));
         expect_same(c, got, "BVH8");
         const Bvh16 b16 = Bvh16::build(bvh2);
-        intersect(b16, c.rays, got, {}, isa);
+        intersect(b16, c.rays, got, with_isa({}, isa));
         expect_same(c, got, "BVH16");
-        occluded(b16, c.rays, got, {}, isa);
+        occluded(b16, c.rays, got, with_isa({}, isa));
         for (std::size_t i = 0; i < c.rays.size(); ++i)
             ASSERT_NE(got[i].prim, kInvalidPrim) << "BVH16 any hit, ray " << i;
     }

@@ -64,16 +64,16 @@ void expect_same_hits(const Mesh& mesh, const std::vector<Ray>& rays, const std:
     expect_quantized(q, what);
     EXPECT_GT(q.stats().bytes_per_triangle, full.stats().bytes_per_triangle);  // both node arrays are kept
     std::vector<Hit> want(rays.size()), want_any(rays.size()), got(rays.size()), any(rays.size());
-    intersect(full, rays, want, {}, Isa::scalar);
-    occluded(full, rays, want_any, {}, Isa::scalar);
+    intersect(full, rays, want, with_isa({}, Isa::scalar));
+    occluded(full, rays, want_any, with_isa({}, Isa::scalar));
     TraceStats ref;
     for (Isa isa : kAllIsas) {
         if (!supported(isa)) continue;
         TraceStats st;
         TraceOptions o;
         o.stats = &st;
-        intersect(q, rays, got, o, isa);
-        occluded(q, rays, any, {}, isa);
+        intersect(q, rays, got, with_isa(o, isa));
+        occluded(q, rays, any, with_isa({}, isa));
         for (std::size_t i = 0; i < rays.size(); ++i) {
             ASSERT_EQ(got[i], want[i]) << what << " bvh" << N << " " << name(isa) << " ray " << i;
             ASSERT_EQ(any[i].hit(), want_any[i].hit()) << what << " bvh" << N << " " << name(isa) << " ray " << i;
@@ -179,7 +179,7 @@ TEST(QuantizedNodes, RefitRequantizes) {
     std::vector<Hit> got(rays.size());
     for (Isa isa : kAllIsas) {
         if (!supported(isa)) continue;
-        intersect(b, rays, got, {}, isa);
+        intersect(b, rays, got, with_isa({}, isa));
         for (std::size_t i = 0; i < rays.size(); i += 3)
             ASSERT_EQ(got[i], brute_force_intersect(moved, rays[i])) << name(isa) << " ray " << i;
     }

@@ -78,8 +78,8 @@ void check_width() {
         EXPECT_GT(hits, rays.size() / 4);
         for (Isa isa : supported_isas()) {
             std::vector<Hit> got(rays.size()), any(rays.size());
-            intersect(b, rays, got, {}, isa);
-            occluded(b, rays, any, {}, isa);
+            intersect(b, rays, got, with_isa({}, isa));
+            occluded(b, rays, any, with_isa({}, isa));
             for (std::size_t i = 0; i < rays.size(); ++i) {
                 ASSERT_TRUE(got[i] == want[i]) << N << " " << name(isa) << " ray " << i;
                 ASSERT_EQ(any[i].hit(), want[i].hit()) << N << " " << name(isa) << " ray " << i;

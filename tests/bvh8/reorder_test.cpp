@@ -66,7 +66,7 @@ void check_width(const Bvh2& bvh2, const std::vector<Ray>& rays, const std::vect
     base.packets = Packets::off;
     base.reorder = Reorder::off;
     std::vector<Hit> any_caller(rays.size());
-    occluded(bvh, rays, any_caller, base, isa);
+    occluded(bvh, rays, any_caller, with_isa(base, isa));
     for (Reorder r : {Reorder::on, Reorder::automatic, Reorder::off})
         for (Packets p : {Packets::off, Packets::automatic})
             for (int threads : {1, 2}) {

@@ -17,8 +17,8 @@ void expect_hits(const BvhN<N>& bvh, const std::vector<Ray>& rays, const std::ve
                  Isa isa, const std::string& how, std::vector<Hit>& any) {
     std::vector<Hit> got(rays.size());
     any.assign(rays.size(), Hit{});
-    intersect(bvh, rays, got, o, isa);
-    occluded(bvh, rays, any, o, isa);
+    intersect(bvh, rays, got, with_isa(o, isa));
+    occluded(bvh, rays, any, with_isa(o, isa));
     for (std::size_t i = 0; i < rays.size(); ++i) {
         ASSERT_EQ(got[i], want[i]) << how << " ray " << i;
         ASSERT_EQ(any[i].hit(), want[i].hit()) << how << " any, ray " << i;

@@ -75,8 +75,8 @@ void check_width(const Fixture& f, Isa isa) {
         const int ti = test_index(test);
         const char* tname = test == TriangleTest::watertight ? "watertight" : "moller";
         std::vector<Hit> got(f.rays.size()), any(f.rays.size());
-        intersect(bvh, f.rays, got, {test}, isa);
-        occluded(bvh, f.rays, any, {test}, isa);
+        intersect(bvh, f.rays, got, with_isa({test}, isa));
+        occluded(bvh, f.rays, any, with_isa({test}, isa));
         for (std::size_t i = 0; i < f.rays.size(); ++i) {
             ASSERT_EQ(got[i], f.want[ti][i])
                 << "bvh" << N << " ray " << i << " (" << tname << "): prim " << got[i].prim << " t " << got[i].t
@@ -146,9 +146,9 @@ void expect_same_visits(const Mesh& mesh, const std::vector<Ray>& rays, const st
     TraceOptions o;
     o.stats = &want;
     std::vector<Hit> ref(rays.size()), got(rays.size());
-    intersect(bvh, rays, ref, o, Isa::scalar);
+    intersect(bvh, rays, ref, with_isa(o, Isa::scalar));
     o.stats = &want_any;
-    occluded(bvh, rays, ref, o, Isa::scalar);
+    occluded(bvh, rays, ref, with_isa(o, Isa::scalar));
     std::uint64_t valid = 0;  // each valid ray tests the tree's bounds once
     for (const Ray& r : rays) valid += prepare(r).valid;
     EXPECT_EQ(want.box_tests, N * want.nodes_visited + valid);
@@ -156,9 +156,9 @@ void expect_same_visits(const Mesh& mesh, const std::vector<Ray>& rays, const st
         if (isa == Isa::scalar || !supported(isa)) continue;
         TraceStats st, st_any;
         o.stats = &st;
-        intersect(bvh, rays, got, o, isa);
+        intersect(bvh, rays, got, with_isa(o, isa));
         o.stats = &st_any;
-        occluded(bvh, rays, got, o, isa);
+        occluded(bvh, rays, got, with_isa(o, isa));
         EXPECT_EQ(st.nodes_visited, want.nodes_visited) << what << " bvh" << N << " " << name(isa);
         EXPECT_EQ(st.triangle_tests, want.triangle_tests) << what << " bvh" << N << " " << name(isa);
         EXPECT_EQ(st_any.nodes_visited, want_any.nodes_visited) << what << " bvh" << N << " any " << name(isa);
@@ -204,8 +204,8 @@ void check_small(const Mesh& mesh, Isa isa, const std::string& what) {
         if (b.is_empty()) b = Aabb{{-1, -1, -1}, {1, 1, 1}};
         const auto rays = workloads::incoherent_rays(b, 1500, 5);
         std::vector<Hit> got(rays.size()), any(rays.size());
-        intersect(bvh, rays, got, {}, isa);
-        occluded(bvh, rays, any, {}, isa);
+        intersect(bvh, rays, got, with_isa({}, isa));
+        occluded(bvh, rays, any, with_isa({}, isa));
         for (std::size_t i = 0; i < rays.size(); ++i) {
             const Hit want = brute_force_intersect(mesh, rays[i]);
             ASSERT_EQ(got[i], want) << what << " bvh" << N << " " << name(c) << " ray " << i;

@@ -172,8 +172,8 @@ void expect_width_matches_api(const std::string& rays, const std::string& hits, 
     ASSERT_EQ(h.size(), r.size());
     ASSERT_EQ(a.size(), r.size());
     std::vector<Hit> want(r.size()), want_any(r.size());
-    intersect(bvh, r, want, {}, isa);
-    occluded(bvh, r, want_any, {}, isa);
+    intersect(bvh, r, want, with_isa({}, isa));
+    occluded(bvh, r, want_any, with_isa({}, isa));
     for (std::size_t i = 0; i < r.size(); ++i) {
         ASSERT_EQ(h[i], want[i]) << label << " ray " << i;
         ASSERT_EQ(a[i], want_any[i]) << label << " any hit, ray " << i;

@@ -129,14 +129,14 @@ void check_wide(const Mesh& mesh, const Mesh& moved, const std::vector<Ray>& ray
             TraceOptions o;
             o.packets = p;
             std::vector<Hit> got(rays.size()), any(rays.size());
-            intersect(bvh, rays, got, o, isa);
-            occluded(bvh, rays, any, o, isa);
+            intersect(bvh, rays, got, with_isa(o, isa));
+            occluded(bvh, rays, any, with_isa(o, isa));
             const char* ps = p == Packets::on ? " packets" : "";
             check(tag + " closest" + ps, rays.size(), [&](std::size_t i) { return same(got[i], want[i]); });
             check(tag + " any" + ps, rays.size(), [&](std::size_t i) { return any[i].hit() == want_any[i].hit(); });
         }
         for (std::size_t i = 0; i < rays.size(); i += 97)
-            if (!same(intersect(bvh, rays[i], TraceOptions{}, isa), want[i])) {
+            if (!same(intersect(bvh, rays[i], with_isa(TraceOptions{}, isa)), want[i])) {
                 std::fprintf(stderr, "portable_check: FAIL %s single ray %zu differs\n", tag.c_str(), i);
                 ++failures;
                 break;
@@ -146,7 +146,7 @@ void check_wide(const Mesh& mesh, const Mesh& moved, const std::vector<Ray>& ray
     refit.refit(moved);
     for (Isa isa : supported_isas()) {
         std::vector<Hit> got(rays.size());
-        intersect(refit, rays, got, TraceOptions{}, isa);
+        intersect(refit, rays, got, with_isa(TraceOptions{}, isa));
         check(w + " " + std::string(name(isa)) + " after refit", rays.size(),
               [&](std::size_t i) { return same(got[i], want_moved[i]); });
     }

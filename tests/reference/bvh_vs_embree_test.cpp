@@ -103,8 +103,8 @@ void run(const Mesh& mesh, std::span<const Ray> rays, bool strict) {
     const Bvh8 bvh8 = Bvh8::build(bvh2);
     for (Isa isa : supported_isas()) {
         Method m{"bvh8-" + std::string(name(isa)), std::vector<Hit>(rays.size()), std::vector<Hit>(rays.size())};
-        intersect(bvh8, rays, m.closest, {}, isa);
-        occluded(bvh8, rays, m.any, {}, isa);
+        intersect(bvh8, rays, m.closest, with_isa({}, isa));
+        occluded(bvh8, rays, m.any, with_isa({}, isa));
         methods.push_back(std::move(m));
     }
     std::cout << "  ours: ";

@@ -25,7 +25,7 @@ TEST(EmbreeInstances, AgreeWithTheSceneOnNearlyEveryRay) {
     proxy.triangles = {{0, 1, 1}};
     const auto rays = workloads::generate_rays(proxy, workloads::RayKind::primary, 20000, 1);
     std::vector<SceneHit> a(rays.size()), e(rays.size());
-    intersect(ours, std::span<const Ray>(rays), std::span<SceneHit>(a), Isa::scalar);
+    intersect(ours, std::span<const Ray>(rays), std::span<SceneHit>(a), {.isa = Isa::scalar});
     embree.intersect(rays, e);
     std::size_t hits = 0, same = 0;
     for (std::size_t i = 0; i < rays.size(); ++i) {
@@ -83,8 +83,8 @@ TEST(EmbreeInstances, AnalyticGeometryAndPlanesAgree) {
     proxy.triangles = {{0, 1, 1}};
     const auto rays = workloads::generate_rays(proxy, workloads::RayKind::incoherent, 20000, 3);
     std::vector<SceneHit> a(rays.size()), e(rays.size()), ao(rays.size()), eo(rays.size());
-    intersect(ours, std::span<const Ray>(rays), std::span<SceneHit>(a), Isa::scalar);
-    occluded(ours, std::span<const Ray>(rays), std::span<SceneHit>(ao), Isa::scalar);
+    intersect(ours, std::span<const Ray>(rays), std::span<SceneHit>(a), {.isa = Isa::scalar});
+    occluded(ours, std::span<const Ray>(rays), std::span<SceneHit>(ao), {.isa = Isa::scalar});
     embree.intersect(rays, e);
     embree.occluded(rays, eo);
     std::size_t same = 0, same_any = 0, kinds[4] = {0, 0, 0, 0};

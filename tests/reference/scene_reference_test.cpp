@@ -104,7 +104,7 @@ TEST(SceneReference, OursAgreesOnRandomRays) {
         rays.push_back(Ray{o, 0.0f, aim - o, INFINITY});
     }
     std::vector<SceneHit> hits(rays.size());
-    intersect(s, std::span<const Ray>(rays), std::span<SceneHit>(hits), Isa::scalar);
+    intersect(s, std::span<const Ray>(rays), std::span<SceneHit>(hits), {.isa = Isa::scalar});
     reference::SceneTally tally;
     std::size_t ref_hits = 0;
     for (std::size_t i = 0; i < rays.size(); ++i) {

@@ -51,8 +51,10 @@ TEST(Concurrent, ManyThreadsTraceOneScene) {
     for (int k = 0; k < kThreads; ++k)
         pool.emplace_back([&, k] {
             for (int round = 0; round < 2; ++round) {  // the second finds the thread's arrays made
-                intersect(scene, std::span<const Ray>(rays), std::span<SceneHit>(got[k]), active_isa(), 2);
-                occluded(scene, std::span<const Ray>(rays), std::span<SceneHit>(any[k]), active_isa(), 2);
+                intersect(scene, std::span<const Ray>(rays), std::span<SceneHit>(got[k]),
+                          {.isa = active_isa(), .threads = 2});
+                occluded(scene, std::span<const Ray>(rays), std::span<SceneHit>(any[k]),
+                         {.isa = active_isa(), .threads = 2});
             }
         });
     for (auto& t : pool) t.join();

@@ -166,8 +166,8 @@ void check(Isa isa, InstanceBounds bounds) {
     o.top.max_leaf_size = 2;
     const SceneBvhN<N> s = SceneBvhN<N>::build(ref.scene, o);
     std::vector<SceneHit> got(ref.rays.size()), any(ref.rays.size());
-    intersect(s, std::span<const Ray>(ref.rays), std::span<SceneHit>(got), isa);
-    occluded(s, std::span<const Ray>(ref.rays), std::span<SceneHit>(any), isa);
+    intersect(s, std::span<const Ray>(ref.rays), std::span<SceneHit>(got), {.isa = isa});
+    occluded(s, std::span<const Ray>(ref.rays), std::span<SceneHit>(any), {.isa = isa});
     for (std::size_t i = 0; i < ref.rays.size(); ++i) {
         ASSERT_EQ(got[i], ref.closest[i]) << "ray " << i;
         ASSERT_EQ(any[i].hit(), ref.closest[i].hit()) << "ray " << i;
@@ -177,12 +177,12 @@ void check(Isa isa, InstanceBounds bounds) {
         }
     }
     std::vector<SceneHit> two(ref.rays.size());  // two threads: two chunks of the wavefront at once
-    intersect(s, std::span<const Ray>(ref.rays), std::span<SceneHit>(two), isa, 2);
+    intersect(s, std::span<const Ray>(ref.rays), std::span<SceneHit>(two), {.isa = isa, .threads = 2});
     for (std::size_t i = 0; i < ref.rays.size(); ++i) ASSERT_EQ(two[i], ref.closest[i]) << "2 threads, ray " << i;
     // The single-ray entry points walk the top level depth first (the batches run a wavefront).
     for (std::size_t i = 0; i < ref.rays.size(); i += 3) {
-        ASSERT_EQ(intersect(s, ref.rays[i], isa), ref.closest[i]) << "single ray " << i;
-        ASSERT_EQ(occluded(s, ref.rays[i], isa).hit(), ref.closest[i].hit()) << "single ray " << i;
+        ASSERT_EQ(intersect(s, ref.rays[i], {.isa = isa}), ref.closest[i]) << "single ray " << i;
+        ASSERT_EQ(occluded(s, ref.rays[i], {.isa = isa}).hit(), ref.closest[i].hit()) << "single ray " << i;
     }
 }
 
@@ -213,7 +213,7 @@ void check_builtin(const SceneDesc& desc, const std::vector<Ray>& rays, std::siz
     EXPECT_GE(hits, min_hits);
     const SceneBvhN<8> s = SceneBvhN<8>::build(desc);
     for (Isa isa : supported_isas()) {
-        intersect(s, std::span<const Ray>(rays), std::span<SceneHit>(got), isa);
+        intersect(s, std::span<const Ray>(rays), std::span<SceneHit>(got), {.isa = isa});
         for (std::size_t i = 0; i < rays.size(); ++i) ASSERT_EQ(got[i], want[i]) << name(isa) << " ray " << i;
     }
 }
@@ -247,10 +247,10 @@ void check_width(const SceneDesc& d, const std::vector<Ray>& rays, const std::ve
     std::vector<SceneHit> got(rays.size());
     const SceneBvhN<N> s = SceneBvhN<N>::build(d);
     for (Isa isa : supported_isas()) {
-        intersect(s, std::span<const Ray>(rays), std::span<SceneHit>(got), isa);
+        intersect(s, std::span<const Ray>(rays), std::span<SceneHit>(got), {.isa = isa});
         for (std::size_t i = 0; i < rays.size(); ++i)
             ASSERT_EQ(got[i], want[i]) << N << " " << name(isa) << " ray " << i;
-        occluded(s, std::span<const Ray>(rays), std::span<SceneHit>(got), isa);
+        occluded(s, std::span<const Ray>(rays), std::span<SceneHit>(got), {.isa = isa});
         for (std::size_t i = 0; i < rays.size(); ++i)
             ASSERT_EQ(got[i].hit(), want_any[i].hit()) << N << " " << name(isa) << " any, ray " << i;
     }
@@ -300,7 +300,7 @@ TEST(SceneBatches, WorkingArraysReusedAcrossCallsAndScenes) {
     auto expect = [](const SceneBvhN<8>& s, std::span<const Ray> rays, std::span<const SceneHit> want,
                      const char* what) {
         std::vector<SceneHit> got(rays.size());
-        intersect(s, rays, std::span<SceneHit>(got), active_isa());
+        intersect(s, rays, std::span<SceneHit>(got), {.isa = active_isa()});
         for (std::size_t i = 0; i < rays.size(); ++i) ASSERT_EQ(got[i], want[i]) << what << ", ray " << i;
     };
     const std::span<const Ray> all(ref.rays);
@@ -341,8 +341,8 @@ TEST(SceneBatches, ThreadsSplitTheBatchIntoChunks) {
         for (auto& t : pool) t.join();
     });
     std::vector<SceneHit> got(ref.rays.size()), any(ref.rays.size());
-    intersect(s, std::span<const Ray>(ref.rays), std::span<SceneHit>(got), active_isa(), 2);
-    occluded(s, std::span<const Ray>(ref.rays), std::span<SceneHit>(any), active_isa(), 2);
+    intersect(s, std::span<const Ray>(ref.rays), std::span<SceneHit>(got), {.isa = active_isa(), .threads = 2});
+    occluded(s, std::span<const Ray>(ref.rays), std::span<SceneHit>(any), {.isa = active_isa(), .threads = 2});
     set_executor({});
     EXPECT_EQ(given.load(), 4u) << "3,000 rays on 2 threads: chunks of 2,048 and 952, per query";
     EXPECT_GE(ran_on.size(), 1u);
@@ -542,7 +542,7 @@ TEST(SceneShapes, SphereRootsCutByTminAndTmax) {
     const SceneBvhN<8> s = SceneBvhN<8>::build(d);
     std::vector<SceneHit> any(rays.size());
     for (Isa isa : supported_isas()) {
-        occluded(s, std::span<const Ray>(rays), std::span<SceneHit>(any), isa);
+        occluded(s, std::span<const Ray>(rays), std::span<SceneHit>(any), {.isa = isa});
         for (std::size_t i = 0; i < rays.size(); ++i) {
             if (!any[i].hit()) continue;
             SceneHit h = alone(d, any[i], rays[i]);
@@ -631,24 +631,24 @@ TEST(SceneBuild, EmptyPartsAndPlanesOnly) {
     d.instances = {{0, Affine3{}}, {1, Affine3{}}, {3, Affine3::translation({0, 0, 5})}};
     const SceneBvhN<8> s = SceneBvhN<8>::build(d);
     const Ray r{{0, 0, -5}, 0.0f, {0, 0, 1}, INFINITY};
-    const SceneHit h = intersect(s, r, Isa::scalar);
+    const SceneHit h = intersect(s, r, {.isa = Isa::scalar});
     EXPECT_EQ(h.inst, 2u);
     EXPECT_EQ(h.geom, 3u);
     EXPECT_EQ(h.t, 9.0f);  // z = 4 on the sphere at z = 5
     SceneDesc planes;
     planes.planes = {{{0, 0, 3}, {0, 0, -1}}, {{0, 0, 3}, {0, 0, 1}}, {{0, 0, 1}, {0, 0, 1}}};
     const SceneBvhN<4> p = SceneBvhN<4>::build(planes);
-    const SceneHit hp = intersect(p, r, Isa::scalar);
+    const SceneHit hp = intersect(p, r, {.isa = Isa::scalar});
     EXPECT_EQ(hp.t, 6.0f);
     EXPECT_EQ(hp.inst, 2u);  // plane 2 (z = 1) is nearest; no instances, so inst = 0 + 2
     EXPECT_EQ(hp.prim, 2u);
     EXPECT_EQ(hp.geom, kNoGeometry);
     Ray far = r;
     far.tmin = 7.0f;  // past plane 2: planes 0 and 1 tie at t = 8, plane 0 wins
-    EXPECT_EQ(intersect(p, far, Isa::scalar).prim, 0u);
-    EXPECT_TRUE(occluded(p, far, Isa::scalar).hit());
+    EXPECT_EQ(intersect(p, far, {.isa = Isa::scalar}).prim, 0u);
+    EXPECT_TRUE(occluded(p, far, {.isa = Isa::scalar}).hit());
     far.tmin = 9.0f;
-    EXPECT_FALSE(intersect(p, far, Isa::scalar).hit());
+    EXPECT_FALSE(intersect(p, far, {.isa = Isa::scalar}).hit());
 }
 
 // Normals: a sphere instance scaled by 2 and a tilted plane, worked by hand.
@@ -923,7 +923,7 @@ TEST(SceneTies, SubnormalTiesWithAPlaneGoToTheLowerId) {
     const SceneBvhN<8> s = SceneBvhN<8>::build(d);
     for (Isa isa : supported_isas())
         for (std::size_t i = 0; i < rays.size(); ++i)
-            ASSERT_EQ(intersect(s, rays[i], isa), want[i]) << name(isa) << " ray " << i;
+            ASSERT_EQ(intersect(s, rays[i], {.isa = isa}), want[i]) << name(isa) << " ray " << i;
 }
 
 }  // namespace

@@ -106,10 +106,10 @@ void wide_round_trip(const std::string& scene, bool quantized) {
             if (!supported(isa)) continue;
             for (const auto* rs : {&rays, &rays2}) {
                 std::vector<Hit> want(rs->size()), have(rs->size()), any_w(rs->size()), any_h(rs->size());
-                intersect(built, std::span<const Ray>(*rs), std::span<Hit>(want), {}, isa);
-                intersect(b, std::span<const Ray>(*rs), std::span<Hit>(have), {}, isa);
-                occluded(built, std::span<const Ray>(*rs), std::span<Hit>(any_w), {}, isa);
-                occluded(b, std::span<const Ray>(*rs), std::span<Hit>(any_h), {}, isa);
+                intersect(built, std::span<const Ray>(*rs), std::span<Hit>(want), with_isa({}, isa));
+                intersect(b, std::span<const Ray>(*rs), std::span<Hit>(have), with_isa({}, isa));
+                occluded(built, std::span<const Ray>(*rs), std::span<Hit>(any_w), with_isa({}, isa));
+                occluded(b, std::span<const Ray>(*rs), std::span<Hit>(any_h), with_isa({}, isa));
                 std::size_t hits = 0;
                 for (std::size_t i = 0; i < rs->size(); ++i) {
                     ASSERT_EQ(want[i], have[i]) << "ray " << i << " isa " << name(isa) << " map " << map;

@@ -16,10 +16,11 @@
 namespace simdbvh {
 
 struct AccelOptions {
-    int threads = 1;                   // build threads, and the thread count the choice assumes for the trace
-    Isa isa = active_isa();            // brute8 and the wide BVHs trace with it; its cost model decides
-    BuildOptions build;                // the BVH2 (and the BVH2 the wide trees collapse)
-    WideOptions wide;                  // the wide trees' collapse
+    int threads = 1;  // build threads, and the thread count the choice assumes for the trace
+    Isa isa =
+        active_isa();    // its cost model decides; brute8 and the wide BVHs trace with it (unless TraceOptions::isa)
+    BuildOptions build;  // the BVH2 (and the BVH2 the wide trees collapse)
+    WideOptions wide;    // the wide trees' collapse
     const CostModel* model = nullptr;  // null: cost_model(isa)
 };
 

@@ -30,10 +30,8 @@ private:
     double build_ms_ = 0;
 };
 
-// TraceOptions: test and threads are used (box and stats do not apply).
-void intersect(const BruteForce8& brute, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& opts = {},
-               Isa isa = active_isa());
-void occluded(const BruteForce8& brute, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& opts = {},
-              Isa isa = active_isa());
+// TraceOptions: test, threads and isa (unset: active_isa()) are used (box and stats do not apply).
+void intersect(const BruteForce8& brute, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& opts = {});
+void occluded(const BruteForce8& brute, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& opts = {});
 
 }  // namespace simdbvh

@@ -2,12 +2,14 @@
 // Binary BVH over a triangle mesh: flat 32-byte nodes, triangles gathered in
 // leaf order, stack traversal for closest hit and any hit.
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
 #include "simdbvh/kernels/error.h"  // simdbvh::Error, thrown by everything declared here
 #include "simdbvh/bvh2/build.h"
 #include "simdbvh/kernels/hit.h"
+#include "simdbvh/kernels/isa.h"
 #include "simdbvh/kernels/ray.h"
 #include "simdbvh/kernels/triangle.h"
 #include "simdbvh/kernels/mesh.h"
@@ -66,7 +68,18 @@ struct TraceOptions {
     // caller's order; on: always. Hits do not depend on it (any hits with
     // packets: the stream's choice, as without it).
     Reorder reorder = Reorder::automatic;
+    // The one way to choose the ISA of a trace (wide trees, the SIMD brute
+    // force, Accel): that ISA's code runs (an unsupported one throws
+    // simdbvh::Error). Unset: by speed (bvh8.h: the forced ISA, else the
+    // calibrated choice; the brute force and Accel: active_isa() and the
+    // Accel's own). The BVH2's walk has one path and ignores it.
+    std::optional<Isa> isa;
 };
+// `o` with TraceOptions::isa set: intersect(bvh8, rays, hits, with_isa({}, Isa::avx2)).
+inline TraceOptions with_isa(TraceOptions o, Isa isa) {
+    o.isa = isa;
+    return o;
+}
 
 class Bvh2 {
 public:

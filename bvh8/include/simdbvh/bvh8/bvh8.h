@@ -144,8 +144,8 @@ decltype(auto) with_width(int width, F&& f) {
 // box_tests and triangle_tests count lanes (N per node test, kBlockWidth per
 // Tri8 block). Defined for N = 4, 8, 16.
 //
-// With `isa`: that ISA's code runs (one switch per batch; an unsupported isa
-// throws simdbvh::Error). Without it, the ISA is chosen by speed: the forced
+// With TraceOptions::isa set: that ISA's code runs (one kernel set per batch;
+// an unsupported isa throws simdbvh::Error). Unset, it is chosen by speed: the forced
 // one when SIMDBVH_ISA or set_active_isa() sets it (forced_isa()); otherwise,
 // once per process and per (width, query), the first batch of at least
 // kIsaCalibrationRays rays times every SIMD ISA the CPU has on its own rays:
@@ -157,17 +157,9 @@ decltype(auto) with_width(int width, F&& f) {
 // below 0.97 and that one is faster in all but an eighth of the comparisons;
 // before that, the best detected ISA. traversal_isa_choice() reports it.
 template <int N>
-void intersect(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& opts, Isa isa);
-template <int N>
-void occluded(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& opts, Isa isa);
-template <int N>
 void intersect(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& opts = {});
 template <int N>
 void occluded(const BvhN<N>& bvh, std::span<const Ray> rays, std::span<Hit> hits, const TraceOptions& opts = {});
-template <int N>
-Hit intersect(const BvhN<N>& bvh, const Ray& ray, const TraceOptions& opts, Isa isa);
-template <int N>
-Hit occluded(const BvhN<N>& bvh, const Ray& ray, const TraceOptions& opts, Isa isa);
 template <int N>
 Hit intersect(const BvhN<N>& bvh, const Ray& ray, const TraceOptions& opts = {});
 template <int N>
@@ -176,7 +168,7 @@ Hit occluded(const BvhN<N>& bvh, const Ray& ray, const TraceOptions& opts = {});
 // Batches smaller than this never calibrate (they use the current choice).
 inline constexpr std::size_t kIsaCalibrationRays = 8192;
 
-// The ISA the overloads without `isa` use now for this width (4, 8, 16) and
+// The ISA a trace without TraceOptions::isa uses now for this width (4, 8, 16) and
 // query, and why. ns_per_ray[int(isa)]: the calibration's median time per
 // ray and ISA, on rays whose nodes are in the cache (less than a batch's own
 // time per ray; 0 for an ISA not measured).

@@ -17,6 +17,7 @@
 // the world ray (bounded by cond(A) float roundings of |o| + |t d|).
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <variant>
 #include <vector>
@@ -160,18 +161,26 @@ extern template class SceneBvhN<4>;
 extern template class SceneBvhN<8>;
 extern template class SceneBvhN<16>;
 
-// Closest hit and any hit. `isa` selects the bottom-level wide traversal's code
-// path (an unsupported one throws simdbvh::Error). Any hit: some hit in
-// [tmin, tmax] (a real one, with its ids), or SceneHit{}.
+// How a scene is traced: the options struct of every scene query.
+struct SceneTraceOptions {
+    // The code path of the wide traversals (bottom levels, shapes, planes): an
+    // unsupported one throws simdbvh::Error. Unset: active_isa().
+    std::optional<Isa> isa;
+    int threads = 1;  // batched calls: split the rays over this many threads
+};
+
+// Closest hit and any hit. Any hit: some hit in [tmin, tmax] (a real one,
+// with its ids), or SceneHit{}. Hits do not depend on the options.
 template <int N>
-SceneHit intersect(const SceneBvhN<N>& scene, const Ray& ray, Isa isa);
+SceneHit intersect(const SceneBvhN<N>& scene, const Ray& ray, const SceneTraceOptions& opts = {});
 template <int N>
-SceneHit occluded(const SceneBvhN<N>& scene, const Ray& ray, Isa isa);
+SceneHit occluded(const SceneBvhN<N>& scene, const Ray& ray, const SceneTraceOptions& opts = {});
 template <int N>
-void intersect(const SceneBvhN<N>& scene, std::span<const Ray> rays, std::span<SceneHit> hits, Isa isa,
-               int threads = 1);
+void intersect(const SceneBvhN<N>& scene, std::span<const Ray> rays, std::span<SceneHit> hits,
+               const SceneTraceOptions& opts = {});
 template <int N>
-void occluded(const SceneBvhN<N>& scene, std::span<const Ray> rays, std::span<SceneHit> hits, Isa isa, int threads = 1);
+void occluded(const SceneBvhN<N>& scene, std::span<const Ray> rays, std::span<SceneHit> hits,
+              const SceneTraceOptions& opts = {});
 // A batch is traced in wavefront chunks of at most this many rays (fewer when
 // the threads split a smaller batch, at least 2,048): a caller feeding a large
 // batch in pieces loses nothing with pieces of this size (smaller pieces give
