@@ -35,7 +35,7 @@ BuildConfig parse(const std::vector<std::string>& args) {
     BuildConfig c{o.require("scene"), o.require("out"), parse_method(o, "bvh8")};
     if (c.spec.method != "bvh2" && !is_wide(c.spec.method))
         throw UsageError("build saves --method bvh2, bvh4, bvh8 or bvh16 (not " + c.spec.method + ")");
-    if (c.spec.method == "bvh2" && c.spec.bvh8.quantized_nodes)
+    if (c.spec.method == "bvh2" && c.spec.wide.quantized_nodes)
         throw UsageError("--nodes quantized applies to bvh8 and bvh16");
     if (is_scene_desc(c.scene)) throw UsageError("build takes a mesh scene (not a scene of instances)");
     if (is_saved_scene(c.scene)) throw UsageError("--scene " + c.scene + " is already a saved tree");
@@ -52,7 +52,7 @@ Built build_and_save(const Mesh& mesh, const BuildConfig& c) {
     if constexpr (std::is_same_v<T, Bvh2>) {
         bvh = Bvh2::build(mesh, c.spec.build);
     } else {
-        WideOptions wo = c.spec.bvh8;
+        WideOptions wo = c.spec.wide;
         wo.threads = c.spec.build.threads;  // collapse + pack on the build's threads too
         bvh = T::build(mesh, c.spec.build, wo);
     }
@@ -77,7 +77,7 @@ Built run(const BuildConfig& c) {
 }
 
 void report(const BuildConfig& c, const Built& r) {
-    std::cout << "method " << c.spec.label() << (c.spec.bvh8.quantized_nodes ? " (quantized nodes)" : "")
+    std::cout << "method " << c.spec.label() << (c.spec.wide.quantized_nodes ? " (quantized nodes)" : "")
               << "  threads " << c.spec.build.threads << "\n"
               << "triangles " << r.triangles << "  nodes " << r.nodes << "  SAH cost " << r.sah_cost << "\n"
               << "build " << r.build_ms << " ms  save " << r.save_ms << " ms\n"

@@ -18,7 +18,7 @@ WideStats wide_stats(const Bvh2& bvh2, const MethodSpec& spec) {
     std::string msg = "collapsing to BVH";  // (built with += : GCC 12 warns falsely on "literal" + string)
     msg += std::to_string(N);
     progress(msg + " ...");
-    return BvhN<N>::build(bvh2, spec.bvh8).stats();
+    return BvhN<N>::build(bvh2, spec.wide).stats();
 }
 
 }  // namespace
@@ -57,7 +57,7 @@ int cmd_info(const std::vector<std::string>& args) {
     // Every width from this same BVH2: the detail per width, then one table.
     const WideStats w4 = wide_stats<4>(bvh2, spec), w8 = wide_stats<8>(bvh2, spec), w16 = wide_stats<16>(bvh2, spec);
     for (const WideStats* e : {&w4, &w8, &w16}) {
-        std::printf("\nbvh%d (%s collapse)\n", e->width, std::string(name(spec.bvh8.collapse)).c_str());
+        std::printf("\nbvh%d (%s collapse)\n", e->width, std::string(name(spec.wide.collapse)).c_str());
         std::printf(
             "  build ms        %.1f (collapse + pack; + %.1f for the BVH2)\n  nodes           %zu\n"
             "  leaves          %zu\n  triangle blocks %zu\n  depth           %d\n  SAH cost        %.3f\n"
@@ -66,7 +66,7 @@ int cmd_info(const std::vector<std::string>& args) {
             100.0 * e->fill_rate);
     }
     std::printf("\nwidths (%s collapse of the BVH2 above; bvh2 for comparison)\n",
-                std::string(name(spec.bvh8.collapse)).c_str());
+                std::string(name(spec.wide.collapse)).c_str());
     std::printf("  %-6s %10s %6s %10s %8s %10s %12s\n", "width", "nodes", "depth", "bytes/tri", "fill", "SAH cost",
                 "collapse ms");
     std::printf("  %-6s %10zu %6d %10.1f %8s %10.3f %12s\n", "2", s.nodes, s.depth, s.bytes_per_triangle, "-",

@@ -29,7 +29,7 @@ std::string MethodSpec::label() const {
     // The wide trees without --isa choose per query when they trace: the ISA is reported apart (isa_name).
     if (is_wide(method) || method == "brute8") {
         std::string l = method;
-        if (bvh8.quantized_nodes) l += "q";
+        if (wide.quantized_nodes) l += "q";
         if (!(is_wide(method) && isa_auto)) {
             l += "/";
             l += name(isa);
@@ -61,7 +61,7 @@ std::string MethodSpec::isa_note(bool any_hit) const {
 }
 std::string MethodSpec::builder_name() const {
     if (method == "bvh2") return std::string(name(build.builder));
-    if (is_wide(method)) return std::string(name(build.builder)) + "+" + std::string(name(bvh8.collapse));
+    if (is_wide(method)) return std::string(name(build.builder)) + "+" + std::string(name(wide.collapse));
     if (method == "embree") return "embree-" + quality;
     if (method == "spheres") return "variance";
     return "-";
@@ -117,12 +117,12 @@ MethodSpec parse_method(const Options& o, const std::string& fallback) {
     if (o.has("collapse")) {
         auto c = parse_collapse(o.get("collapse"));
         if (!c) throw UsageError("unknown --collapse '" + o.get("collapse") + "' (sah, greedy)");
-        s.bvh8.collapse = *c;
+        s.wide.collapse = *c;
     }
     const std::string nodes = o.get("nodes", "full");
-    if (nodes == "quantized") s.bvh8.quantized_nodes = true;
+    if (nodes == "quantized") s.wide.quantized_nodes = true;
     else if (nodes != "full") throw UsageError("unknown --nodes '" + nodes + "' (full, quantized)");
-    if (s.bvh8.quantized_nodes && (!is_wide(s.method) || s.method == "bvh4"))  // a QNode4 would be as large as a Node4
+    if (s.wide.quantized_nodes && (!is_wide(s.method) || s.method == "bvh4"))  // a QNode4 would be as large as a Node4
         throw UsageError("--nodes quantized is a bvh8 / bvh16 variant only (not " + s.method + ")");
     const std::string test = o.get("test", "watertight");
     if (test == "watertight") s.test = TriangleTest::watertight;
@@ -231,7 +231,7 @@ class WideTracer final : public Tracer {
 public:
     WideTracer(const Mesh& m, const MethodSpec& s) : spec_(s) {
         const auto t0 = std::chrono::steady_clock::now();
-        WideOptions wo = s.bvh8;
+        WideOptions wo = s.wide;
         wo.threads = s.build.threads;           // collapse + pack on the build's threads too
         bvh_ = BvhN<N>::build(m, s.build, wo);  // what a user of the library waits for
         build_ms = ms_since(t0);
@@ -259,7 +259,7 @@ public:
         o.threads = s.threads;
         o.isa = s.isa;
         o.build = s.build;
-        o.wide = s.bvh8;
+        o.wide = s.wide;
         accel_ = Accel::build(m, s.expected_rays, o);
         build_ms = accel_.build_ms();
         chosen = describe(accel_.choice());

@@ -19,7 +19,7 @@ struct MethodSpec {
     Isa isa = Isa::scalar;          // the wide BVHs only (bvh2 and brute are scalar)
     bool isa_auto = false;          // no --isa: the wide BVHs choose by speed (bvh8.h, traversal_isa_choice)
     BuildOptions build;
-    WideOptions bvh8;  // collapse options of bvh4, bvh8, bvh16 (--nodes quantized: label bvh8q/...)
+    WideOptions wide;  // collapse options of bvh4, bvh8, bvh16 (--nodes quantized: label bvh8q/...)
     TriangleTest test = TriangleTest::watertight;
     Packets packets = Packets::automatic;  // the wide BVHs (and auto's): --packets auto | off | on
     Reorder reorder = Reorder::automatic;  // the wide BVHs (and auto's): --reorder auto | off | on

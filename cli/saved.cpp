@@ -45,7 +45,7 @@ std::unique_ptr<Tracer> load_saved_tracer(const std::string& file, MethodSpec& s
         throw Error(printable(file) + ": holds a " + kind_name(in) + ", not the --method " + spec.method +
                     " asked for (omit --method to trace what it holds)");
     spec.method = method;
-    spec.bvh8.quantized_nodes = in.quantized;
+    spec.wide.quantized_nodes = in.quantized;
     if (in.width == 2) return std::make_unique<SavedTracer<Bvh2>>(file, spec);
     return with_width(in.width, [&](auto n) -> std::unique_ptr<Tracer> {
         return std::make_unique<SavedTracer<BvhN<decltype(n)::value>>>(file, spec);

@@ -32,7 +32,7 @@ SceneOptions scene_options(const MethodSpec& spec, InstanceBounds bounds) {
     SceneOptions so;
     so.bounds = bounds;
     so.bottom = spec.build;
-    so.wide = spec.bvh8;
+    so.wide = spec.wide;
     so.top = spec.build;
     return so;
 }

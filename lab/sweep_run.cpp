@@ -93,7 +93,7 @@ struct Built {
 Built build(const Mesh& mesh, MethodSpec spec, int threads, int warm_reps) {
     spec.threads = threads;
     spec.build.threads = threads;
-    spec.bvh8.threads = threads;
+    spec.wide.threads = threads;
     Built b{make_tracer(mesh, spec), 0};
     std::vector<double> warm;
     for (int r = 0; r < warm_reps; ++r) warm.push_back(make_tracer(mesh, spec)->build_ms);

@@ -83,7 +83,7 @@ struct Timed {
 Timed build_once(Row row, const simdbvh::Mesh& mesh, int threads, const simdbvh::Bvh2* bvh2) {
     simdbvh::BuildOptions bo;
     bo.threads = threads;
-    simdbvh::Bvh8Options wo;
+    simdbvh::WideOptions wo;
     wo.threads = threads;
     Timed t;
     const auto t0 = Clock::now();
@@ -134,7 +134,7 @@ void BM_Build(benchmark::State& st, Row row, std::string scene, bool all, std::s
         simdbvh::BuildOptions bo;
         bo.threads = threads;
         // The BVH2 Bvh8::build(mesh) starts from, so bvh2 + collapse_pack ~ bvh8.
-        bo.intersection_cost = simdbvh::Bvh8Options{}.bvh2_intersection_cost;
+        bo.intersection_cost = simdbvh::WideOptions{}.bvh2_intersection_cost;
         bvh2 = std::make_unique<simdbvh::Bvh2>(simdbvh::Bvh2::build(*mesh, bo));
     }
     // The untimed warm-up, once per row (not per repetition): its time is the cold build.

@@ -20,12 +20,12 @@ const TraversalScene& traversal_scene() {
         t.mesh = workloads::load_scene(t.name);
         t.bvh2 = Bvh2::build(t.mesh);
         t.bvh8 = Bvh8::build(t.bvh2);
-        Bvh8Options g;
+        WideOptions g;
         g.collapse = Collapse::greedy;
         t.bvh8_greedy = Bvh8::build(t.bvh2, g);
         t.bvh4 = Bvh4::build(t.bvh2);
         t.bvh16 = Bvh16::build(t.bvh2);
-        Bvh8Options q;
+        WideOptions q;
         q.quantized_nodes = true;
         t.bvh8q = Bvh8::build(t.bvh2, q);
         t.bvh16q = Bvh16::build(t.bvh2, q);

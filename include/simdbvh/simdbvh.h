@@ -2,7 +2,7 @@
 // simdbvh: exact, fast ray and point queries against triangle meshes and
 // scenes. The one header a user includes; each room's headers may also be
 // included alone (docs/architecture.md).
-//   kernels/  the ground-floor types (Vec3, Aabb, Ray, Hit, Mesh, Error, Isa) and the threads
+//   kernels/  the ground-floor types (Vec3, Aabb, Ray, Hit, Mesh, Error, Isa, TraceOptions) and the threads
 //   bvh2/     the binary BVH: builders, traversal, the sphere hierarchy
 //   bvh8/     the wide BVHs (4-, 8- and 16-wide from one collapse)
 //   query/    closest point, inside/outside, signed distance, every crossing of a ray
@@ -15,6 +15,7 @@
 #include "simdbvh/kernels/mesh.h"
 #include "simdbvh/kernels/ray.h"
 #include "simdbvh/kernels/topology.h"
+#include "simdbvh/kernels/trace_options.h"
 #include "simdbvh/kernels/vec.h"
 
 #include "simdbvh/bvh2/build.h"

@@ -6,7 +6,7 @@
 //
 // Baselines: printed with %.17g by a driver linked against the libraries of
 // commit 30760ce (main before the build was reworked, 2026-11-23), default
-// BuildOptions / Bvh8Options, Bvh2::build(mesh).stats().sah_cost and
+// BuildOptions / WideOptions, Bvh2::build(mesh).stats().sah_cost and
 // Bvh8::build(bvh2).stats().sah_cost.
 // The reworked build gave the same numbers bit for bit (and the same bytes).
 #include <gtest/gtest.h>
@@ -68,14 +68,14 @@ TEST(BuildQuality, TreesAreByteIdenticalForAnyThreadCount) {
         SCOPED_TRACE(name);
         const Mesh m = workloads::load_scene(name);
         BuildOptions one;
-        Bvh8Options wide_one;
+        WideOptions wide_one;
         const Bvh2 a2 = Bvh2::build(m, one);
         const Bvh8 a8 = Bvh8::build(a2, wide_one);
         for (int threads : {2, 3, 8}) {
             SCOPED_TRACE(threads);
             BuildOptions many;
             many.threads = threads;
-            Bvh8Options wide_many;
+            WideOptions wide_many;
             wide_many.threads = threads;
             const Bvh2 b2 = Bvh2::build(m, many);
             const Bvh8 b8 = Bvh8::build(b2, wide_many);
@@ -101,14 +101,14 @@ TEST(BuildQuality, PackFromTheMeshGathersOrScattersTheSameBytes) {
         SCOPED_TRACE(c.scene);
         const Mesh m = workloads::load_scene(c.scene);
         BuildOptions bo;
-        bo.intersection_cost = Bvh8Options{}.bvh2_intersection_cost;
+        bo.intersection_cost = WideOptions{}.bvh2_intersection_cost;
         const Bvh2 b2 = Bvh2::build(m, bo);
         EXPECT_EQ(bvh8::scatter_pays(b2.prim_ids(), m.triangles.size()), c.scatter);
         const Bvh8 from_bvh2 = Bvh8::build(b2);
         for (int threads : {1, 3}) {
             BuildOptions t2 = bo;
             t2.threads = threads;
-            Bvh8Options w;
+            WideOptions w;
             w.threads = threads;
             const Bvh8 from_mesh = Bvh8::build(m, t2, w);
             EXPECT_TRUE(same_bytes(from_mesh.nodes(), from_bvh2.nodes())) << threads;

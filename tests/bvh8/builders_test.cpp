@@ -23,7 +23,7 @@ TEST_P(Bvh8Builders, CollapsedTreeMatchesBruteForceOnEveryIsa) {
     for (const Hit& h : want) hits += h.hit();
     ASSERT_GT(hits, rays.size() / 20);
     for (Collapse c : {Collapse::sah, Collapse::greedy}) {
-        Bvh8Options o8;
+        WideOptions o8;
         o8.collapse = c;
         const Bvh8 bvh8 = Bvh8::build(bvh2, o8);
         for (Isa isa : kAllIsas) {

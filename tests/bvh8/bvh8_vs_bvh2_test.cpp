@@ -69,7 +69,7 @@ TEST_P(Bvh8VsBvh2, ClosestBitIdenticalAnyHitAgrees) {
     if (npm_scene(scene_name) && !workloads::is_cached(scene_name))
         GTEST_SKIP() << "scene '" << scene_name << "' is not cached: run scripts/fetch_scenes.sh";
     const Fixture& f = fixture(scene_name, kind);
-    Bvh8Options o;
+    WideOptions o;
     o.collapse = collapse;
     const Bvh8 bvh8 = Bvh8::build(f.bvh2, o);
     ASSERT_EQ(bvh8.stats().triangles, f.bvh2.prim_ids().size());
@@ -133,7 +133,7 @@ std::vector<Ray> rays_around(const Mesh& mesh, std::size_t count, std::uint64_t 
     return workloads::incoherent_rays(b, count, seed);
 }
 
-void expect_same(const Mesh& mesh, const BuildOptions& bo, const Bvh8Options& o, Isa isa, const std::string& what) {
+void expect_same(const Mesh& mesh, const BuildOptions& bo, const WideOptions& o, Isa isa, const std::string& what) {
     const Bvh2 bvh2 = Bvh2::build(mesh, bo);
     const Bvh8 bvh8 = Bvh8::build(bvh2, o);
     const auto rays = rays_around(mesh, 3000, 5);
@@ -154,7 +154,7 @@ TEST_P(Bvh8Small, FewTriangles) {
     for (std::size_t n : {0u, 1u, 3u, 7u, 8u, 9u, 17u}) {
         const Mesh mesh = workloads::random_soup(n, 100 + n);
         for (Collapse c : {Collapse::sah, Collapse::greedy}) {
-            Bvh8Options o;
+            WideOptions o;
             o.collapse = c;
             expect_same(mesh, {}, o, isa, std::to_string(n) + " triangles, " + std::string(name(c)));
             const Bvh8 b = Bvh8::build(mesh, {}, o);
@@ -178,7 +178,7 @@ TEST_P(Bvh8Small, PartlyFilledNodesAndBlocks) {
             bo.max_leaf_size = leaf;
             for (Collapse c : {Collapse::sah, Collapse::greedy}) {
                 for (int max_leaf : {1, 3, 8, 16}) {
-                    Bvh8Options o;
+                    WideOptions o;
                     o.collapse = c;
                     o.max_leaf_size = max_leaf;
                     expect_same(mesh, bo, o, isa,
@@ -278,7 +278,7 @@ TEST(Bvh8Api, UnsupportedIsaThrowsAndSpanSizeIsChecked) {
     EXPECT_EQ(parse_collapse("sah"), Collapse::sah);
     EXPECT_EQ(parse_collapse("greedy"), Collapse::greedy);
     EXPECT_FALSE(parse_collapse("nope"));
-    Bvh8Options bad;
+    WideOptions bad;
     bad.max_leaf_size = 0;
     EXPECT_THROW(Bvh8::build(workloads::icosphere(1), {}, bad), Error);
 }

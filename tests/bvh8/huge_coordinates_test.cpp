@@ -36,7 +36,7 @@ TEST_P(Bvh8HugeCoordinates, EveryCollapseMatchesBruteForceOnEveryIsa) {
     ASSERT_GT(hits, rays.size() / 10) << "the rays must hit something";
     for (Collapse c : {Collapse::sah, Collapse::greedy})
         for (int leaf : {1, 4, 8, 32}) {
-            Bvh8Options o8;
+            WideOptions o8;
             o8.collapse = c;
             o8.max_leaf_size = leaf;
             const std::string what = std::string(name(c)) + " max_leaf_size " + std::to_string(leaf);

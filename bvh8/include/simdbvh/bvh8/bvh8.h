@@ -56,7 +56,6 @@ struct WideOptions {
     // bytes, so its traversal is not compiled).
     bool quantized_nodes = false;
 };
-using Bvh8Options = WideOptions;
 
 struct WideStats {
     double build_ms = 0;  // collapse + pack (add the BVH2's build_ms for the total)
@@ -69,7 +68,6 @@ struct WideStats {
     double fill_rate = 0;           // used child slots / (N * nodes)
     double block_fill = 0;          // used triangle lanes: triangles / (kBlockWidth * blocks)
 };
-using Bvh8Stats = WideStats;
 
 // N-wide BVH (N = 4, 8, 16), all from the same BVH2 and the same collapse.
 template <int N>
