@@ -13,7 +13,7 @@
 #include "simdbvh/reference/classify.h"
 #include "simdbvh/reference/reference.h"
 #include "simdbvh/kernels/error.h"
-#include "simdbvh/kernels/parallel.h"
+#include "simdbvh/platform/parallel.h"
 #include "simdbvh/io/ray_files.h"
 
 namespace simdbvh::cli {

@@ -7,7 +7,7 @@
 #include "simdbvh/accel/brute_force8.h"
 #include "simdbvh/reference/embree.h"
 #include "simdbvh/kernels/error.h"
-#include "simdbvh/kernels/parallel.h"
+#include "simdbvh/platform/parallel.h"
 
 namespace simdbvh::cli {
 

@@ -7,7 +7,7 @@
 
 #include "common.h"
 #include "simdbvh/query/crossings.h"
-#include "simdbvh/kernels/parallel.h"
+#include "simdbvh/platform/parallel.h"
 #include "simdbvh/io/crossing_files.h"
 #include "simdbvh/io/output.h"
 

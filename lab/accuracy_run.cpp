@@ -6,7 +6,7 @@
 
 #include "common.h"
 #include "simdbvh/reference/reference.h"
-#include "simdbvh/kernels/parallel.h"
+#include "simdbvh/platform/parallel.h"
 
 namespace simdbvh::cli {
 

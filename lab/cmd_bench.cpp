@@ -23,8 +23,8 @@
 #include "scene_cmds.h"
 #include "scene_desc_bench_report.h"
 #include "simdbvh/workloads/scene_desc.h"
-#include "simdbvh/kernels/parallel.h"
-#include "simdbvh/kernels/topology.h"
+#include "simdbvh/platform/parallel.h"
+#include "simdbvh/platform/topology.h"
 
 namespace simdbvh::cli {
 

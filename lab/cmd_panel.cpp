@@ -14,7 +14,7 @@
 #include "outputs.h"
 #include "panel_run.h"
 #include "report.h"
-#include "simdbvh/kernels/topology.h"
+#include "simdbvh/platform/topology.h"
 
 namespace simdbvh::cli {
 

@@ -9,7 +9,7 @@
 #include "outputs.h"
 #include "report.h"
 #include "sweep_run.h"
-#include "simdbvh/kernels/topology.h"
+#include "simdbvh/platform/topology.h"
 
 namespace simdbvh::cli {
 

@@ -19,7 +19,7 @@ while IFS= read -r hit; do report "another room's src/ on an include path: $hit"
   git grep -nE '(PROJECT_SOURCE_DIR\}|CMAKE_SOURCE_DIR\}|\.\.)/[a-z0-9_]+/src' -- '*CMakeLists.txt' '*.cmake' || true)
 
 # Each room's src/ headers: included only from inside the room.
-for room in kernels bvh2 bvh8 query accel scene io workloads reference store; do
+for room in kernels platform bvh2 bvh8 query accel scene io workloads reference store; do
   while IFS= read -r h; do
     name=${h#"$room/src/"}
     while IFS= read -r hit; do

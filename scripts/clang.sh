@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The library under Clang 14: configures build/clang (Release, CXX default
 # clang++-14, ccache as the launcher when installed), builds the tests of
-# kernels, bvh8, query, accel and scene (every path against brute force, at every ISA this
+# kernels, platform, bvh8, query, accel and scene (every path against brute force, at every ISA this
 # CPU runs, and the per-ISA object checks) and the core self-check
 # (tests/portable: every width and ISA against brute force, and the brute
 # force's hits against the hit file written on x86-64), and runs the self-check
@@ -16,7 +16,7 @@ jobs="${JOBS:-2}"
 cxx="${CXX:-clang++-14}"
 command -v "$cxx" >/dev/null || { echo "clang.sh: $cxx not found (apt-get install clang-14)" >&2; exit 2; }
 stride="${STRIDE:-4}"
-targets=(simdbvh_test_kernels simdbvh_test_bvh8 simdbvh_test_query simdbvh_test_accel simdbvh_test_scene simdbvh_portable_check)
+targets=(simdbvh_test_kernels simdbvh_test_platform simdbvh_test_bvh8 simdbvh_test_query simdbvh_test_accel simdbvh_test_scene simdbvh_portable_check)
 
 launcher=()
 command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
@@ -33,4 +33,4 @@ ctest --test-dir "$build" -j"$jobs" --output-on-failure -L '^portable$'
 # Every stride-th test, starting at a rotating offset (the commit count), so
 # consecutive commits cover different tests.
 offset=$(( $(git -C "$root" rev-list --count HEAD 2>/dev/null || echo 0) % stride + 1 ))
-ctest --test-dir "$build" -j"$jobs" --output-on-failure -L '^(kernels|bvh8|query|accel|scene)$' -I "$offset,,$stride"
+ctest --test-dir "$build" -j"$jobs" --output-on-failure -L '^(kernels|platform|bvh8|query|accel|scene)$' -I "$offset,,$stride"

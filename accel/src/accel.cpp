@@ -4,7 +4,7 @@
 #include <chrono>
 
 #include "simdbvh/kernels/error.h"
-#include "simdbvh/kernels/parallel.h"
+#include "simdbvh/platform/parallel.h"
 
 namespace simdbvh {
 

@@ -7,7 +7,7 @@
 
 #include "simdbvh/kernels/batch.h"
 #include "simdbvh/kernels/error.h"
-#include "simdbvh/kernels/parallel.h"
+#include "simdbvh/platform/parallel.h"
 
 namespace simdbvh {
 

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "simdbvh/kernels/build_threads.h"
+#include "simdbvh/platform/build_threads.h"
 #include "simdbvh/kernels/soa.h"
-#include "simdbvh/kernels/topology.h"
+#include "simdbvh/platform/topology.h"
 #include "simdbvh/kernels/mesh.h"
 
 namespace simdbvh {

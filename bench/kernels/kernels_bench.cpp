@@ -12,7 +12,7 @@
 #include "simdbvh/kernels/batch.h"
 #include "simdbvh/kernels/testing.h"
 #include "simdbvh/kernels/isa.h"
-#include "simdbvh/kernels/topology.h"
+#include "simdbvh/platform/topology.h"
 
 namespace {
 

@@ -8,8 +8,8 @@
 #include "tree_shape.h"
 #include "simdbvh/bvh2/bvh2.h"
 #include "simdbvh/kernels/error.h"
-#include "simdbvh/kernels/build_threads.h"
-#include "simdbvh/kernels/parallel.h"
+#include "simdbvh/platform/build_threads.h"
+#include "simdbvh/platform/parallel.h"
 
 namespace simdbvh {
 

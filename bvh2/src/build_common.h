@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "simdbvh/bvh2/build.h"
-#include "simdbvh/kernels/large_alloc.h"
+#include "simdbvh/platform/large_alloc.h"
 
 namespace simdbvh::detail {
 

@@ -4,8 +4,8 @@
 #include <vector>
 
 #include "build_common.h"
-#include "simdbvh/kernels/large_alloc.h"
-#include "simdbvh/kernels/parallel.h"
+#include "simdbvh/platform/large_alloc.h"
+#include "simdbvh/platform/parallel.h"
 
 namespace simdbvh::detail {
 

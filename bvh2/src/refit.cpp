@@ -5,7 +5,7 @@
 
 #include "simdbvh/bvh2/bvh2.h"
 #include "simdbvh/kernels/error.h"
-#include "simdbvh/kernels/parallel.h"
+#include "simdbvh/platform/parallel.h"
 
 namespace simdbvh {
 

@@ -10,7 +10,7 @@
 #include <type_traits>
 
 #include "simdbvh/kernels/error.h"
-#include "simdbvh/kernels/parallel.h"
+#include "simdbvh/platform/parallel.h"
 #include "simdbvh/bvh2/spheres.h"
 #include "simdbvh/bvh2/internal/traverse_binary-inl.h"
 #include "tree_shape.h"

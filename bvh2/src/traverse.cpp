@@ -7,7 +7,7 @@
 #include "simdbvh/bvh2/bvh2.h"
 #include "simdbvh/kernels/box.h"
 #include "simdbvh/kernels/error.h"
-#include "simdbvh/kernels/parallel.h"
+#include "simdbvh/platform/parallel.h"
 #include "simdbvh/bvh2/internal/traverse_binary-inl.h"
 
 namespace simdbvh {

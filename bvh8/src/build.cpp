@@ -4,7 +4,7 @@
 #include "simdbvh/bvh8/internal/collapse.h"
 #include "simdbvh/bvh8/internal/quantize.h"
 #include "simdbvh/bvh8/bvh8.h"
-#include "simdbvh/kernels/build_threads.h"
+#include "simdbvh/platform/build_threads.h"
 
 namespace simdbvh {
 

@@ -29,8 +29,8 @@
 
 #include "simdbvh/bvh8/internal/collapse.h"
 #include "simdbvh/kernels/error.h"
-#include "simdbvh/kernels/large_alloc.h"
-#include "simdbvh/kernels/parallel.h"
+#include "simdbvh/platform/large_alloc.h"
+#include "simdbvh/platform/parallel.h"
 
 namespace simdbvh::bvh8 {
 

@@ -9,7 +9,7 @@
 #include <atomic>
 #include <cmath>
 
-#include "simdbvh/kernels/parallel.h"
+#include "simdbvh/platform/parallel.h"
 
 namespace simdbvh::bvh8 {
 

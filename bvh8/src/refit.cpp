@@ -8,7 +8,7 @@
 
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/kernels/error.h"
-#include "simdbvh/kernels/parallel.h"
+#include "simdbvh/platform/parallel.h"
 #include "simdbvh/bvh8/internal/quantize.h"
 #include "simdbvh/bvh8/internal/tri8_lanes-inl.h"
 

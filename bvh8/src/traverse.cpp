@@ -8,10 +8,10 @@
 
 #include "simdbvh/bvh8/batch_order.h"
 #include "simdbvh/kernels/error.h"
-#include "simdbvh/kernels/parallel.h"
+#include "simdbvh/platform/parallel.h"
 #include "simdbvh/bvh8/internal/isa_choice.h"
 #include "simdbvh/bvh8/internal/ray_order.h"
-#include "simdbvh/kernels/internal/scratch_pool.h"
+#include "simdbvh/platform/internal/scratch_pool.h"
 #include "simdbvh/bvh8/internal/traverse.h"
 
 namespace simdbvh {

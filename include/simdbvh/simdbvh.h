@@ -2,7 +2,8 @@
 // simdbvh: exact, fast ray and point queries against triangle meshes and
 // scenes. The one header a user includes; each room's headers may also be
 // included alone (docs/architecture.md).
-//   kernels/  the ground-floor types (Vec3, Aabb, Ray, Hit, Mesh, Error, Isa, TraceOptions) and the threads
+//   kernels/  the ground-floor types (Vec3, Aabb, Ray, Hit, Mesh, Error, Isa, TraceOptions)
+//   platform/ threads (parallel_for, executors, pinning), the topology, large allocations
 //   bvh2/     the binary BVH: builders, traversal, the sphere hierarchy
 //   bvh8/     the wide BVHs (4-, 8- and 16-wide from one collapse)
 //   query/    closest point, inside/outside, signed distance, every crossing of a ray
@@ -14,9 +15,11 @@
 #include "simdbvh/kernels/isa.h"
 #include "simdbvh/kernels/mesh.h"
 #include "simdbvh/kernels/ray.h"
-#include "simdbvh/kernels/topology.h"
 #include "simdbvh/kernels/trace_options.h"
 #include "simdbvh/kernels/vec.h"
+
+#include "simdbvh/platform/parallel.h"
+#include "simdbvh/platform/topology.h"
 
 #include "simdbvh/bvh2/build.h"
 #include "simdbvh/bvh2/bvh2.h"

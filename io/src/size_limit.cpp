@@ -4,7 +4,7 @@
 #include <algorithm>
 
 #include "ply.h"
-#include "simdbvh/kernels/internal/platform.h"
+#include "simdbvh/platform/internal/platform.h"
 
 namespace simdbvh::io::detail {
 namespace {

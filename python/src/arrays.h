@@ -22,10 +22,10 @@
 #include "simdbvh/kernels/error.h"
 #include "simdbvh/kernels/hit.h"
 #include "simdbvh/kernels/isa.h"
-#include "simdbvh/kernels/parallel.h"
+#include "simdbvh/platform/parallel.h"
 #include "simdbvh/kernels/ray.h"
 #include "simdbvh/kernels/mesh.h"
-#include "simdbvh/kernels/topology.h"
+#include "simdbvh/platform/topology.h"
 
 namespace simdbvh::python {
 

@@ -28,7 +28,7 @@
 #include "simdbvh/query/inside_wide.h"
 #include "simdbvh/kernels/isa.h"
 #include "simdbvh/io/output.h"
-#include "simdbvh/kernels/parallel.h"
+#include "simdbvh/platform/parallel.h"
 #include "simdbvh/store/store.h"
 #include "simdbvh/workloads/scenes.h"
 

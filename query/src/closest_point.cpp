@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "simdbvh/query/internal/point_query-inl.h"
-#include "simdbvh/kernels/parallel.h"
+#include "simdbvh/platform/parallel.h"
 
 namespace simdbvh {
 namespace {

@@ -5,7 +5,7 @@
 #include <algorithm>
 
 #include "simdbvh/kernels/box.h"
-#include "simdbvh/kernels/parallel.h"
+#include "simdbvh/platform/parallel.h"
 #include "simdbvh/kernels/triangle.h"
 
 namespace simdbvh {

@@ -8,7 +8,7 @@
 
 #include "simdbvh/query/internal/crossing-inl.h"
 #include "simdbvh/query/internal/point_query-inl.h"
-#include "simdbvh/kernels/parallel.h"
+#include "simdbvh/platform/parallel.h"
 
 namespace simdbvh {
 namespace {

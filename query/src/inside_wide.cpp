@@ -15,7 +15,7 @@
 #include "simdbvh/bvh8/internal/prefetch-inl.h"
 #include "simdbvh/bvh8/internal/tri8_lanes-inl.h"
 #include "simdbvh/query/internal/point_query-inl.h"
-#include "simdbvh/kernels/parallel.h"
+#include "simdbvh/platform/parallel.h"
 
 namespace simdbvh {
 namespace {

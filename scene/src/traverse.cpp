@@ -14,9 +14,9 @@
 
 #include "simdbvh/kernels/batch.h"
 #include "simdbvh/kernels/error.h"
-#include "simdbvh/kernels/parallel.h"
+#include "simdbvh/platform/parallel.h"
 #include "scene_trace-inl.h"
-#include "simdbvh/kernels/internal/scratch_pool.h"
+#include "simdbvh/platform/internal/scratch_pool.h"
 #include "simdbvh/bvh2/internal/traverse_binary-inl.h"
 
 namespace simdbvh {

@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "simdbvh/kernels/topology.h"
+#include "simdbvh/platform/topology.h"
 
 #include <cstring>
 

@@ -12,7 +12,7 @@
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/reference/classify.h"
 #include "simdbvh/reference/reference.h"
-#include "simdbvh/kernels/parallel.h"
+#include "simdbvh/platform/parallel.h"
 #include "simdbvh/workloads/families.h"
 
 namespace simdbvh {

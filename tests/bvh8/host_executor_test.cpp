@@ -15,7 +15,7 @@
 
 #include "simdbvh/bvh2/bvh2.h"
 #include "simdbvh/bvh8/bvh8.h"
-#include "simdbvh/kernels/parallel.h"
+#include "simdbvh/platform/parallel.h"
 #include "simdbvh/workloads/rays.h"
 #include "simdbvh/workloads/scenes.h"
 #include "support/sanitizer.h"

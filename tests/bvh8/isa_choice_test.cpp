@@ -21,7 +21,7 @@
 #include "simdbvh/bvh8/internal/isa_choice.h"
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/kernels/error.h"
-#include "simdbvh/kernels/parallel.h"
+#include "simdbvh/platform/parallel.h"
 #include "simdbvh/workloads/rays.h"
 #include "simdbvh/workloads/scenes.h"
 

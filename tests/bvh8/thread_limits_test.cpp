@@ -20,7 +20,7 @@
 #include <string>
 
 #include "simdbvh/bvh8/bvh8.h"
-#include "simdbvh/kernels/parallel.h"
+#include "simdbvh/platform/parallel.h"
 #include "simdbvh/workloads/rays.h"
 #include "simdbvh/workloads/scenes.h"
 

@@ -17,7 +17,7 @@
 
 #include "simdbvh/kernels/batch.h"
 #include "simdbvh/kernels/error.h"
-#include "simdbvh/kernels/parallel.h"
+#include "simdbvh/platform/parallel.h"
 #include "simdbvh/workloads/scene_desc.h"
 #include "simdbvh/workloads/scenes.h"
 #include "simdbvh/scene/scene.h"

@@ -3,7 +3,7 @@
 #include <cstdint>
 
 #include "simdbvh/kernels/aabb.h"
-#include "simdbvh/kernels/large_alloc.h"
+#include "simdbvh/platform/large_alloc.h"
 
 namespace simdbvh {
 

@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include "simdbvh/kernels/large_alloc.h"
+#include "simdbvh/platform/large_alloc.h"
 #include "simdbvh/kernels/soa.h"
 
 namespace simdbvh {

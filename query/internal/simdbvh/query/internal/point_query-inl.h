@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "simdbvh/query/closest_point.h"
-#include "simdbvh/kernels/parallel.h"
+#include "simdbvh/platform/parallel.h"
 
 namespace simdbvh::detail {
 

@@ -1,10 +1,10 @@
 // Machine topology via hwloc (SIMDBVH_HAVE_HWLOC) or the C++/POSIX fallbacks.
-#include "simdbvh/kernels/topology.h"
+#include "simdbvh/platform/topology.h"
 
 #include <string>
 #include <thread>
 
-#include "simdbvh/kernels/internal/platform.h"
+#include "simdbvh/platform/internal/platform.h"
 #include "simdbvh/kernels/isa.h"
 
 #if defined(SIMDBVH_HAVE_HWLOC)

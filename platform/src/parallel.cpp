@@ -1,4 +1,4 @@
-#include "simdbvh/kernels/parallel.h"
+#include "simdbvh/platform/parallel.h"
 
 #include <algorithm>
 #include <atomic>
@@ -8,8 +8,8 @@
 #include <thread>
 #include <vector>
 
-#if __has_include("simdbvh/kernels/topology.h")
-#include "simdbvh/kernels/topology.h"
+#if __has_include("simdbvh/platform/topology.h")
+#include "simdbvh/platform/topology.h"
 #define SIMDBVH_CAN_PIN 1
 #endif
 

@@ -1,4 +1,4 @@
-#include "simdbvh/kernels/large_alloc.h"
+#include "simdbvh/platform/large_alloc.h"
 
 #include <algorithm>
 #include <atomic>
@@ -7,7 +7,7 @@
 #include <new>
 #include <vector>
 
-#include "simdbvh/kernels/internal/platform.h"
+#include "simdbvh/platform/internal/platform.h"
 
 namespace simdbvh {
 

@@ -11,9 +11,9 @@
 #include <thread>
 #include <vector>
 
-#include "simdbvh/kernels/build_threads.h"
-#include "simdbvh/kernels/parallel.h"
-#include "simdbvh/kernels/topology.h"
+#include "simdbvh/platform/build_threads.h"
+#include "simdbvh/platform/parallel.h"
+#include "simdbvh/platform/topology.h"
 
 namespace simdbvh {
 namespace {

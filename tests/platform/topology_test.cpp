@@ -1,8 +1,10 @@
 // Topology: plausible counts, a machine line naming the CPU and the ISAs, pinning.
 #include <thread>
 
-#include "kernel_test_util.h"
-#include "simdbvh/kernels/topology.h"
+#include <gtest/gtest.h>
+
+#include "simdbvh/kernels/isa.h"
+#include "simdbvh/platform/topology.h"
 
 namespace simdbvh {
 namespace {

@@ -10,7 +10,7 @@
 #include <sstream>
 #include <string>
 
-#include "simdbvh/kernels/large_alloc.h"
+#include "simdbvh/platform/large_alloc.h"
 
 #if defined(__SANITIZE_ADDRESS__)
 #define SIMDBVH_TEST_ASAN 1

@@ -2,7 +2,7 @@
 // The operating system under the library: virtual memory for the large
 // allocations (large_alloc.cpp), the cache sizes and the physical memory
 // (topology.cpp, io's read limits). One implementation per OS family:
-// kernels/src/platform_posix.cpp (Linux; the mremap and mincore parts report
+// platform/src/platform_posix.cpp (Linux; the mremap and mincore parts report
 // "unsupported" on other POSIX systems). A macOS or Windows port is this file's
 // functions (docs/portability.md). Every function is noexcept and reports
 // failure by its result: the callers fall back (operator new, no reuse, the

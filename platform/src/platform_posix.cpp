@@ -1,6 +1,6 @@
-// The platform layer (simdbvh/kernels/internal/platform.h) on POSIX systems;
+// The platform layer (simdbvh/platform/internal/platform.h) on POSIX systems;
 // mremap, mincore's page vector and the cache-size sysconf names are Linux's.
-#include "simdbvh/kernels/internal/platform.h"
+#include "simdbvh/platform/internal/platform.h"
 
 #include <sys/mman.h>
 #include <unistd.h>
