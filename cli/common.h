@@ -22,11 +22,7 @@ int cmd_build(const std::vector<std::string>& args);
 int cmd_info(const std::vector<std::string>& args);
 int cmd_gen_rays(const std::vector<std::string>& args);
 int cmd_trace(const std::vector<std::string>& args);
-int cmd_bench(const std::vector<std::string>& args);
-int cmd_bench_sweep(const std::vector<std::string>& args);  // bench --sweep
 int cmd_render(const std::vector<std::string>& args);
-int cmd_accuracy(const std::vector<std::string>& args);
-int cmd_panel(const std::vector<std::string>& args);
 int cmd_gen_points(const std::vector<std::string>& args);
 int cmd_distance(const std::vector<std::string>& args);
 int cmd_inside(const std::vector<std::string>& args);

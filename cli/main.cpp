@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "common.h"
+#include "lab.h"
 #include "options.h"
 #include "outputs.h"
 #include "printable.h"
@@ -44,10 +45,10 @@ int main(int argc, char** argv) {
         if (cmd == "info") return cmd_info(args);
         if (cmd == "gen-rays") return cmd_gen_rays(args);
         if (cmd == "trace") return cmd_trace(args);
-        if (cmd == "bench") return cmd_bench(args);
+        if (cmd == "bench") return simdbvh::lab::cmd_bench(args);
         if (cmd == "render") return cmd_render(args);
-        if (cmd == "accuracy") return cmd_accuracy(args);
-        if (cmd == "panel") return cmd_panel(args);
+        if (cmd == "accuracy") return simdbvh::lab::cmd_accuracy(args);
+        if (cmd == "panel") return simdbvh::lab::cmd_panel(args);
         if (cmd == "gen-points") return cmd_gen_points(args);
         if (cmd == "distance") return cmd_distance(args);
         if (cmd == "inside") return cmd_inside(args);

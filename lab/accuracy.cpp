@@ -1,6 +1,7 @@
+#include "lab.h"
 #include "accuracy.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 Tally classify_sample(const Mesh& mesh, std::span<const Ray> rays, std::span<const Hit> reference,
                       std::span<const Hit> hits, bool any_hit) {
@@ -11,4 +12,4 @@ Tally classify_sample(const Mesh& mesh, std::span<const Ray> rays, std::span<con
     return reference::compare_methods(mesh, rays, reference, hits).b;
 }
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

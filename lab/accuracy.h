@@ -2,9 +2,10 @@
 // Accuracy of a method on a sample of rays against the brute-force reference.
 #include <span>
 
+#include "lab.h"
 #include "simdbvh/reference/classify.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 using Tally = reference::Tally;
 
@@ -14,4 +15,4 @@ using Tally = reference::Tally;
 Tally classify_sample(const Mesh& mesh, std::span<const Ray> rays, std::span<const Hit> reference,
                       std::span<const Hit> hits, bool any_hit);
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

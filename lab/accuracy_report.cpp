@@ -4,10 +4,11 @@
 // the charts (scripts/plot_accuracy.py).
 #include <iostream>
 
+#include "lab.h"
 #include "accuracy_run.h"
 #include "report.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 namespace {
 
@@ -142,4 +143,4 @@ void report_accuracy(const AccuracyConfig& c, const AccuracyResults& res) {
     std::cout << "\nwrote " << (dir / "accuracy.json").string() << "\nwrote " << (dir / "accuracy.md").string() << "\n";
 }
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+#include "lab.h"
 #include "accuracy_run.h"
 
 #include <algorithm>
@@ -8,7 +9,7 @@
 #include "simdbvh/reference/reference.h"
 #include "simdbvh/platform/parallel.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 namespace {
 
@@ -170,4 +171,4 @@ AccuracyResults run_accuracy(const AccuracyConfig& c) {
     return out;
 }
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

@@ -7,12 +7,13 @@
 #include <string>
 #include <vector>
 
+#include "lab.h"
 #include "inside_panel.h"
 #include "methods.h"
 #include "simdbvh/reference/classify.h"
 #include "simdbvh/workloads/families.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 struct AccuracyConfig {
     bool quick = false;
@@ -67,4 +68,4 @@ AccuracyResults run_accuracy(const AccuracyConfig& c);
 // config names and runs the chart script.
 void report_accuracy(const AccuracyConfig& c, const AccuracyResults& r);
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+#include "lab.h"
 #include "bench_pictures.h"
 
 #include <algorithm>
@@ -8,7 +9,7 @@
 #include "methods.h"
 #include "simdbvh/workloads/rays.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 namespace {
 
@@ -56,4 +57,4 @@ Pictures render_pictures(const Mesh& mesh, bool quick, int threads) {
     return p;
 }
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

@@ -6,9 +6,10 @@
 #include <utility>
 #include <vector>
 
+#include "lab.h"
 #include "simdbvh/kernels/mesh.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 // The file names, in the report folder.
 inline constexpr const char* kBenchPictures[] = {"render_bvh8.png", "heat_bvh2.png", "heat_bvh8.png",
@@ -23,4 +24,4 @@ struct Pictures {
 // The pictures, encoded (written with the rest of the report).
 Pictures render_pictures(const Mesh& mesh, bool quick, int threads);
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

@@ -1,3 +1,4 @@
+#include "lab.h"
 #include "bench_report.h"
 
 #include <filesystem>
@@ -12,7 +13,7 @@
 #include "simdbvh/reference/embree.h"
 #include "simdbvh/kernels/error.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 namespace fs = std::filesystem;
 
@@ -254,4 +255,4 @@ void report_bench(const BenchConfig& c, const Mesh& mesh, const BenchResults& re
     print_summary(c, res);
 }
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

@@ -4,6 +4,7 @@
 // c.reps timed traces, the methods interleaved, the median per method; builds:
 // the first (cold) and the median of c.build_reps more (warm), for every
 // method, Embree included.
+#include "lab.h"
 #include "bench_run.h"
 
 #include <algorithm>
@@ -14,7 +15,7 @@
 #include "report.h"
 #include "simdbvh/workloads/rays.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 namespace {
 
@@ -256,9 +257,9 @@ BenchResults run_bench(const BenchConfig& c, const Mesh& mesh, const std::vector
     return out;
 }
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 std::map<std::string, std::vector<AccuracyRow>> run_hard_families(int threads) {
     AccuracyConfig ac;
@@ -285,4 +286,4 @@ std::string bench_label_of(const std::string& variant) {
     return {};
 }
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

@@ -7,13 +7,14 @@
 #include <string>
 #include <vector>
 
+#include "lab.h"
 #include "accuracy.h"
 #include "accuracy_run.h"
 #include "refit_run.h"
 #include "results_doc.h"
 #include "simdbvh/kernels/mesh.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 struct BenchConfig {
     std::string scene, scene_why;
@@ -72,4 +73,4 @@ std::string bench_label_of(const std::string& variant);
 
 BenchResults run_bench(const BenchConfig& c, const Mesh& mesh, const std::vector<NamedMesh>& width_meshes);
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

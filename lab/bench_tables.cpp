@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: MIT
+#include "lab.h"
 #include "bench_tables.h"
 
 #include <algorithm>
 
 #include "methods.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 namespace {
 
@@ -169,4 +170,4 @@ Table width_count_table(const std::vector<Record>& widths, const std::string& sc
     return t;
 }
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

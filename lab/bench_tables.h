@@ -4,10 +4,11 @@
 #include <string>
 #include <vector>
 
+#include "lab.h"
 #include "bench_run.h"
 #include "report.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 // "bvh8/avx2" for the wide BVHs, the method otherwise.
 std::string label(const Record& r);
@@ -24,4 +25,4 @@ Table width_speed_table(const std::vector<Record>& widths, const std::string& sc
 // Per width: nodes visited and box tests (lanes) per ray, bytes per triangle, collapse time.
 Table width_count_table(const std::vector<Record>& widths, const std::string& scene);
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

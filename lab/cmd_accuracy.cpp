@@ -6,13 +6,14 @@
 #include <filesystem>
 #include <sstream>
 
+#include "lab.h"
 #include "accuracy_run.h"
 #include "common.h"
 #include "options.h"
 #include "outputs.h"
 #include "report.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 namespace {
 
@@ -74,4 +75,4 @@ int cmd_accuracy(const std::vector<std::string>& args) {
     return 0;
 }
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

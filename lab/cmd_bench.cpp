@@ -15,6 +15,7 @@
 
 #include <unistd.h>
 
+#include "lab.h"
 #include "bench_report.h"
 #include "common.h"
 #include "options.h"
@@ -26,7 +27,7 @@
 #include "simdbvh/platform/parallel.h"
 #include "simdbvh/platform/topology.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 namespace {
 
@@ -127,4 +128,4 @@ int cmd_bench(const std::vector<std::string>& args) {
     return 0;
 }
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

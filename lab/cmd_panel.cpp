@@ -9,6 +9,7 @@
 // Config (here) -> run (panel_run.cpp) -> report (panel_report.cpp).
 #include <algorithm>
 
+#include "lab.h"
 #include "common.h"
 #include "options.h"
 #include "outputs.h"
@@ -16,7 +17,7 @@
 #include "report.h"
 #include "simdbvh/platform/topology.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 namespace {
 
@@ -56,4 +57,4 @@ int cmd_panel(const std::vector<std::string>& args) {
     return 0;
 }
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

@@ -4,6 +4,7 @@
 // Config (here) -> run (sweep_run.cpp, sweep_fit.cpp) -> report (sweep_report.cpp).
 #include <algorithm>
 
+#include "lab.h"
 #include "common.h"
 #include "options.h"
 #include "outputs.h"
@@ -11,7 +12,7 @@
 #include "sweep_run.h"
 #include "simdbvh/platform/topology.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 int cmd_bench_sweep(const std::vector<std::string>& args) {
     const Options o("bench --sweep", args,
@@ -44,4 +45,4 @@ int cmd_bench_sweep(const std::vector<std::string>& args) {
     return 0;
 }
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 // simdbvh accuracy, the inside/outside panel: run and report (inside_panel.h).
+#include "lab.h"
 #include "inside_panel.h"
 
 #include <chrono>
@@ -18,7 +19,7 @@
 #include "simdbvh/workloads/points.h"
 #include "simdbvh/workloads/scenes.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 namespace {
 
@@ -201,4 +202,4 @@ std::string inside_markdown(const std::vector<InsideRow>& rows, bool chart) {
     return s.str();
 }
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

@@ -12,9 +12,10 @@
 #include <string>
 #include <vector>
 
+#include "lab.h"
 #include "report.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 struct InsideRow {
     std::string mesh, family, method;
@@ -32,4 +33,4 @@ std::vector<InsideRow> run_inside_panel(bool quick, bool embree, bool open3d);
 Json inside_json(const std::vector<InsideRow>& rows);
 std::string inside_markdown(const std::vector<InsideRow>& rows, bool chart);
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

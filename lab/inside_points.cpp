@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The inside/outside panel's meshes and point families (inside_points.h).
+#include "lab.h"
 #include "inside_points.h"
 
 #include <algorithm>
@@ -7,7 +8,7 @@
 #include <cmath>
 #include <map>
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 Mesh cube_grid(int k) {
     Mesh m;
@@ -113,4 +114,4 @@ std::vector<Vec3> near_surface(const Mesh& m, std::size_t max, int ulps) {
     return p;
 }
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

@@ -6,9 +6,10 @@
 #include <cstddef>
 #include <vector>
 
+#include "lab.h"
 #include "simdbvh/kernels/mesh.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 // The surface of [0, k]^3 split into unit squares, two triangles each, welded,
 // facing outward: every coordinate an integer, so rays along +z from points
@@ -35,4 +36,4 @@ std::vector<Vec3> diagonal_through_vertices(const Mesh& m, std::size_t max);
 // `ulps` units in the last place of the centroid's largest coordinate; at most `max` points.
 std::vector<Vec3> near_surface(const Mesh& m, std::size_t max, int ulps);
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

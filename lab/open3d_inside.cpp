@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Open3D's compute_occupancy through the Python worker (open3d_inside.h).
+#include "lab.h"
 #include "open3d_inside.h"
 
 #include <unistd.h>
@@ -19,7 +20,7 @@
 #include "simdbvh/io/output.h"
 #include "simdbvh/io/point_files.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 namespace {
 
@@ -131,4 +132,4 @@ Open3dRun run_open3d_occupancy(std::span<const Open3dJob> jobs, double timeout_s
     return run;
 }
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

@@ -10,10 +10,11 @@
 #include <string>
 #include <vector>
 
+#include "lab.h"
 #include "simdbvh/query/inside.h"
 #include "simdbvh/kernels/mesh.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 struct Open3dJob {
     const Mesh* mesh = nullptr;  // written once per distinct mesh; consecutive jobs on one mesh share its scene
@@ -39,4 +40,4 @@ Open3dRun run_open3d_occupancy(std::span<const Open3dJob> jobs, double timeout_s
 // that are negative or not finite.
 Open3dAnswer parse_occupancy(std::span<const unsigned char> bytes, std::size_t points);
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

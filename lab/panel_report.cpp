@@ -3,10 +3,11 @@
 // reads it) and panel.md with the charts.
 #include <iostream>
 
+#include "lab.h"
 #include "panel_run.h"
 #include "report.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 namespace {
 
@@ -144,4 +145,4 @@ void report_panel(const PanelConfig& c, const Mesh& mesh, const std::vector<Pane
     if (!c.report_dir.empty()) std::cout << "wrote " << md.string() << "\n";
 }
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

@@ -2,6 +2,7 @@
 // simdbvh panel, the run. Sweep SAH is not skipped on large scenes: it builds
 // the full dragon (871k triangles) in about 7 s on one thread, far under the
 // 60 s that would have justified skipping it there.
+#include "lab.h"
 #include "panel_run.h"
 
 #include <algorithm>
@@ -13,7 +14,7 @@
 #include "simdbvh/bvh8/bvh8.h"
 #include "simdbvh/workloads/rays.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 namespace {
 
@@ -203,4 +204,4 @@ std::vector<PanelRow> run_panel(const PanelConfig& c, const Mesh& mesh) {
     return rows;
 }
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

@@ -6,10 +6,11 @@
 #include <string>
 #include <vector>
 
+#include "lab.h"
 #include "simdbvh/kernels/isa.h"
 #include "simdbvh/kernels/mesh.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 inline constexpr int kFrameW = 640, kFrameH = 480;
 // Leaf-size histogram buckets: 1, 2, 3, 4, 5-8, 9-16, 17+.
@@ -47,4 +48,4 @@ std::vector<PanelRow> run_panel(const PanelConfig& c, const Mesh& mesh);
 // Terminal table, JSON (c.json_file), panel.md with charts (c.report_dir).
 void report_panel(const PanelConfig& c, const Mesh& mesh, const std::vector<PanelRow>& rows);
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

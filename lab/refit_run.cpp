@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 // simdbvh bench, the refit sequence: run and report (refit_run.h).
+#include "lab.h"
 #include "refit_run.h"
 
 #include <algorithm>
@@ -14,7 +15,7 @@
 #include "simdbvh/workloads/deform.h"
 #include "simdbvh/workloads/rays.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 namespace {
 
@@ -127,4 +128,4 @@ std::string refit_markdown(const std::vector<RefitFrame>& frames, const std::str
     return s.str();
 }
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

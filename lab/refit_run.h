@@ -7,10 +7,11 @@
 #include <string>
 #include <vector>
 
+#include "lab.h"
 #include "report.h"
 #include "simdbvh/kernels/mesh.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 struct BenchConfig;
 
@@ -34,4 +35,4 @@ Json refit_json(const std::vector<RefitFrame>& frames);
 // The Markdown section (a table of every frame; the chart when `chart`).
 std::string refit_markdown(const std::vector<RefitFrame>& frames, const std::string& img_dir, bool chart);
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

@@ -1,3 +1,4 @@
+#include "lab.h"
 #include "results_doc.h"
 
 #include <fstream>
@@ -6,7 +7,7 @@
 
 #include "simdbvh/kernels/error.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 namespace fs = std::filesystem;
 
@@ -84,4 +85,4 @@ void add_results_docs(ReportFiles& set, const std::vector<ResultsDoc>& docs, con
     }
 }
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

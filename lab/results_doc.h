@@ -9,11 +9,12 @@
 #include <string>
 #include <vector>
 
+#include "lab.h"
 #include "options.h"
 #include "outputs.h"
 #include "report.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 struct ResultsDoc {
     std::string option;               // "--readme" or "--publish"
@@ -45,4 +46,4 @@ void add_results_docs(ReportFiles& set, const std::vector<ResultsDoc>& docs, con
                       const std::filesystem::path& report_dir,
                       const std::vector<std::pair<std::string, std::string>>& pictures);
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

@@ -2,6 +2,7 @@
 // simdbvh bench on a scene description, the report: the terminal tables, the
 // JSON file (scripts/plot_scene_bench.py reads it), DIR/report.md with the
 // charts and a render, and the README's block for this scene (--readme).
+#include "lab.h"
 #include "scene_desc_bench_report.h"
 
 #include <cmath>
@@ -13,7 +14,7 @@
 #include "scene_cmds.h"
 #include "simdbvh/reference/embree.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 namespace fs = std::filesystem;
 
@@ -331,4 +332,4 @@ void report_scene_desc_bench(const BenchConfig& c, const SceneDescBenchResults& 
     for (const ResultsDoc& d : c.docs) std::cout << "wrote the results block of " << d.file.string() << "\n";
 }
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

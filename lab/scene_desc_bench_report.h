@@ -4,14 +4,15 @@
 // file (--json), DIR/report.md with charts (scripts/plot_scene_bench.py) and a
 // render, and the results block <!-- bench-scene:NAME:begin --> ... end
 // (--readme, --publish; NAME is the scene's name without a .json suffix).
+#include "lab.h"
 #include "bench_run.h"
 #include "scene_desc_bench_run.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 // Every file report_scene_desc_bench writes beyond --json and report.md, for check_outputs; throws when a doc
 // lacks its block (before the run).
 void add_scene_desc_bench_outputs(const BenchConfig& c, NamedPaths& outputs);
 void report_scene_desc_bench(const BenchConfig& c, const SceneDescBenchResults& r);
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

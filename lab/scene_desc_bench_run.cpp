@@ -3,6 +3,7 @@
 // group: an untimed warm-up trace of every method, then c.reps rounds with the
 // methods interleaved, the median per method; builds: one untimed, then the
 // median of c.build_reps.
+#include "lab.h"
 #include "scene_desc_bench_run.h"
 
 #include <algorithm>
@@ -19,7 +20,7 @@
 #include "simdbvh/workloads/scene_desc.h"
 #include "simdbvh/workloads/scenes.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 namespace {
 
@@ -408,4 +409,4 @@ SceneDescBenchResults run_scene_desc_bench(const BenchConfig& c, const SceneDesc
     return res;
 }
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

@@ -10,12 +10,13 @@
 #include <string>
 #include <vector>
 
+#include "lab.h"
 #include "bench_run.h"
 #include "sphere_precision.h"
 #include "simdbvh/reference/scene_reference.h"
 #include "simdbvh/scene/scene.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 struct SceneSpeedRow {
     std::string method;      // "BVH8 scene (child-corners)", "Embree instanced", ...
@@ -85,4 +86,4 @@ inline constexpr std::size_t kMaxFlattenedTriangles = 16'000'000;
 
 SceneDescBenchResults run_scene_desc_bench(const BenchConfig& c, const SceneDesc& desc);
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

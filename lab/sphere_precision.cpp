@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The sphere precision study (sphere_precision.h): rays aimed at a distant
 // unit sphere, intersected by the naive float quadratic, hit_sphere and Embree.
+#include "lab.h"
 #include "sphere_precision.h"
 
 #include <algorithm>
@@ -14,7 +15,7 @@
 #include "simdbvh/scene/scene.h"
 #include "simdbvh/scene/shapes.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 namespace {
 
@@ -201,4 +202,4 @@ Json sphere_precision_json(const std::vector<SpherePrecisionRow>& rows) {
     return a;
 }
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

@@ -8,9 +8,10 @@
 #include <cstddef>
 #include <vector>
 
+#include "lab.h"
 #include "report.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 struct SpherePrecisionRow {
     double ratio;      // distance from ray origin to sphere centre / radius
@@ -35,4 +36,4 @@ std::vector<SpherePrecisionRow> sphere_precision_study(std::size_t rays_per_rati
 // The rows as a JSON array of objects with the field names above.
 Json sphere_precision_json(const std::vector<SpherePrecisionRow>& rows);
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

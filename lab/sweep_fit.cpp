@@ -10,9 +10,10 @@
 #include <cmath>
 #include <map>
 
+#include "lab.h"
 #include "sweep_run.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 namespace {
 
@@ -160,4 +161,4 @@ std::vector<SweepCheck> check_auto(const std::vector<SweepRow>& rows, const Cost
     return out;
 }
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

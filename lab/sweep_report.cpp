@@ -10,12 +10,13 @@
 #include <map>
 #include <set>
 
+#include "lab.h"
 #include "common.h"
 #include "report.h"
 #include "simdbvh/kernels/error.h"
 #include "sweep_run.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 namespace {
 
@@ -269,4 +270,4 @@ void report_sweep(const SweepConfig& c, const SweepResults& r) {
     for (const ResultsDoc& d : c.docs) std::cout << "wrote the results block of " << d.file.string() << "\n";
 }
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

@@ -7,6 +7,7 @@
 // expected (from the previous ray count) to take longer than budget_ms is timed
 // on evenly spaced rays and scaled to the full count: trace time is linear in
 // the rays, and the sweep stays at a few minutes. One-thread rows are pinned to one CPU.
+#include "lab.h"
 #include "sweep_run.h"
 
 #include <sched.h>
@@ -19,7 +20,7 @@
 #include "simdbvh/workloads/rays.h"
 #include "simdbvh/workloads/scenes.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 namespace {
 
@@ -206,4 +207,4 @@ SweepResults run_sweep(const SweepConfig& c) {
     return res;
 }
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

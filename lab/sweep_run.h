@@ -8,10 +8,11 @@
 #include <string>
 #include <vector>
 
+#include "lab.h"
 #include "results_doc.h"
 #include "simdbvh/accel/cost_model.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 
 struct SweepConfig {
     bool quick = false;
@@ -69,4 +70,4 @@ std::vector<SweepCheck> check_auto(const std::vector<SweepRow>& rows, const Cost
 void add_sweep_outputs(const SweepConfig& c, NamedPaths& outputs);
 void report_sweep(const SweepConfig& c, const SweepResults& r);
 
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

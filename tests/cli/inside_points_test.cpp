@@ -12,7 +12,7 @@
 #include "inside_points.h"
 #include "simdbvh/workloads/scenes.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 namespace {
 
 // a - b in double, and whether that is exact (Knuth's TwoSum error term is 0).
@@ -77,4 +77,4 @@ TEST(InsidePoints, DiagonalFamilyKeepsToItsCapAndDropsInexactPoints) {
 }
 
 }  // namespace
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab

@@ -88,7 +88,7 @@ TEST_F(JsonReports, InsideOutsidePanel) {
     std::size_t ours = 0, embree_wrong = 0, diagonal = 0;
     // The diagonal family's points (tests/cli/inside_points_test.cpp checks them): all of them in each row.
     const std::size_t diagonal_points =
-        simdbvh::cli::diagonal_through_vertices(simdbvh::workloads::icosphere(3), 4000).size();
+        simdbvh::lab::diagonal_through_vertices(simdbvh::workloads::icosphere(3), 4000).size();
     for (const Json& row : j["inside"]) {
         const std::string m = row["method"].get<std::string>();
         EXPECT_GT(row["points"].get<int>(), 0) << row.dump();

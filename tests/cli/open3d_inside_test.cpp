@@ -22,7 +22,7 @@
 #include "support/cli.h"
 #include "support/scene.h"
 
-namespace simdbvh::cli {
+namespace simdbvh::lab {
 namespace {
 
 using Json = nlohmann::json;
@@ -139,4 +139,4 @@ TEST(Open3dPanel, LatticeRowMatchesAnIndependentCount) {
 }
 
 }  // namespace
-}  // namespace simdbvh::cli
+}  // namespace simdbvh::lab
