@@ -162,16 +162,12 @@ public:
             if (width_ > 2) {
                 auto wide = [&](const auto& bvh) {
                     auto trace = [&](std::span<const Ray> r, std::span<Hit> h, const TraceOptions& opts) {
-                        if (isa_auto_) {  // chosen by speed (bvh8.h), or the forced SIMDBVH_ISA
-                            if (any) occluded(bvh, r, h, opts);
-                            else simdbvh::intersect(bvh, r, h, opts);
-                        } else if (any) {
-                            occluded(bvh, r, h, with_isa(opts, isa_));
-                        } else {
-                            simdbvh::intersect(bvh, r, h, with_isa(opts, isa_));
-                        }
+                        if (any) occluded(bvh, r, h, opts);
+                        else simdbvh::intersect(bvh, r, h, opts);
                     };
                     TraceOptions opts;  // automatic order: the library's rule, asked once here
+                    // isa=None: chosen by speed (bvh8.h), or the forced SIMDBVH_ISA.
+                    if (!isa_auto_) opts.isa = isa_;
                     if (traces_sorted(
                             bvh, n, [&](std::size_t i) { return rays[i]; }, opts)) {
                         // Whole batches, sorted (decided: not asked again per batch) and spread over the
