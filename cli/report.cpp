@@ -2,6 +2,7 @@
 #include "report.h"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -267,13 +268,26 @@ PythonRun run_python_script(const std::string& script, const std::vector<std::st
     if (!options.stderr_file.empty())
         posix_spawn_file_actions_addopen(&fa, STDERR_FILENO, options.stderr_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
                                          0644);
+    // The cleanup signals stay blocked from the spawn until the child's id is stored, so the handler always
+    // sees the child it must stop (else the script could recreate a staging folder the handler removed);
+    // the child starts with the mask we had.
+    sigset_t cleanup_signals, old_mask;
+    sigemptyset(&cleanup_signals);
+    for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGPIPE}) sigaddset(&cleanup_signals, sig);
+    posix_spawnattr_t attr;
+    posix_spawnattr_init(&attr);
+    pthread_sigmask(SIG_BLOCK, &cleanup_signals, &old_mask);
+    posix_spawnattr_setsigmask(&attr, &old_mask);
+    posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGMASK);
     pid_t pid = 0;
-    const int err = ::posix_spawnp(&pid, argv[0], &fa, nullptr, const_cast<char* const*>(argv.data()),
+    const int err = ::posix_spawnp(&pid, argv[0], &fa, &attr, const_cast<char* const*>(argv.data()),
                                    const_cast<char* const*>(envp.data()));
+    if (err == 0) g_running_script.store(pid);
+    pthread_sigmask(SIG_SETMASK, &old_mask, nullptr);
+    posix_spawnattr_destroy(&attr);
     posix_spawn_file_actions_destroy(&fa);
     if (err != 0) return run;
     run.started = true;
-    g_running_script.store(pid);
     struct Forget {
         ~Forget() { g_running_script.store(0); }
     } forget;

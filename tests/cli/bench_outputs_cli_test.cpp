@@ -189,7 +189,9 @@ TEST_F(BenchOutputs, SigintMidwayLeavesTheOldReport) {
     ASSERT_TRUE(staged) << "never saw the staging folder";
     EXPECT_EQ(listing(dir_ / "out"), std::set<std::string>{"report.md"});
     EXPECT_EQ(test::read_bytes(dir_ / "out/report.md"), "old");
-    EXPECT_TRUE(fs::is_empty(dir_ / "tmp"));
+    std::string left;
+    for (const auto& e : fs::recursive_directory_iterator(dir_ / "tmp")) left += " " + e.path().string();
+    EXPECT_TRUE(left.empty()) << "left in TMPDIR:" << left;
 }
 
 }  // namespace
