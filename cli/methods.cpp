@@ -206,50 +206,18 @@ private:
     BruteForce8 brute_;
 };
 
-class Bvh2Tracer final : public Tracer {
-public:
-    Bvh2Tracer(const Mesh& m, const MethodSpec& s) : spec_(s), bvh_(Bvh2::build(m, s.build)) {
-        const BuildStats& st = bvh_.stats();
-        build_ms = st.build_ms;
-        bytes_per_triangle = st.bytes_per_triangle;
-        sah_cost = st.sah_cost;
-        depth = st.depth;
-        nodes = st.nodes;
-    }
-    void trace(std::span<const Ray> rays, std::span<Hit> hits, bool any, TraceStats* stats) override {
-        trace_tree(bvh_, spec_, rays, hits, any, stats);
-    }
-    const Bvh2& bvh() const { return bvh_; }
-
-private:
-    MethodSpec spec_;
-    Bvh2 bvh_;
-};
-
+// What a user of the library waits for: the wide tree's build is timed whole (its stats time collapse + pack).
 template <int N>
-class WideTracer final : public Tracer {
-public:
-    WideTracer(const Mesh& m, const MethodSpec& s) : spec_(s) {
-        const auto t0 = std::chrono::steady_clock::now();
-        WideOptions wo = s.wide;
-        wo.threads = s.build.threads;           // collapse + pack on the build's threads too
-        bvh_ = BvhN<N>::build(m, s.build, wo);  // what a user of the library waits for
-        build_ms = ms_since(t0);
-        const WideStats& st = bvh_.stats();
-        collapse_ms = st.build_ms;
-        bytes_per_triangle = st.bytes_per_triangle;
-        sah_cost = st.sah_cost;
-        depth = st.depth;
-        nodes = st.nodes;
-    }
-    void trace(std::span<const Ray> rays, std::span<Hit> hits, bool any, TraceStats* stats) override {
-        trace_tree(bvh_, spec_, rays, hits, any, stats);
-    }
-
-private:
-    MethodSpec spec_;
-    BvhN<N> bvh_;
-};
+std::unique_ptr<Tracer> make_wide_tracer(const Mesh& m, const MethodSpec& s) {
+    const auto t0 = std::chrono::steady_clock::now();
+    WideOptions wo = s.wide;
+    wo.threads = s.build.threads;  // collapse + pack on the build's threads too
+    BvhN<N> bvh = BvhN<N>::build(m, s.build, wo);
+    const double collapse_ms = bvh.stats().build_ms;
+    auto t = std::make_unique<TreeTracer<BvhN<N>>>(std::move(bvh), s, ms_since(t0));
+    t->collapse_ms = collapse_ms;
+    return t;
+}
 
 // auto: Accel (bvh8/accel.h) with the cost model of the ISA, for spec.expected_rays rays.
 class AutoTracer final : public Tracer {
@@ -277,26 +245,6 @@ public:
 private:
     MethodSpec spec_;
     Accel accel_;
-};
-
-// Seed 002's bounding-sphere hierarchy (variance splits; --builder is ignored).
-class SpheresTracer final : public Tracer {
-public:
-    SpheresTracer(const Mesh& m, const MethodSpec& s) : spec_(s), bvh_(SphereBvh::build(m, s.build)) {
-        const SphereBuildStats& st = bvh_.stats();
-        build_ms = st.build_ms;
-        bytes_per_triangle = st.bytes_per_triangle;
-        sah_cost = st.sah_cost;
-        depth = st.depth;
-        nodes = st.nodes;
-    }
-    void trace(std::span<const Ray> rays, std::span<Hit> hits, bool any, TraceStats* stats) override {
-        trace_tree(bvh_, spec_, rays, hits, any, stats);
-    }
-
-private:
-    MethodSpec spec_;
-    SphereBvh bvh_;
 };
 
 class EmbreeTracer final : public Tracer {
@@ -335,13 +283,20 @@ std::unique_ptr<Tracer> make_tracer(const Mesh& mesh, const MethodSpec& spec) {
     if (spec.method == "auto") return std::make_unique<AutoTracer>(mesh, spec);
     if (spec.method == "brute") return std::make_unique<BruteTracer>(mesh, spec);
     if (spec.method == "brute8") return std::make_unique<Brute8Tracer>(mesh, spec);
-    if (spec.method == "bvh2") return std::make_unique<Bvh2Tracer>(mesh, spec);
+    if (spec.method == "bvh2") {
+        Bvh2 bvh = Bvh2::build(mesh, spec.build);
+        const double ms = bvh.stats().build_ms;
+        return std::make_unique<TreeTracer<Bvh2>>(std::move(bvh), spec, ms);
+    }
     if (const int w = spec.width())
-        return with_width(w, [&](auto n) -> std::unique_ptr<Tracer> {
-            return std::make_unique<WideTracer<decltype(n)::value>>(mesh, spec);
-        });
+        return with_width(
+            w, [&](auto n) -> std::unique_ptr<Tracer> { return make_wide_tracer<decltype(n)::value>(mesh, spec); });
     if (spec.method == "embree") return std::make_unique<EmbreeTracer>(mesh, spec);
-    if (spec.method == "spheres") return std::make_unique<SpheresTracer>(mesh, spec);
+    if (spec.method == "spheres") {  // seed 002's bounding-sphere hierarchy (variance splits; --builder is ignored)
+        SphereBvh bvh = SphereBvh::build(mesh, spec.build);
+        const double ms = bvh.stats().build_ms;
+        return std::make_unique<TreeTracer<SphereBvh>>(std::move(bvh), spec, ms);
+    }
     throw Error("unknown method " + spec.method);
 }
 

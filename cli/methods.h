@@ -6,6 +6,7 @@
 #include <span>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "options.h"
@@ -65,6 +66,28 @@ void trace_tree(const Tree& tree, const MethodSpec& spec, std::span<const Ray> r
     const TraceOptions o = trace_options(spec, stats);
     any ? occluded(tree, rays, hits, o) : intersect(tree, rays, hits, o);
 }
+
+// A tracer over one built or loaded tree: trace_tree traces it, its stats give the figures; build_ms is what
+// the caller timed (a build, or a load).
+template <class Tree>
+class TreeTracer final : public Tracer {
+public:
+    TreeTracer(Tree tree, const MethodSpec& s, double ms) : spec_(s), tree_(std::move(tree)) {
+        build_ms = ms;
+        const auto& st = tree_.stats();
+        bytes_per_triangle = st.bytes_per_triangle;
+        sah_cost = st.sah_cost;
+        depth = st.depth;
+        nodes = st.nodes;
+    }
+    void trace(std::span<const Ray> rays, std::span<Hit> hits, bool any, TraceStats* stats) override {
+        trace_tree(tree_, spec_, rays, hits, any, stats);
+    }
+
+private:
+    MethodSpec spec_;
+    Tree tree_;
+};
 
 // The wide methods, narrowest first.
 std::vector<std::string> wide_methods();  // the registry's wide trees, narrowest first

@@ -13,26 +13,11 @@ namespace simdbvh::cli {
 namespace {
 
 template <class T>
-class SavedTracer final : public Tracer {
-public:
-    SavedTracer(const std::string& file, const MethodSpec& s) : spec_(s) {
-        const auto t0 = std::chrono::steady_clock::now();
-        bvh_ = load<T>(file);
-        build_ms = seconds_since(t0) * 1e3;
-        const auto& st = bvh_.stats();
-        bytes_per_triangle = st.bytes_per_triangle;
-        sah_cost = st.sah_cost;
-        depth = st.depth;
-        nodes = st.nodes;
-    }
-    void trace(std::span<const Ray> rays, std::span<Hit> hits, bool any, TraceStats* stats) override {
-        trace_tree(bvh_, spec_, rays, hits, any, stats);
-    }
-
-private:
-    MethodSpec spec_;
-    T bvh_;
-};
+std::unique_ptr<Tracer> make_saved_tracer(const std::string& file, const MethodSpec& s) {
+    const auto t0 = std::chrono::steady_clock::now();
+    T bvh = load<T>(file);
+    return std::make_unique<TreeTracer<T>>(std::move(bvh), s, seconds_since(t0) * 1e3);
+}
 
 }  // namespace
 
@@ -46,9 +31,9 @@ std::unique_ptr<Tracer> load_saved_tracer(const std::string& file, MethodSpec& s
                     " asked for (omit --method to trace what it holds)");
     spec.method = method;
     spec.wide.quantized_nodes = in.quantized;
-    if (in.width == 2) return std::make_unique<SavedTracer<Bvh2>>(file, spec);
+    if (in.width == 2) return make_saved_tracer<Bvh2>(file, spec);
     return with_width(in.width, [&](auto n) -> std::unique_ptr<Tracer> {
-        return std::make_unique<SavedTracer<BvhN<decltype(n)::value>>>(file, spec);
+        return make_saved_tracer<BvhN<decltype(n)::value>>(file, spec);
     });
 }
 

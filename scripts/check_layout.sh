@@ -5,7 +5,9 @@
 #  - no build file puts another room's src/ on an include path (what a room
 #    shares is in <room>/internal/, behind its simdbvh_<room>_internal target);
 #  - a room's internal headers are included by their full path
-#    simdbvh/<room>/internal/..., never from another room's src/.
+#    simdbvh/<room>/internal/..., never from another room's src/;
+#  - folders are namespaces: a namespace below simdbvh:: is a room's name (or
+#    the shared detail, or test for the test helpers).
 # Exits 1 and lists each offence.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -29,5 +31,11 @@ for room in kernels platform bvh2 bvh8 query accel scene io workloads reference 
     done < <(git grep -nF "#include \"$room/src/$name\"" -- '*.h' '*.cpp' '*.inc' || true)
   done < <(git ls-files "$room/src/*.h" "$room/src/*.inc")
 done
+rooms="kernels platform bvh2 bvh8 query accel scene io workloads reference store cli lab python fuzz"
+while IFS= read -r hit; do
+  ns=${hit##*namespace simdbvh::}
+  ns=${ns%%[^a-z0-9_]*}
+  [[ " $rooms detail test " == *" $ns "* ]] || report "namespace simdbvh::$ns is no room's: $hit"
+done < <(git grep -nE 'namespace simdbvh::[a-z0-9_]+' -- '*.h' '*.cpp' '*.inc' || true)
 [[ $bad == 0 ]] && echo "check_layout: the walls hold" >&2
 exit $bad

@@ -27,6 +27,13 @@ struct TraversalScene {
     simdbvh::Bvh16 bvh16;
     simdbvh::Bvh8 bvh8q;  // bvh8 and bvh16 with quantized nodes (WideOptions::quantized_nodes)
     simdbvh::Bvh16 bvh16q;
+    // The tree of width N (4, 8 or 16), for rows written once for every width.
+    template <int N>
+    const simdbvh::BvhN<N>& wide() const {
+        if constexpr (N == 4) return bvh4;
+        else if constexpr (N == 8) return bvh8;
+        else return bvh16;
+    }
     std::vector<simdbvh::Ray> rays[std::size(simdbvh::workloads::kRayKinds)];  // indexed by RayKind
     std::vector<simdbvh::Ray> primary_hd;
 };

@@ -6,10 +6,10 @@
 namespace {
 
 void BM_WideClosestPoint(benchmark::State& st, int width, bool near) {
-    const bench::TraversalScene& s = bench::traversal_scene();
-    if (width == 4) return bench::run_closest_point(st, s.bvh4, "bvh4", near);
-    if (width == 16) return bench::run_closest_point(st, s.bvh16, "bvh16", near);
-    bench::run_closest_point(st, s.bvh8, "bvh8", near);
+    simdbvh::with_width(width, [&](auto n) {
+        constexpr int N = decltype(n)::value;
+        bench::run_closest_point(st, bench::traversal_scene().wide<N>(), "bvh" + std::to_string(N), near);
+    });
 }
 
 BENCHMARK_CAPTURE(BM_WideClosestPoint, bvh4_uniform, 4, false)->Unit(benchmark::kMillisecond);

@@ -6,10 +6,10 @@
 namespace {
 
 void BM_WideInside(benchmark::State& st, int width) {
-    const bench::TraversalScene& s = bench::traversal_scene();
-    if (width == 4) return bench::run_inside(st, s.bvh4, "bvh4");
-    if (width == 16) return bench::run_inside(st, s.bvh16, "bvh16");
-    bench::run_inside(st, s.bvh8, "bvh8");
+    simdbvh::with_width(width, [&](auto n) {
+        constexpr int N = decltype(n)::value;
+        bench::run_inside(st, bench::traversal_scene().wide<N>(), "bvh" + std::to_string(N));
+    });
 }
 
 BENCHMARK_CAPTURE(BM_WideInside, bvh4, 4)->Unit(benchmark::kMillisecond);

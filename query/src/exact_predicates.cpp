@@ -4,7 +4,7 @@
 #include <cmath>
 #include <utility>
 
-namespace simdbvh::exact {
+namespace simdbvh::query::exact {
 namespace {
 
 // a + b = x + y exactly (Knuth's TwoSum).
@@ -104,4 +104,4 @@ int plane_side(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p) {
     return e.sign();
 }
 
-}  // namespace simdbvh::exact
+}  // namespace simdbvh::query::exact

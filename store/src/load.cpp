@@ -43,15 +43,20 @@ struct Parsed {
     bool present[kSectionIds] = {};
 };
 
+// The element size of a wide tree's node kind; the width was checked (2, 4, 8 or 16) with the header.
+template <template <int> class Node>
+std::uint32_t node_bytes(int width) {
+    if (width == 2) return 0;  // no wide sections in a binary tree's file
+    return with_width(width, [](auto n) { return std::uint32_t(sizeof(Node<decltype(n)::value>)); });
+}
+
 std::uint32_t expected_elem(Section s, int width) {
     switch (s) {
     case Section::positions: return sizeof(Vec3);
     case Section::triangles: return sizeof(Triangle);
-    case Section::wide_nodes:
-        return width == 4 ? sizeof(Node4) : width == 8 ? sizeof(Node8) : width == 16 ? sizeof(Node16) : 0;
+    case Section::wide_nodes: return node_bytes<NodeN>(width);
     case Section::blocks: return sizeof(Tri8);
-    case Section::qnodes:
-        return width == 4 ? sizeof(QNode4) : width == 8 ? sizeof(QNode8) : width == 16 ? sizeof(QNode16) : 0;
+    case Section::qnodes: return node_bytes<QNodeN>(width);
     case Section::bvh2_nodes: return sizeof(Node2);
     case Section::prim_ids: return sizeof(std::uint32_t);
     case Section::gathered: return sizeof(TriangleVerts);

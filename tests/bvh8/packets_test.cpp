@@ -69,7 +69,7 @@ void check_width(const Mesh& mesh, const Bvh2& bvh2, const std::vector<Ray>& ray
         TraceOptions o;
         o.packets = mode;
         std::vector<Hit> any;
-        test_wide::expect_hits(bvh, rays, want, o, isa, how, any);
+        test::wide::expect_hits(bvh, rays, want, o, isa, how, any);
         if (testing::Test::HasFatalFailure()) return;
         for (std::size_t i = 0; i < rays.size(); ++i)
             if (any[i].hit()) check_any_hit_is_real(mesh, rays[i], any[i], how + " any, ray " + std::to_string(i));

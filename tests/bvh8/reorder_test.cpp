@@ -78,7 +78,7 @@ void check_width(const Bvh2& bvh2, const std::vector<Ray>& rays, const std::vect
                 o.packets = p;
                 o.threads = threads;
                 std::vector<Hit> any;
-                test_wide::expect_hits(bvh, rays, want, o, isa, how, any);
+                test::wide::expect_hits(bvh, rays, want, o, isa, how, any);
                 if (testing::Test::HasFatalFailure()) return;
                 if (p != Packets::off) continue;
                 for (std::size_t i = 0; i < rays.size(); ++i)

@@ -9,7 +9,7 @@
 
 #include "simdbvh/bvh8/bvh8.h"
 
-namespace simdbvh::test_wide {
+namespace simdbvh::test::wide {
 
 // Fills `any` with the batch's any hits (for the caller's further checks).
 template <int N>
@@ -25,4 +25,4 @@ void expect_hits(const BvhN<N>& bvh, const std::vector<Ray>& rays, const std::ve
     }
 }
 
-}  // namespace simdbvh::test_wide
+}  // namespace simdbvh::test::wide

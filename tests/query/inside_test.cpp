@@ -50,14 +50,14 @@ TEST(ExactPredicates, AgreeWithIntegerArithmeticOnNearDegenerateInputs) {
         const Vec3 p3{f(ax + s * dx + t * ex + nudge(rng)), f(ay + s * dy + t * ey + nudge(rng)),
                       f(az + s * dz + t * ez + nudge(rng))};
         const int want2 = ref_orient2d(a, b, p2), want3 = ref_plane_side(a, b, c, p3);
-        ASSERT_EQ(exact::orient2d(a, b, p2), want2) << i;
-        ASSERT_EQ(exact::plane_side(a, b, c, p3), want3) << i;
+        ASSERT_EQ(query::exact::orient2d(a, b, p2), want2) << i;
+        ASSERT_EQ(query::exact::plane_side(a, b, c, p3), want3) << i;
         zero2 += want2 == 0;
         zero3 += want3 == 0;
         if (want2 == 0 && (a.x != b.x || a.y != b.y)) {
-            ASSERT_NE(exact::orient2d_perturbed(a, b, p2), 0);
+            ASSERT_NE(query::exact::orient2d_perturbed(a, b, p2), 0);
         }
-        EXPECT_EQ(exact::orient2d_perturbed(a, b, p2), -exact::orient2d_perturbed(b, a, p2)) << i;
+        EXPECT_EQ(query::exact::orient2d_perturbed(a, b, p2), -query::exact::orient2d_perturbed(b, a, p2)) << i;
     }
     EXPECT_GT(zero2, 10000u) << "the exact path must be exercised";
     EXPECT_GT(zero3, 5000u);
@@ -66,15 +66,17 @@ TEST(ExactPredicates, AgreeWithIntegerArithmeticOnNearDegenerateInputs) {
 TEST(ExactPredicates, LargeAndTinyMagnitudes) {
     // Collinear along y = x at wildly different magnitudes.
     const float big = 1e30f, tiny = 1e-30f;
-    EXPECT_EQ(exact::orient2d({tiny, tiny, 0}, {big, big, 0}, {2 * big, 2 * big, 0}), 0);
-    EXPECT_EQ(exact::orient2d({tiny, tiny, 0}, {big, big, 0}, {2 * big, std::nextafter(2 * big, 3 * big), 0}), 1);
-    EXPECT_EQ(exact::orient2d({tiny, tiny, 0}, {big, big, 0}, {std::nextafter(2 * big, 3 * big), 2 * big, 0}), -1);
+    EXPECT_EQ(query::exact::orient2d({tiny, tiny, 0}, {big, big, 0}, {2 * big, 2 * big, 0}), 0);
+    EXPECT_EQ(query::exact::orient2d({tiny, tiny, 0}, {big, big, 0}, {2 * big, std::nextafter(2 * big, 3 * big), 0}),
+              1);
+    EXPECT_EQ(query::exact::orient2d({tiny, tiny, 0}, {big, big, 0}, {std::nextafter(2 * big, 3 * big), 2 * big, 0}),
+              -1);
     // A point one ulp above the plane z = 2^20 + 0.25.
     const float z = 1048576.25f;
     const Vec3 a{0, 0, z}, b{1, 0, z}, c{0, 1, z};
-    EXPECT_EQ(exact::plane_side(a, b, c, {0.3f, 0.3f, z}), 0);
-    EXPECT_EQ(exact::plane_side(a, b, c, {0.3f, 0.3f, std::nextafter(z, 2 * z)}), 1);
-    EXPECT_EQ(exact::plane_side(a, b, c, {0.3f, 0.3f, std::nextafter(z, 0.0f)}), -1);
+    EXPECT_EQ(query::exact::plane_side(a, b, c, {0.3f, 0.3f, z}), 0);
+    EXPECT_EQ(query::exact::plane_side(a, b, c, {0.3f, 0.3f, std::nextafter(z, 2 * z)}), 1);
+    EXPECT_EQ(query::exact::plane_side(a, b, c, {0.3f, 0.3f, std::nextafter(z, 0.0f)}), -1);
 }
 
 TEST(MeshClosure, ClosedOpenFlippedAndUnwelded) {

@@ -8,7 +8,7 @@
 #include "simd/dispatch.h"
 #include "simdbvh/kernels/box.h"
 
-namespace simdbvh {
+namespace simdbvh::kernels {
 
 namespace simd::detail {
 // Declared in simd/tri8-inl.h: the exact path for SIMD lanes with a zero edge function.
@@ -20,8 +20,6 @@ bool plane_in_front(float ox, float oy, float oz, float dx, float dy, float dz, 
     return simdbvh::detail::plane_t({ox, oy, oz}, {dx, dy, dz}, b.v0(lane), b.v1(lane), b.v2(lane)) >= 0.0;
 }
 }  // namespace simd::detail
-
-namespace kernels {
 
 // Single-primitive forms (scalar only), declared in batch.h.
 void intersect_box1(std::span<const Ray> rays, std::span<const Aabb> boxes, std::span<std::uint8_t> hits,
@@ -235,5 +233,4 @@ void Kernels::occluded_tri8(std::span<const Ray> rays, std::span<const Tri8> blo
 }
 
 }  // namespace scalar
-}  // namespace kernels
-}  // namespace simdbvh
+}  // namespace simdbvh::kernels

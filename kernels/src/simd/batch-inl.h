@@ -10,7 +10,7 @@
 #include "simd/dispatch.h"
 #include "simdbvh/kernels/internal/simd/tri8-inl.h"
 
-namespace simdbvh::simd {
+namespace simdbvh::kernels::simd {
 
 // The 8 x 8 bit matrix x (row k = byte k, column l = bit l) transposed: bit
 // 8l + k of the result is bit 8k + l of x (Hacker's Delight 7-3).
@@ -407,4 +407,4 @@ struct BatchLoops {
     }
 };
 
-}  // namespace simdbvh::simd
+}  // namespace simdbvh::kernels::simd

@@ -24,24 +24,17 @@ struct Kernels {
 };
 }  // namespace scalar
 
-#if defined(__x86_64__)
-namespace avx2 {  // src/avx2/kernels_avx2.cpp
+namespace avx2 {  // src/avx2/kernels_avx2.cpp (x86 only: by_isa never picks it elsewhere)
 struct Kernels {
 #include "simd/entry_points.inc"
 };
 }  // namespace avx2
 
-namespace avx512 {  // src/avx512/kernels_avx512.cpp
+namespace avx512 {  // src/avx512/kernels_avx512.cpp (x86 only)
 struct Kernels {
 #include "simd/entry_points.inc"
 };
 }  // namespace avx512
-#else
-// Not built for this processor (cmake/SimdbvhIsa.cmake): the names stand for
-// the scalar set so the switch compiles; require() refuses the ISA first.
-namespace avx2 = scalar;
-namespace avx512 = scalar;
-#endif
 
 // The kernel set of an ISA: f.template operator()<Set>() with Set one of the
 // Kernels structs above, after require(isa) (by_isa.h holds the one switch).

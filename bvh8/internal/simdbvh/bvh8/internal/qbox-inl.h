@@ -10,7 +10,7 @@
 #include "simdbvh/kernels/internal/simd/box8-inl.h"
 #include "simdbvh/bvh8/qnode.h"
 
-namespace simdbvh::simd {
+namespace simdbvh::kernels::simd {
 
 // W bytes at p as W floats, W = the width of batch arch L (4, 8 or 16).
 template <class L>
@@ -56,4 +56,4 @@ SIMDBVH_FORCE_INLINE std::uint32_t intersect_qboxn(const RayPack<Arch>& r, const
     return intersect_boxn<Arch, N>(r, b, tmax, entries) & b.valid;
 }
 
-}  // namespace simdbvh::simd
+}  // namespace simdbvh::kernels::simd

@@ -13,22 +13,22 @@ namespace simdbvh::bvh8 {
 
 template <class Arch>
 struct SimdKernels {
-    using RayData = simd::RayPack<Arch>;
+    using RayData = kernels::simd::RayPack<Arch>;
     static SIMDBVH_FORCE_INLINE void pack(RayData& d, const PreparedRay& r, const Ray& src) {
-        simd::pack_ray_into<Arch>(d, r, &src);
+        kernels::simd::pack_ray_into<Arch>(d, r, &src);
     }
     // Rays [0, g) (g <= 8) prepared and tested against the tree's bounds in vector lanes (simd/prepare8-inl.h).
     static SIMDBVH_FORCE_INLINE std::uint32_t prepare8(const Ray* rays, std::size_t g, const Aabb* root,
                                                        PreparedRay* out, std::uint32_t* valid) {
-        return simd::prepare8<Arch>(rays, g, root, out, valid);
+        return kernels::simd::prepare8<Arch>(rays, g, root, out, valid);
     }
     template <int N>
     static SIMDBVH_FORCE_INLINE std::uint32_t box(const RayData& r, const BoxN<N>& b, float tmax, float* entries) {
-        return simd::intersect_boxn<Arch, N>(r, b, tmax, entries);
+        return kernels::simd::intersect_boxn<Arch, N>(r, b, tmax, entries);
     }
     template <int N>
     static SIMDBVH_FORCE_INLINE std::uint32_t box(const RayData& r, const QBoxN<N>& b, float tmax, float* entries) {
-        return simd::intersect_qboxn<Arch, N>(r, b, tmax, entries);
+        return kernels::simd::intersect_qboxn<Arch, N>(r, b, tmax, entries);
     }
     // Streams (stream-inl.h): per child of the node, the rays (of up to 32,
     // one bit each) that hit it and their smallest entry distance, gathered
@@ -89,11 +89,11 @@ struct SimdKernels {
     }
     template <TriangleTest kTest>
     static SIMDBVH_FORCE_INLINE void closest(const RayData& r, const Tri8& b, Hit& best) {
-        simd::intersect_tri8<Arch, kTest>(r, b, best);
+        kernels::simd::intersect_tri8<Arch, kTest>(r, b, best);
     }
     template <TriangleTest kTest>
     static SIMDBVH_FORCE_INLINE bool any(const RayData& r, const Tri8& b, float tmax, Hit& hit) {
-        return simd::occluded_tri8<Arch, kTest>(r, b, tmax, hit);
+        return kernels::simd::occluded_tri8<Arch, kTest>(r, b, tmax, hit);
     }
 };
 

@@ -51,19 +51,12 @@ inline bool one_in_flight(std::size_t tree_bytes, int requested) {
 namespace scalar {
 struct Kernels;
 }  // namespace scalar
-#if defined(__x86_64__)
-namespace avx2 {
+namespace avx2 {  // x86 only: by_isa never picks it elsewhere
 struct Kernels;
 }  // namespace avx2
 namespace avx512 {
 struct Kernels;
 }  // namespace avx512
-#else
-// Not built for this processor (cmake/SimdbvhIsa.cmake): the names stand for
-// the scalar kernels so the switch compiles; require() refuses the ISA first.
-namespace avx2 = scalar;
-namespace avx512 = scalar;
-#endif
 
 // The wide kernel set of an ISA: f.template operator()<K>() with K one of the
 // Kernels above, after require(isa) (the one switch is kernels' by_isa.h).

@@ -8,15 +8,19 @@
 namespace simdbvh::kernels::detail {
 
 // Refuses an ISA this processor lacks (require), then runs f with its set.
-// Off x86 the three sets are one (the avx2 and avx512 names alias scalar).
+// Off x86 only the scalar set is built (cmake/SimdbvhIsa.cmake) and require()
+// refuses the others, so Avx2 and Avx512 are never instantiated there and may
+// be declared only.
 template <class Scalar, class Avx2, class Avx512, class F>
 decltype(auto) by_isa(Isa isa, F&& f) {
     require(isa);
+#if defined(__x86_64__)
     switch (isa) {
     case Isa::avx512: return f.template operator()<Avx512>();
     case Isa::avx2: return f.template operator()<Avx2>();
     case Isa::scalar: break;
     }
+#endif
     return f.template operator()<Scalar>();
 }
 

@@ -41,14 +41,14 @@ inline bool column_misses(const Vec3& a, const Vec3& b, const Vec3& c, const Vec
 inline int crossing_exact(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p) {
     // On the triangle (faces parallel to z and silhouette edges included): the
     // rarely taken exact test, for the triangles whose box holds p.
-    if (in_box(a, b, c, p) && exact::on_triangle(a, b, c, p)) return kOnSurface;
-    const int facing = exact::orient2d(a, b, c);  // sign of the normal's z
-    if (facing == 0) return 0;                    // parallel to the ray: never contains the perturbed line
-    if (exact::orient2d_perturbed(a, b, p) != facing || exact::orient2d_perturbed(b, c, p) != facing ||
-        exact::orient2d_perturbed(c, a, p) != facing)
+    if (in_box(a, b, c, p) && query::exact::on_triangle(a, b, c, p)) return kOnSurface;
+    const int facing = query::exact::orient2d(a, b, c);  // sign of the normal's z
+    if (facing == 0) return 0;                           // parallel to the ray: never contains the perturbed line
+    if (query::exact::orient2d_perturbed(a, b, p) != facing || query::exact::orient2d_perturbed(b, c, p) != facing ||
+        query::exact::orient2d_perturbed(c, a, p) != facing)
         return 0;
     // The plane at (px, py) is above p when n . (p - a) and n_z have opposite signs.
-    const int side = exact::plane_side(a, b, c, p);
+    const int side = query::exact::plane_side(a, b, c, p);
     if (side == 0) return kOnSurface;  // (found above already)
     return side != facing ? facing : 0;
 }

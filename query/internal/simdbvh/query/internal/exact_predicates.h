@@ -10,7 +10,7 @@
 
 #include "simdbvh/kernels/vec.h"
 
-namespace simdbvh::exact {
+namespace simdbvh::query::exact {
 
 // orient2d's filter, inline (the inside test calls it about five times per
 // point): differences of floats rounded once in double, two products, one
@@ -60,4 +60,4 @@ int plane_side(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p);
 // included), exactly. False for triangles of zero area.
 bool on_triangle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p);
 
-}  // namespace simdbvh::exact
+}  // namespace simdbvh::query::exact

@@ -5,5 +5,5 @@
 #include "simdbvh/bvh8/internal/simd_kernels-inl.h"
 
 namespace simdbvh::bvh8::avx2 {
-struct Kernels : SimdKernels<simd::Avx2> {};
+struct Kernels : SimdKernels<kernels::simd::Avx2> {};
 }  // namespace simdbvh::bvh8::avx2

@@ -10,5 +10,5 @@
 #include "simdbvh/bvh8/internal/simd_kernels-inl.h"
 
 namespace simdbvh::bvh8::avx512 {
-struct Kernels : SimdKernels<simd::Avx512> {};
+struct Kernels : SimdKernels<kernels::simd::Avx512> {};
 }  // namespace simdbvh::bvh8::avx512

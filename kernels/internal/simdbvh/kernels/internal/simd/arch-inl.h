@@ -4,8 +4,8 @@
 // (src/avx2/*.cpp, src/avx512/*.cpp of any module), never from public headers.
 //
 // Arch tags:
-//   simdbvh::simd::Avx2   = xsimd::avx2            (src/avx2/ files: -mavx2 -mfma ...)
-//   simdbvh::simd::Avx512 = simd::avx512vl_ymm     (src/avx512/ files: + AVX-512F/VL/DQ/BW/CD)
+//   simdbvh::kernels::simd::Avx2   = xsimd::avx2            (src/avx2/ files: -mavx2 -mfma ...)
+//   simdbvh::kernels::simd::Avx512 = simd::avx512vl_ymm     (src/avx512/ files: + AVX-512F/VL/DQ/BW/CD)
 // Avx512 is the same 8 x float (ymm) batch as avx2, but a distinct type: every
 // xsimd template instantiated for it gets its own mangled name, so the linker
 // can never merge an AVX-512-encoded copy with the AVX2 one (a silent SIGILL on
@@ -30,7 +30,7 @@
 #error "simd/*-inl.h must be compiled with the AVX2 (or AVX-512) per-ISA flags"
 #endif
 
-namespace simdbvh::simd {
+namespace simdbvh::kernels::simd {
 
 using Avx2 = xsimd::avx2;
 
@@ -102,16 +102,16 @@ SIMDBVH_FORCE_INLINE Batch<Arch> load8(const void* base, std::uint32_t byte_offs
     return Batch<Arch>::load_aligned(reinterpret_cast<const float*>(static_cast<const char*>(base) + byte_offset));
 }
 
-}  // namespace simdbvh::simd
+}  // namespace simdbvh::kernels::simd
 
 namespace xsimd::types {
-XSIMD_DECLARE_SIMD_REGISTER_ALIAS(simdbvh::simd::avx2_xmm, sse4_2);
+XSIMD_DECLARE_SIMD_REGISTER_ALIAS(simdbvh::kernels::simd::avx2_xmm, sse4_2);
 #if defined(__AVX512F__) && defined(__AVX512VL__) && defined(__AVX512DQ__) && defined(__AVX512BW__)
-XSIMD_DECLARE_SIMD_REGISTER_ALIAS(simdbvh::simd::avx512vl_ymm, avx2);
-XSIMD_DECLARE_SIMD_REGISTER_ALIAS(simdbvh::simd::avx512vl_xmm, sse4_2);
-XSIMD_DECLARE_SIMD_REGISTER_ALIAS(simdbvh::simd::avx512_zmm, avx512bw);
+XSIMD_DECLARE_SIMD_REGISTER_ALIAS(simdbvh::kernels::simd::avx512vl_ymm, avx2);
+XSIMD_DECLARE_SIMD_REGISTER_ALIAS(simdbvh::kernels::simd::avx512vl_xmm, sse4_2);
+XSIMD_DECLARE_SIMD_REGISTER_ALIAS(simdbvh::kernels::simd::avx512_zmm, avx512bw);
 template <class T>
-struct get_bool_simd_register<T, simdbvh::simd::avx512_zmm> {
+struct get_bool_simd_register<T, simdbvh::kernels::simd::avx512_zmm> {
     using type = simd_avx512_bool_register<T>;
 };
 #endif

@@ -8,7 +8,7 @@
 
 #include "simdbvh/kernels/internal/simd/ray-inl.h"
 
-namespace simdbvh::simd {
+namespace simdbvh::kernels::simd {
 
 // vec.h max_ps(a, b) = a > b ? a : b and min_ps(a, b) = a < b ? a : b: `a` may
 // be NaN, the result is then `b`. That is exactly x86 maxps/minps with `a` as
@@ -134,4 +134,4 @@ SIMDBVH_FORCE_INLINE std::uint32_t intersect_boxn(const RayPack<Arch>& r, const 
     }
 }
 
-}  // namespace simdbvh::simd
+}  // namespace simdbvh::kernels::simd

@@ -17,7 +17,7 @@
 #include "simdbvh/kernels/box.h"
 #include "simdbvh/kernels/ray.h"
 
-namespace simdbvh::simd {
+namespace simdbvh::kernels::simd {
 
 // The eight 32-byte rays as columns: c[0..2] origin, c[3] tmin, c[4..6]
 // direction, c[7] tmax (Ray's layout). A template on Arch, so no copy is
@@ -204,4 +204,4 @@ SIMDBVH_FORCE_INLINE std::uint32_t prepare8(const Ray* rays, std::size_t g, cons
     return hit;
 }
 
-}  // namespace simdbvh::simd
+}  // namespace simdbvh::kernels::simd

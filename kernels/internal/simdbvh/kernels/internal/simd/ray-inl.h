@@ -13,7 +13,7 @@
 #include "simdbvh/kernels/ray.h"
 #include "simdbvh/kernels/soa.h"
 
-namespace simdbvh::simd {
+namespace simdbvh::kernels::simd {
 
 static_assert(offsetof(Box8, hi_x) == 32 && offsetof(Box8, lo_y) == 64 && offsetof(Box8, lo_z) == 128);
 static_assert(offsetof(Tri8, v0y) == 32 && offsetof(Tri8, v1x) == 96 && offsetof(Tri8, v2x) == 192 &&
@@ -80,4 +80,4 @@ SIMDBVH_FORCE_INLINE RayPack<Arch> pack_ray(const PreparedRay& r) {  // keeps a 
     return p;
 }
 
-}  // namespace simdbvh::simd
+}  // namespace simdbvh::kernels::simd

@@ -20,7 +20,7 @@ typedef long long __m128i __attribute__((vector_size(16), aligned(16)));
 
 #define _MM_SHUFFLE(z, y, x, w) (((z) << 6) | ((y) << 4) | ((x) << 2) | (w))
 
-namespace simdbvh::simd::sse2 {
+namespace simdbvh::kernels::simd::sse2 {
 using F4 = float __attribute__((vector_size(16)));
 using I4 = std::int32_t __attribute__((vector_size(16)));
 inline I4 bits(__m128 a) {
@@ -33,7 +33,7 @@ inline __m128 floats(I4 a) {
     std::memcpy(&r, &a, 16);
     return r;
 }
-}  // namespace simdbvh::simd::sse2
+}  // namespace simdbvh::kernels::simd::sse2
 
 inline __m128 _mm_set1_ps(float a) { return __m128{a, a, a, a}; }
 inline __m128 _mm_setr_ps(float a, float b, float c, float d) { return __m128{a, b, c, d}; }
@@ -59,20 +59,20 @@ inline __m128 _mm_max_ps(__m128 a, __m128 b) {  // maxps: a > b ? a : b (b when 
     return r;
 }
 inline __m128 _mm_cmple_ps(__m128 a, __m128 b) {
-    simdbvh::simd::sse2::I4 m;
+    simdbvh::kernels::simd::sse2::I4 m;
     for (int i = 0; i < 4; ++i) m[i] = a[i] <= b[i] ? -1 : 0;
-    return simdbvh::simd::sse2::floats(m);
+    return simdbvh::kernels::simd::sse2::floats(m);
 }
 inline __m128 _mm_and_ps(__m128 a, __m128 b) {
-    using namespace simdbvh::simd::sse2;
+    using namespace simdbvh::kernels::simd::sse2;
     return floats(bits(a) & bits(b));
 }
 inline __m128 _mm_xor_ps(__m128 a, __m128 b) {
-    using namespace simdbvh::simd::sse2;
+    using namespace simdbvh::kernels::simd::sse2;
     return floats(bits(a) ^ bits(b));
 }
 inline int _mm_movemask_ps(__m128 a) {
-    const simdbvh::simd::sse2::I4 b = simdbvh::simd::sse2::bits(a);
+    const simdbvh::kernels::simd::sse2::I4 b = simdbvh::kernels::simd::sse2::bits(a);
     int m = 0;
     for (int i = 0; i < 4; ++i) m |= int(std::uint32_t(b[i]) >> 31) << i;
     return m;
@@ -83,7 +83,7 @@ inline __m128 _mm_shuffle_ps(__m128 a, __m128 b, int imm) {
 }
 // cvttps2dq: truncation; NaN and values out of int32 range give INT32_MIN.
 inline __m128i _mm_cvttps_epi32(__m128 a) {
-    simdbvh::simd::sse2::I4 r;
+    simdbvh::kernels::simd::sse2::I4 r;
     for (int i = 0; i < 4; ++i) r[i] = (a[i] > -2147483904.0f && a[i] < 2147483648.0f) ? std::int32_t(a[i]) : INT32_MIN;
     __m128i out;
     std::memcpy(&out, &r, 16);

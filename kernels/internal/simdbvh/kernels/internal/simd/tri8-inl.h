@@ -13,7 +13,7 @@
 #include "simdbvh/kernels/hit.h"
 #include "simdbvh/kernels/triangle.h"
 
-namespace simdbvh::simd {
+namespace simdbvh::kernels::simd {
 
 namespace detail {
 // The scalar reference intersect_watertight, compiled once in the baseline
@@ -205,4 +205,4 @@ SIMDBVH_FORCE_INLINE bool occluded_tri8(const RayPack<Arch>& r, const Tri8& b, f
     return false;
 }
 
-}  // namespace simdbvh::simd
+}  // namespace simdbvh::kernels::simd
