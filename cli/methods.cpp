@@ -283,20 +283,13 @@ std::unique_ptr<Tracer> make_tracer(const Mesh& mesh, const MethodSpec& spec) {
     if (spec.method == "auto") return std::make_unique<AutoTracer>(mesh, spec);
     if (spec.method == "brute") return std::make_unique<BruteTracer>(mesh, spec);
     if (spec.method == "brute8") return std::make_unique<Brute8Tracer>(mesh, spec);
-    if (spec.method == "bvh2") {
-        Bvh2 bvh = Bvh2::build(mesh, spec.build);
-        const double ms = bvh.stats().build_ms;
-        return std::make_unique<TreeTracer<Bvh2>>(std::move(bvh), spec, ms);
-    }
+    if (spec.method == "bvh2") return std::make_unique<TreeTracer<Bvh2>>(Bvh2::build(mesh, spec.build), spec);
     if (const int w = spec.width())
         return with_width(
             w, [&](auto n) -> std::unique_ptr<Tracer> { return make_wide_tracer<decltype(n)::value>(mesh, spec); });
     if (spec.method == "embree") return std::make_unique<EmbreeTracer>(mesh, spec);
-    if (spec.method == "spheres") {  // seed 002's bounding-sphere hierarchy (variance splits; --builder is ignored)
-        SphereBvh bvh = SphereBvh::build(mesh, spec.build);
-        const double ms = bvh.stats().build_ms;
-        return std::make_unique<TreeTracer<SphereBvh>>(std::move(bvh), spec, ms);
-    }
+    if (spec.method == "spheres")  // seed 002's bounding-sphere hierarchy (variance splits; --builder is ignored)
+        return std::make_unique<TreeTracer<SphereBvh>>(SphereBvh::build(mesh, spec.build), spec);
     throw Error("unknown method " + spec.method);
 }
 

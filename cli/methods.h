@@ -68,10 +68,13 @@ void trace_tree(const Tree& tree, const MethodSpec& spec, std::span<const Ray> r
 }
 
 // A tracer over one built or loaded tree: trace_tree traces it, its stats give the figures; build_ms is what
-// the caller timed (a build, or a load).
+// the caller timed (a build, or a load), else the time the tree's own stats give.
 template <class Tree>
 class TreeTracer final : public Tracer {
 public:
+    TreeTracer(Tree tree, const MethodSpec& s) : TreeTracer(std::move(tree), s, 0.0) {
+        build_ms = tree_.stats().build_ms;
+    }
     TreeTracer(Tree tree, const MethodSpec& s, double ms) : spec_(s), tree_(std::move(tree)) {
         build_ms = ms;
         const auto& st = tree_.stats();
